@@ -1,0 +1,1 @@
+"""Parametric designs, watertight surfaces, fibers and tagged tetrahedral meshes of the robot."""
