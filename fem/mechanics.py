@@ -1,0 +1,329 @@
+r"""Total-Lagrangian large-strain solid on quadratic tetrahedra, with a follower chamber pressure.
+
+Unknowns. Displacements u on the P2 nodes (dof 3*node + i, node numbering of scikit-fem's scalar
+`ElementTetP2` basis) and, for the mixed formulation, a continuous P1 pressure p on the vertices
+(Taylor-Hood P2-P1, inf-sup stable, so it does not lock as K/mu -> infinity). The mixed energy is
+
+    Pi(u, p) = int_Omega [ W_iso(F) + p (J - 1) - p^2 / (2K) ] dV  -  P * V_cav(u)
+
+and the displacement-only formulation ("p2") uses the full W(F) of `fem.neohooke` instead.
+
+Residuals (test functions du, dp):
+    R_u = int (P_iso + p J F^{-T}) : grad du dV  -  P q(u),     R_p = int (J - 1 - p/K) dp dV
+Chamber pressure P is a follower load: it acts on the deformed chamber surface. With Nanson's
+formula n da = cof(F) N dA, and N the outward normal of the solid (it points into the cavity),
+the cavity's volume and its derivative are
+
+    V_cav = -1/sum(w) int_Gamma sum_i w_i x_i (cof F N)_i dA,    q = dV_cav/du = -int_Gamma (cof F N) . du dA
+
+so the pressure load is P q(u) and its consistent tangent is P dq/du with
+d(cof F)_iJ / dF_kL = J (H_iJ H_kL - H_iL H_kJ), H = F^{-T}. The weights w drop the flux through
+cut planes (symmetry planes through the origin contribute nothing; a plane-strain cap z = H does
+unless w_z = 0). The tangent is non-symmetric element by element; Newton converges quadratically.
+
+Dirichlet conditions fix components of u on tagged boundaries to `factor * value`; the constrained
+dofs are condensed out through a fixed sparsity pattern (`fem.pattern`). Reactions are the
+internal forces on the constrained dofs.
+
+Assembly is vectorised over all elements and quadrature points (batched matrix products), never a
+per-basis-function loop: see DESIGN.md section 7 for why this matters.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+import skfem
+
+from fem.errors import SolverInputError
+from fem.neohooke import (NeoHookean, _outer, cofactor3, det3, iso_stress, iso_tangent, pressure_stress,
+                          pressure_tangent)
+from fem.pattern import Pattern
+
+FORMULATIONS = ("p2p1", "p2")
+
+
+@dataclass(frozen=True)
+class Dirichlet:
+    """Displacement components `components` on boundary `tag` equal `factor * values` (mm)."""
+
+    tag: str
+    components: tuple[int, ...] = (0, 1, 2)
+    values: tuple[float, ...] = (0.0, 0.0, 0.0)
+
+    @classmethod
+    def fixed(cls, tag: str) -> "Dirichlet":
+        return cls(tag, (0, 1, 2), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def symmetry(cls, tag: str, axis: int) -> "Dirichlet":
+        """Symmetry plane normal to coordinate `axis`: zero normal displacement."""
+        return cls(tag, (axis,), (0.0,))
+
+    @classmethod
+    def prescribed(cls, tag: str, component: int, value: float) -> "Dirichlet":
+        return cls(tag, (component,), (float(value),))
+
+
+class InvertedElement(ArithmeticError):
+    """A trial state with det F <= 0 somewhere: the caller cuts the step back."""
+
+
+class SolidModel:
+    """A meshed solid with materials, Dirichlet conditions and an optional pressurised chamber.
+
+    mesh: `skfem.MeshTet` (straight) or `skfem.MeshTet2` (curved), with named `boundaries`.
+    materials: one `NeoHookean`, or a mapping subdomain name -> `NeoHookean`.
+    chamber: boundary tags that form the pressurised chamber surface (None: no pressure load).
+    """
+
+    def __init__(self, mesh, materials, *, dirichlet=(), chamber=None, formulation="p2p1",
+                 intorder=2, volume_weights=(1.0, 1.0, 1.0)):
+        if formulation not in FORMULATIONS:
+            raise SolverInputError("formulation", f"{formulation!r} is not one of {FORMULATIONS}")
+        self.mesh = mesh
+        self.formulation = formulation
+        self.mixed = formulation == "p2p1"
+        boundaries = mesh.boundaries or {}
+
+        self.basis = skfem.Basis(mesh, skfem.ElementTetP2(), intorder=intorder)
+        self.n_nodes = self.basis.N
+        self.n_u = 3 * self.n_nodes
+        self.nodes = self.basis.doflocs                         # (3, n_nodes) reference positions
+        self.dN = np.stack([phi[0].grad for phi in self.basis.basis])   # (10, 3, E, Q)
+        self.dx = self.basis.dx                                  # (E, Q)
+        self.node_dofs = self.basis.element_dofs                 # (10, E)
+        self.u_dofs = (3 * self.node_dofs[:, None, :] + np.arange(3)[None, :, None]).reshape(30, -1)
+
+        n_elem = mesh.t.shape[1]
+        self.mu, self.bulk = _material_arrays(mesh, materials, n_elem)
+
+        if self.mixed:
+            self.pbasis = skfem.Basis(mesh, skfem.ElementTetP1(), quadrature=self.basis.quadrature)
+            self.Np = np.stack([phi[0].value for phi in self.pbasis.basis])   # (4, E, Q)
+            self.p_dofs = self.n_u + self.pbasis.element_dofs                # (4, E)
+            self.n_p = self.pbasis.N
+        else:
+            self.n_p = 0
+        self.n_dofs = self.n_u + self.n_p
+        self.element_dofs = (np.vstack([self.u_dofs, self.p_dofs]) if self.mixed else self.u_dofs)
+
+        # Dirichlet conditions -> constrained dofs and their values at factor 1.
+        self.dirichlet = tuple(dirichlet)
+        fixed, values = [], []
+        for bc in self.dirichlet:
+            if bc.tag not in boundaries:
+                raise SolverInputError("dirichlet", f"unknown boundary tag {bc.tag!r}; "
+                                       f"known: {sorted(boundaries)}")
+            if len(bc.components) != len(bc.values):
+                raise SolverInputError("dirichlet", f"{bc.tag}: components and values differ in length")
+            nodes = self.boundary_nodes(bc.tag)
+            for c, v in zip(bc.components, bc.values):
+                fixed.append(3 * nodes + c)
+                values.append(np.full(nodes.size, float(v)))
+        if fixed:
+            dofs = np.concatenate(fixed)
+            vals = np.concatenate(values)
+            self.fixed_dofs, first = np.unique(dofs, return_index=True)
+            self.fixed_values = vals[first]
+        else:
+            self.fixed_dofs = np.zeros(0, dtype=np.int64)
+            self.fixed_values = np.zeros(0)
+        self.free_index = np.full(self.n_dofs, -1, dtype=np.int64)
+        self.free_dofs = np.setdiff1d(np.arange(self.n_dofs), self.fixed_dofs)
+        self.free_index[self.free_dofs] = np.arange(self.free_dofs.size)
+
+        # Chamber surface: facet basis of the adjacent elements.
+        self.chamber = tuple(chamber) if chamber else ()
+        self.volume_weights = np.asarray(volume_weights, dtype=float)
+        groups = [self.element_dofs]
+        if self.chamber:
+            for tag in self.chamber:
+                if tag not in boundaries:
+                    raise SolverInputError("chamber", f"unknown boundary tag {tag!r}; "
+                                           f"known: {sorted(boundaries)}")
+            facets = np.concatenate([boundaries[t] for t in self.chamber])
+            fb = skfem.FacetBasis(mesh, skfem.ElementTetP2(), facets=facets, intorder=4)
+            self.f_N = np.stack([phi[0].value for phi in fb.basis])     # (10, F, Qf)
+            self.f_dN = np.stack([phi[0].grad for phi in fb.basis])     # (10, 3, F, Qf)
+            self.f_normal = fb.normals                                   # (3, F, Qf) solid outward
+            self.f_dx = fb.dx
+            self.f_node_dofs = fb.element_dofs                           # (10, F)
+            self.f_u_dofs = (3 * self.f_node_dofs[:, None, :]
+                             + np.arange(3)[None, :, None]).reshape(30, -1)
+            groups.append(self.f_u_dofs)
+        self.pattern = Pattern(self.free_index, groups)
+
+    # ------------------------------------------------------------------ helpers
+    def boundary_nodes(self, tag: str) -> np.ndarray:
+        return self.basis.get_dofs(self.mesh.boundaries[tag]).flatten()
+
+    def initial_state(self) -> np.ndarray:
+        return np.zeros(self.n_dofs)
+
+    def apply_dirichlet(self, x: np.ndarray, factor: float) -> np.ndarray:
+        x = x.copy()
+        x[self.fixed_dofs] = factor * self.fixed_values
+        return x
+
+    def displacement(self, x: np.ndarray) -> np.ndarray:
+        """Nodal displacements, shape (3, n_nodes)."""
+        return x[: self.n_u].reshape(-1, 3).T
+
+    def deformation_gradient(self, x: np.ndarray, dN=None, node_dofs=None) -> np.ndarray:
+        dN = self.dN if dN is None else dN
+        node_dofs = self.node_dofs if node_dofs is None else node_dofs
+        ue = x[: self.n_u].reshape(-1, 3)[node_dofs]               # (10, E, 3)
+        F = np.einsum("aei,aJeq->iJeq", ue, dN)
+        F[0, 0] += 1.0
+        F[1, 1] += 1.0
+        F[2, 2] += 1.0
+        return F
+
+    def pressure_field(self, x: np.ndarray) -> np.ndarray:
+        """Mixed pressure at the quadrature points (E, Q); for "p2", K (J - 1)."""
+        if self.mixed:
+            return np.einsum("ce,ceq->eq", x[self.p_dofs], self.Np)
+        F = self.deformation_gradient(x)
+        return self.bulk * (det3(F) - 1.0)
+
+    # ------------------------------------------------------------ volume terms
+    def _stress(self, x):
+        F = self.deformation_gradient(x)
+        J = det3(F)
+        if np.any(J <= 0.0) or not np.all(np.isfinite(J)):
+            raise InvertedElement("det F <= 0")
+        cof = cofactor3(F)
+        H = cof / J
+        p = self.pressure_field(x) if self.mixed else self.bulk * (J - 1.0)
+        P = iso_stress(F, self.mu, J, H) + pressure_stress(p, J, H)
+        return F, J, H, p, P
+
+    def _element_residual(self, x, stress):
+        F, J, H, p, P = stress
+        Ru = np.einsum("iJeq,aJeq,eq->aie", P, self.dN, self.dx).reshape(30, -1)
+        if not self.mixed:
+            return Ru
+        Rp = np.einsum("eq,ceq,eq->ce", J - 1.0 - p / self.bulk, self.Np, self.dx)
+        return np.vstack([Ru, Rp])
+
+    def _element_tangent(self, x, stress):
+        F, J, H, p, P = stress
+        A = iso_tangent(F, self.mu, J, H) + pressure_tangent(p, J, H)
+        if not self.mixed:
+            A += (self.bulk * J * J) * _outer(H, H)
+        Kuu = _grad_grad(self.dN, A, self.dN, self.dx)                 # (30, 30, E)
+        if not self.mixed:
+            return Kuu
+        # K_up[a i, c] = int dN_a,J J H_iJ Np_c
+        G = np.einsum("aJeq,iJeq,eq->aieq", self.dN, J * H, self.dx).reshape(30, *self.dx.shape)
+        Kup = np.einsum("req,ceq->rce", G, self.Np)
+        Kpp = -np.einsum("ceq,deq,eq->cde", self.Np, self.Np, self.dx / self.bulk)
+        top = np.concatenate([Kuu, Kup], axis=1)
+        bottom = np.concatenate([Kup.transpose(1, 0, 2), Kpp], axis=1)
+        return np.concatenate([top, bottom], axis=0)
+
+    # ----------------------------------------------------------- chamber terms
+    def _chamber_kinematics(self, x):
+        F = self.deformation_gradient(x, self.f_dN, self.f_node_dofs)
+        cofN = -np.einsum("iJfq,Jfq->ifq", cofactor3(F), self.f_normal)   # cavity-outward n da/dA
+        return F, cofN
+
+    def chamber_volume(self, x: np.ndarray) -> float:
+        """Enclosed cavity volume of the deformed chamber (mm^3)."""
+        if not self.chamber:
+            return 0.0
+        _, cofN = self._chamber_kinematics(x)
+        ue = x[: self.n_u].reshape(-1, 3)[self.f_node_dofs]           # (10, F, 3)
+        X = np.einsum("iaf,afq->ifq", self.nodes[:, self.f_node_dofs], self.f_N)
+        xq = X + np.einsum("afi,afq->ifq", ue, self.f_N)
+        w = self.volume_weights
+        return float(np.einsum("i,ifq,ifq,fq->", w, xq, cofN, self.f_dx) / w.sum())
+
+    def _chamber_load(self, x, with_tangent: bool):
+        F, cofN = self._chamber_kinematics(x)
+        q = np.einsum("afq,ifq,fq->aif", self.f_N, cofN, self.f_dx).reshape(30, -1)
+        if not with_tangent:
+            return q, None
+        J = det3(F)
+        H = cofactor3(F) / J
+        # d(cof F N)_i / dF_kL = -J (H_iJ H_kL - H_iL H_kJ) N_J   (the minus: cavity normal)
+        HN = np.einsum("iJfq,Jfq->ifq", H, self.f_normal)
+        D = -J * (np.einsum("ifq,klfq->iklfq", HN, H) - np.einsum("iLfq,kJfq,Jfq->ikLfq", H, H, self.f_normal))
+        dq = np.einsum("afq,ikLfq,bLfq,fq->aibkf", self.f_N, D, self.f_dN, self.f_dx).reshape(30, 30, -1)
+        return q, dq
+
+    # ---------------------------------------------------------------- globals
+    def _scatter(self, element_values, dofs):
+        return np.bincount(dofs.reshape(-1), weights=element_values.reshape(-1), minlength=self.n_dofs)
+
+    def internal_force(self, x: np.ndarray) -> np.ndarray:
+        """Full internal force vector (all dofs, including the constrained ones)."""
+        return self._scatter(self._element_residual(x, self._stress(x)), self.element_dofs)
+
+    def pressure_load(self, x: np.ndarray) -> np.ndarray:
+        """q = dV_cav/du on all dofs; the pressure load vector is P q."""
+        if not self.chamber:
+            return np.zeros(self.n_dofs)
+        q, _ = self._chamber_load(x, False)
+        return self._scatter(q, self.f_u_dofs)
+
+    def residual(self, x: np.ndarray, pressure: float) -> np.ndarray:
+        return self.internal_force(x) - pressure * self.pressure_load(x)
+
+    def residual_and_tangent(self, x: np.ndarray, pressure: float):
+        """Full residual (all dofs) and the tangent on the free dofs (CSR)."""
+        stress = self._stress(x)
+        Re = self._element_residual(x, stress)
+        Ke = self._element_tangent(x, stress)
+        R = self._scatter(Re, self.element_dofs)
+        blocks = [Ke]
+        if self.chamber:
+            q, dq = self._chamber_load(x, True)
+            R -= pressure * self._scatter(q, self.f_u_dofs)
+            blocks.append(-pressure * dq)
+        return R, self.pattern.assemble(blocks)
+
+    def reaction(self, x: np.ndarray, tag: str, pressure: float = 0.0) -> np.ndarray:
+        """Total support force (N) on the constrained dofs of boundary `tag`, per component.
+
+        At equilibrium f_int = P q + f_support, so f_support = R(x, P) on the constrained dofs.
+        """
+        f = self.residual(x, pressure)
+        nodes = self.boundary_nodes(tag)
+        out = np.zeros(3)
+        for c in range(3):
+            d = 3 * nodes + c
+            mask = np.isin(d, self.fixed_dofs)
+            out[c] = f[d[mask]].sum()
+        return out
+
+
+def _grad_grad(dNa, A, dNb, dx):
+    """K[(a,i),(b,k),e] = sum_q dNa[a,J] A[i,J,k,L] dNb[b,L] dx, as batched matrix products."""
+    na, E, Q = dNa.shape[0], dx.shape[0], dx.shape[1]
+    Ga = (dNa * dx).transpose(2, 3, 0, 1).reshape(E * Q, na, 3)            # [eq, a, J]
+    Am = A.transpose(4, 5, 1, 0, 2, 3).reshape(E * Q, 3, 27)             # [eq, J, (i k L)]
+    T = np.matmul(Ga, Am).reshape(E * Q, na * 9, 3)                        # [eq, (a i k), L]
+    Gb = dNb.transpose(2, 3, 1, 0).reshape(E * Q, 3, -1)                   # [eq, L, b]
+    K = np.matmul(T, Gb).reshape(E, Q, na, 3, 3, -1).sum(axis=1)          # [e, a, i, k, b]
+    return K.transpose(1, 2, 4, 3, 0).reshape(na * 3, -1, E)
+
+
+def _material_arrays(mesh, materials, n_elem):
+    if isinstance(materials, NeoHookean):
+        return np.full((n_elem, 1), materials.mu), np.full((n_elem, 1), materials.bulk)
+    if not isinstance(materials, Mapping):
+        raise SolverInputError("materials", "give a NeoHookean or a mapping subdomain -> NeoHookean")
+    subdomains = mesh.subdomains or {}
+    mu = np.full((n_elem, 1), np.nan)
+    bulk = np.full((n_elem, 1), np.nan)
+    for name, mat in materials.items():
+        if name not in subdomains:
+            raise SolverInputError("materials", f"unknown subdomain {name!r}; known: {sorted(subdomains)}")
+        mu[subdomains[name]] = mat.mu
+        bulk[subdomains[name]] = mat.bulk
+    if np.isnan(mu).any():
+        raise SolverInputError("materials", "some elements have no material")
+    return mu, bulk

@@ -1,0 +1,150 @@
+r"""Neo-Hookean hyperelasticity: strain energy, first Piola stress and its tangent.
+
+Decoupled (isochoric/volumetric) Neo-Hookean solid with shear modulus mu and bulk modulus K:
+
+    W(F) = mu/2 (J^{-2/3} I1 - 3) + K/2 (J - 1)^2,     I1 = F:F,  J = det F,  H = F^{-T}.
+
+Small K/mu is a compressible solid; K/mu >= 1000 is the nearly incompressible silicone. The split
+lets the mixed u-p formulation (`fem.mechanics`) replace the volumetric part by an independent
+pressure p: W_mixed = W_iso + p (J - 1) - p^2 / (2K).
+
+Isochoric part (derivatives with dJ/dF = J H, dH_iJ/dF_kL = -H_iL H_kJ):
+
+    P_iso = mu J^{-2/3} (F - I1/3 H)
+    A_iso[iJkL] = mu J^{-2/3} [ d_ik d_JL - 2/3 (F_iJ H_kL + H_iJ F_kL)
+                                + 2/9 I1 H_iJ H_kL + I1/3 H_iL H_kJ ]
+
+Pressure part for a given p (mixed) and its F-derivative:
+
+    P_p = p J H,       A_p[iJkL] = p J (H_iJ H_kL - H_iL H_kJ)
+
+Displacement-only volumetric part, p = K (J - 1):
+
+    A_vol = K J^2 H_iJ H_kL + K (J - 1) J (H_iJ H_kL - H_iL H_kJ)
+
+Arrays: F has shape (3, 3, ...) (trailing axes are elements and quadrature points); tangents have
+shape (3, 3, 3, 3, ...). Units: MPa.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fem.errors import SolverInputError
+
+
+@dataclass(frozen=True, kw_only=True)
+class NeoHookean:
+    """Shear modulus `mu` and bulk modulus `bulk`, both in MPa."""
+
+    mu: float
+    bulk: float
+
+    def __post_init__(self):
+        if not np.isfinite(self.mu) or self.mu <= 0:
+            raise SolverInputError("mu", f"shear modulus must be positive, got {self.mu} MPa")
+        if not np.isfinite(self.bulk) or self.bulk <= 0:
+            raise SolverInputError("bulk", f"bulk modulus must be positive, got {self.bulk} MPa")
+        if self.bulk < 2.0 / 3.0 * self.mu:
+            raise SolverInputError(
+                "bulk", f"K = {self.bulk} MPa < 2/3 mu gives a negative Poisson ratio; use K >= 2/3 mu")
+
+    @classmethod
+    def nearly_incompressible(cls, mu: float, k_over_mu: float = 1000.0) -> "NeoHookean":
+        return cls(mu=mu, bulk=k_over_mu * mu)
+
+    @property
+    def poisson_ratio(self) -> float:
+        return (3 * self.bulk - 2 * self.mu) / (2 * (3 * self.bulk + self.mu))
+
+    def energy(self, F: np.ndarray) -> np.ndarray:
+        J = det3(F)
+        I1 = np.einsum("ij...,ij...->...", F, F)
+        return 0.5 * self.mu * (J ** (-2 / 3) * I1 - 3) + 0.5 * self.bulk * (J - 1) ** 2
+
+    def stress(self, F: np.ndarray) -> np.ndarray:
+        """First Piola stress P = dW/dF of the full (displacement-only) energy."""
+        J, H = det3(F), inv_transpose3(F)
+        return iso_stress(F, self.mu, J, H) + self.bulk * (J - 1) * J * H
+
+    def tangent(self, F: np.ndarray) -> np.ndarray:
+        """A = dP/dF of the full energy."""
+        J, H = det3(F), inv_transpose3(F)
+        return (iso_tangent(F, self.mu, J, H) + self.bulk * J * J * _outer(H, H)
+                + pressure_tangent(self.bulk * (J - 1), J, H))
+
+
+def det3(F: np.ndarray) -> np.ndarray:
+    return (F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
+            - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])
+            + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]))
+
+
+def cofactor3(F: np.ndarray) -> np.ndarray:
+    """cof F = J F^{-T}, exact for any F (no division)."""
+    C = np.empty_like(F)
+    for i in range(3):
+        i1, i2 = (i + 1) % 3, (i + 2) % 3
+        for j in range(3):
+            j1, j2 = (j + 1) % 3, (j + 2) % 3
+            C[i, j] = F[i1, j1] * F[i2, j2] - F[i1, j2] * F[i2, j1]
+    return C
+
+
+def inv_transpose3(F: np.ndarray) -> np.ndarray:
+    return cofactor3(F) / det3(F)
+
+
+def iso_stress(F, mu, J, H):
+    I1 = np.einsum("ij...,ij...->...", F, F)
+    return mu * J ** (-2 / 3) * (F - I1 / 3 * H)
+
+
+def _outer(A, B):
+    """out[i,J,k,L] = A[i,J] B[k,L] (trailing axes broadcast)."""
+    return A[:, :, None, None] * B[None, None, :, :]
+
+
+def _cross(A, B):
+    """out[i,J,k,L] = A[i,L] B[k,J]."""
+    return A[:, None, None, :] * B.swapaxes(0, 1)[None, :, :, None]
+
+
+def iso_tangent(F, mu, J, H):
+    I1 = np.einsum("ij...,ij...->...", F, F)
+    c = mu * J ** (-2 / 3)
+    eye = np.eye(3)
+    dd = (eye[:, None, :, None] * eye[None, :, None, :]).reshape((3, 3, 3, 3) + (1,) * (F.ndim - 2))
+    A = _outer(F, H)
+    A += _outer(H, F)
+    A *= -2.0 / 3.0
+    A += (2.0 / 9.0 * I1) * _outer(H, H)
+    A += (I1 / 3.0) * _cross(H, H)
+    A += dd
+    A *= c
+    return A
+
+
+def pressure_stress(p, J, H):
+    return p * J * H
+
+
+def pressure_tangent(p, J, H):
+    return (p * J) * (_outer(H, H) - _cross(H, H))
+
+
+def cauchy_stress(P: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """sigma = J^{-1} P F^T."""
+    return np.einsum("iJ...,kJ...->ik...", P, F) / det3(F)
+
+
+def von_mises(sigma: np.ndarray) -> np.ndarray:
+    s = sigma - np.einsum("kk...->...", sigma) / 3 * np.eye(3).reshape((3, 3) + (1,) * (sigma.ndim - 2))
+    return np.sqrt(1.5 * np.einsum("ij...,ij...->...", s, s))
+
+
+def principal_stretches(F: np.ndarray) -> np.ndarray:
+    """Principal stretches sqrt(eig(F^T F)), ascending, shape (..., 3)."""
+    C = np.einsum("kI...,kJ...->...IJ", F, F)
+    return np.sqrt(np.clip(np.linalg.eigvalsh(C), 0.0, None))

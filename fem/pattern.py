@@ -1,0 +1,40 @@
+"""A fixed sparsity pattern: scatter batches of element matrices into a CSR matrix fast.
+
+Element contributions come as groups: a group is a dof array `dofs` of shape (n_local, n_items)
+(global dof numbers, or -1 for an entry to drop, such as a Dirichlet dof). The pattern is built
+once with `np.unique` over the linear keys row * n + col; each assembly is then a single
+`np.bincount` of the element values into CSR data order. Rows/columns are the free dofs only:
+Dirichlet dofs are condensed out by the caller's `free_index` map (global dof -> free number, -1).
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+
+class Pattern:
+    def __init__(self, free_index: np.ndarray, groups: list[np.ndarray]):
+        self.n = int(free_index.max()) + 1
+        keys, self._slices, self._keep = [], [], []
+        start = 0
+        for dofs in groups:
+            f = free_index[dofs]                       # (n_local, n_items)
+            rows = np.broadcast_to(f[:, None, :], (f.shape[0],) + f.shape).reshape(-1)
+            cols = np.broadcast_to(f[None, :, :], (f.shape[0],) + f.shape).reshape(-1)
+            keep = np.flatnonzero((rows >= 0) & (cols >= 0))
+            keys.append(rows[keep].astype(np.int64) * self.n + cols[keep])
+            self._keep.append(keep)
+            self._slices.append(slice(start, start + keep.size))
+            start += keep.size
+        unique, inverse = np.unique(np.concatenate(keys), return_inverse=True)
+        self._inverse = inverse
+        self.nnz = unique.size
+        self.indices = (unique % self.n).astype(np.int32)
+        row = unique // self.n
+        self.indptr = np.searchsorted(row, np.arange(self.n + 1)).astype(np.int32)
+
+    def assemble(self, blocks: list[np.ndarray]) -> sp.csr_matrix:
+        """`blocks[g]` has shape (n_local, n_local, n_items) for group g."""
+        values = np.concatenate([b.reshape(-1)[keep] for b, keep in zip(blocks, self._keep)])
+        data = np.bincount(self._inverse, weights=values, minlength=self.nnz)
+        return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))

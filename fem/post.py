@@ -1,0 +1,65 @@
+r"""Post-processing of solved states: actuator metrics, stretches and stresses.
+
+- Actuator length: mean z of the deformed `top` face nodes minus that of the `bottom` face.
+- Outer radius at a reference height Z0: the `outer` surface nodes of the node layer nearest to
+  Z0 (in the reference configuration); radius = mean distance from their deformed centroid axis.
+- Principal stretches: square roots of the eigenvalues of C = F^T F at the quadrature points.
+- Cauchy stress sigma = J^{-1} P F^T, with the mixed pressure p in P for the p2p1 formulation;
+  von Mises sigma_vm = sqrt(3/2 s:s), s = dev sigma. Element values are quadrature averages.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fem.mechanics import SolidModel
+from fem.neohooke import cauchy_stress, det3, inv_transpose3, iso_stress, principal_stretches, von_mises
+
+
+def deformed_nodes(model: SolidModel, x: np.ndarray) -> np.ndarray:
+    return model.nodes + model.displacement(x)
+
+
+def actuator_length(model: SolidModel, x, bottom="end_bottom", top="end_top") -> float:
+    pos = deformed_nodes(model, x)
+    return float(pos[2, model.boundary_nodes(top)].mean() - pos[2, model.boundary_nodes(bottom)].mean())
+
+
+def outer_radius_at(model: SolidModel, x, z_ref: float, tag="outer") -> float:
+    nodes = model.boundary_nodes(tag)
+    Z = model.nodes[2, nodes]
+    dz = np.abs(Z - z_ref)
+    layer = nodes[dz <= dz.min() + 1e-9 * max(1.0, abs(z_ref))]
+    pos = deformed_nodes(model, x)[:, layer]
+    centre = pos[:2].mean(axis=1, keepdims=True) if layer.size > 8 else np.zeros((2, 1))
+    return float(np.hypot(*(pos[:2] - centre)).mean())
+
+
+@dataclass(frozen=True)
+class ElementFields:
+    """Per-element values (quadrature averages; maximum for the stretch)."""
+
+    max_stretch: np.ndarray      # (E,)
+    cauchy: np.ndarray           # (3, 3, E) MPa
+    von_mises: np.ndarray        # (E,) MPa
+    pressure: np.ndarray         # (E,) MPa, hydrostatic -tr(sigma)/3
+    jacobian: np.ndarray         # (E,) det F
+
+
+def element_fields(model: SolidModel, x: np.ndarray) -> ElementFields:
+    F = model.deformation_gradient(x)
+    J = det3(F)
+    H = inv_transpose3(F)
+    p = model.pressure_field(x)
+    P = iso_stress(F, model.mu, J, H) + p * J * H
+    sigma = cauchy_stress(P, F)
+    w = model.dx / model.dx.sum(axis=1, keepdims=True)
+    avg = lambda a: (a * w).sum(axis=-1)  # noqa: E731
+    stretch = principal_stretches(F)[..., -1].max(axis=1)
+    sig_e = avg(sigma)
+    return ElementFields(stretch, sig_e, avg(von_mises(sigma)), -np.einsum("kke->e", sig_e) / 3, avg(J))
+
+
+def max_principal_stretch(model: SolidModel, x) -> float:
+    return float(element_fields(model, x).max_stretch.max())

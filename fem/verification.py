@@ -1,0 +1,182 @@
+"""Verification cases: the solver against closed-form solutions (DESIGN.md section 6).
+
+Each case builds a coarse structured mesh, solves, and returns a frozen `CaseResult` with the
+worst relative error against the analytic solution and the tolerance it must meet. The same
+functions back `softcrawl verify` and the test suite, so the CLI reports what the tests check.
+
+Cases
+- patch: homogeneous uniaxial stretch of a box (lateral faces free): every node on the exact
+  homogeneous field (relative error), and nominal stress against mu (lam - lam^-2) (the
+  compressible solver at K/mu = 1e4 approaches the incompressible value).
+- tube: 1/4 plane-strain thick tube, A = 1, B = 20 mm, K/mu = 1000, P = 0.5 mu and 2 mu; inner
+  and outer radius against the analytic ones. (The A = 3, B = 9 tube cannot carry 2 mu: its
+  pressure tends to mu ln(B/A) = 1.10 mu as la -> infinity.)
+- sphere-volume: 1/8 thick sphere A = 5, B = 7.5 mm under volume control up to and past the
+  pressure maximum; pressure against the analytic P(la).
+- sphere-limit: the same sphere under pressure control towards 1.2 x the analytic maximum; the
+  reported limit pressure against the analytic maximum.
+- newton: residual ratios of the last Newton iterations of a follower-pressure step (quadratic
+  convergence: r_{k+1} <= C r_k^2).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fem import analytic
+from fem.meshes import box, sphere_octant, tube_sector
+from fem.mechanics import Dirichlet, SolidModel
+from fem.neohooke import NeoHookean
+from fem.path import NewtonOptions, load_path, volume_path
+
+MU = 0.03  # MPa, Ecoflex 00-50 default (DESIGN.md section 3)
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    name: str
+    error: float                 # worst relative error against the analytic solution
+    tolerance: float
+    details: dict = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        return bool(np.isfinite(self.error) and self.error <= self.tolerance)
+
+
+def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
+    size = (2.0, 2.0, 4.0)
+    mesh = box(size, (2, 2, 3))
+    mat = NeoHookean.nearly_incompressible(MU, k_over_mu)
+    bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2),
+           Dirichlet.prescribed("z1", 2, (stretch - 1) * size[2])]
+    model = SolidModel(mesh, mat, dirichlet=bcs, formulation=formulation)
+    res = load_path(model, [(0.0, f) for f in np.linspace(0.2, 1.0, 5)], control="displacement")
+    if not res.converged:
+        return CaseResult("patch", np.inf, 1e-8, {"message": res.message})
+    x = res.steps[-1].x
+    u = model.displacement(x)
+    X = model.nodes
+    # Homogeneous field: lateral stretch from the computed state (compressible), exact axial one.
+    lat = 1 + u[0][X[0] > 0].mean() / X[0][X[0] > 0].mean()
+    exact = np.vstack([(lat - 1) * X[0], (lat - 1) * X[1], (stretch - 1) * X[2]])
+    field_err = np.abs(u - exact).max() / ((stretch - 1) * size[2])
+    force = model.reaction(x, "z1")[2]
+    nominal = force / (size[0] * size[1])
+    target = analytic.uniaxial_nominal_stress(MU, stretch)
+    stress_err = abs(nominal - target) / target
+    return CaseResult("patch", field_err, 1e-8, {
+        "field_error": field_err, "nominal_stress_MPa": nominal, "analytic_MPa": target,
+        "stress_error": stress_err, "stress_tolerance": 5e-3, "lateral_stretch": lat,
+        "iterations": res.stats.iterations})
+
+
+def tube_model(inner=1.0, outer=20.0, n_radial=12, n_angle=8, k_over_mu=1000.0, formulation="p2p1"):
+    mesh = tube_sector(inner, outer, height=1.0, n_radial=n_radial, n_angle=n_angle, n_height=1,
+                       geometric=True)
+    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
+           Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
+    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, k_over_mu), dirichlet=bcs,
+                      chamber=("inner",), formulation=formulation, volume_weights=(1, 1, 0))
+
+
+def mean_radius(model: SolidModel, x, tag) -> float:
+    nodes = model.boundary_nodes(tag)
+    pos = model.nodes[:, nodes] + model.displacement(x)[:, nodes]
+    return float(np.hypot(pos[0], pos[1]).mean())
+
+
+def tube_test(pressures_over_mu=(0.5, 2.0), inner=1.0, outer=20.0, n_radial=12, n_angle=8,
+              formulation="p2p1", tolerance=0.01) -> CaseResult:
+    model = tube_model(inner, outer, n_radial, n_angle, formulation=formulation)
+    targets = [(r * MU, 0.0) for r in pressures_over_mu]
+    res = load_path(model, targets)
+    details = {"dofs": model.n_dofs, "iterations": res.stats.iterations, "message": res.message}
+    if not res.converged or len(res.steps) != len(targets):
+        return CaseResult("tube", np.inf, tolerance, details)
+    worst = 0.0
+    for step, r in zip(res.steps, pressures_over_mu):
+        la = analytic.tube_inner_stretch(MU, step.pressure, inner, outer)
+        a, b = la * inner, analytic.tube_outer_stretch(la, inner, outer) * outer
+        ea = abs(mean_radius(model, step.x, "inner") - a) / a
+        eb = abs(mean_radius(model, step.x, "outer") - b) / b
+        details[f"P={r}mu"] = {"inner_mm": a, "inner_err": ea, "outer_mm": b, "outer_err": eb}
+        worst = max(worst, ea, eb)
+    return CaseResult("tube", worst, tolerance, details)
+
+
+def sphere_model(inner=5.0, outer=7.5, n_radial=3, n_surface=4, k_over_mu=1000.0, formulation="p2p1"):
+    mesh = sphere_octant(inner, outer, n_radial=n_radial, n_surface=n_surface)
+    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1), Dirichlet.symmetry("sym_z", 2)]
+    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, k_over_mu), dirichlet=bcs,
+                      chamber=("inner",), formulation=formulation)
+
+
+def sphere_inner_stretch(model, x, inner):
+    nodes = model.boundary_nodes("inner")
+    pos = model.nodes[:, nodes] + model.displacement(x)[:, nodes]
+    return float(np.linalg.norm(pos, axis=0).mean() / inner)
+
+
+def sphere_volume_test(inner=5.0, outer=7.5, max_stretch=2.4, n_points=12, tolerance=0.02,
+                       **mesh) -> CaseResult:
+    model = sphere_model(inner, outer, **mesh)
+    la_max_p, p_max = analytic.sphere_limit(MU, inner, outer)
+    stretches = np.linspace(1.0, max_stretch, n_points + 1)[1:]
+    V0 = model.chamber_volume(model.initial_state())
+    volumes = V0 * stretches ** 3
+    res = volume_path(model, volumes)
+    details = {"dofs": model.n_dofs, "analytic_limit_stretch": la_max_p, "analytic_limit_kPa": p_max * 1e3,
+               "message": res.message}
+    if not res.converged:
+        return CaseResult("sphere-volume", np.inf, tolerance, details)
+    errors, curve = [], []
+    for step in res.steps:
+        la = sphere_inner_stretch(model, step.x, inner)
+        p_exact = analytic.sphere_pressure(MU, la, inner, outer)
+        errors.append(abs(step.pressure - p_exact) / p_max)
+        curve.append((la, step.pressure * 1e3, p_exact * 1e3))
+    details["curve_stretch_kPa_fe_analytic"] = curve
+    details["passed_maximum"] = bool(curve[-1][0] > la_max_p)
+    details["fe_limit_kPa"] = None if res.limit_pressure is None else res.limit_pressure * 1e3
+    err = max(errors) if details["passed_maximum"] else np.inf
+    return CaseResult("sphere-volume", err, tolerance, details)
+
+
+def sphere_limit_test(inner=5.0, outer=7.5, tolerance=0.03, **mesh) -> CaseResult:
+    model = sphere_model(inner, outer, **mesh)
+    _, p_max = analytic.sphere_limit(MU, inner, outer)
+    targets = [(f * p_max, 0.0) for f in np.linspace(0.2, 1.2, 6)]
+    res = load_path(model, targets)
+    details = {"analytic_limit_kPa": p_max * 1e3, "message": res.message, "events": list(res.events)}
+    if res.limit_pressure is None:
+        return CaseResult("sphere-limit", np.inf, tolerance, details)
+    details["fe_limit_kPa"] = res.limit_pressure * 1e3
+    return CaseResult("sphere-limit", abs(res.limit_pressure - p_max) / p_max, tolerance, details)
+
+
+def newton_test(tolerance=10.0) -> CaseResult:
+    """Quadratic convergence: r_{k+1} / r_k^2 bounded (C <= tolerance) over the last iterations."""
+    model = tube_model(3.0, 9.0, n_radial=4, n_angle=6)
+    res = load_path(model, [(0.02, 0.0)], options=NewtonOptions(tol=1e-13))
+    r = np.array(res.steps[-1].newton.residuals) if res.steps else np.array([])
+    r = r[r > 1e-14]
+    ratios = r[1:] / r[:-1] ** 2 if r.size > 2 else np.array([np.inf])
+    tail = ratios[-2:]
+    orders = np.log(r[2:] / r[1:-1]) / np.log(r[1:-1] / r[:-2]) if r.size > 2 else np.array([])
+    return CaseResult("newton", float(tail.max()), tolerance, {
+        "residuals": r.tolist(), "ratios_r_next_over_r2": ratios.tolist(), "orders": orders.tolist()})
+
+
+CASES = {
+    "patch": patch_test,
+    "tube": tube_test,
+    "sphere-volume": sphere_volume_test,
+    "sphere-limit": sphere_limit_test,
+    "newton": newton_test,
+}
+
+
+def run_all(names=None) -> list[CaseResult]:
+    return [CASES[n]() for n in (names or CASES)]

@@ -1,0 +1,76 @@
+"""The solver against closed-form solutions (DESIGN.md section 6), on coarse meshes."""
+import numpy as np
+import pytest
+
+from fem import verification as V
+from fem.errors import SolverInputError
+from fem.mechanics import Dirichlet, SolidModel
+from fem.meshes import box
+from fem.neohooke import NeoHookean
+from fem.path import load_path
+
+
+def test_patch_test_reproduces_homogeneous_stretch():
+    r = V.patch_test()
+    assert r.details["field_error"] <= 1e-8, r.details
+    assert r.details["stress_error"] <= 5e-3, r.details
+
+
+def test_plane_strain_tube_at_half_and_twice_mu():
+    r = V.tube_test()
+    assert r.passed, r.details
+    for key in ("P=0.5mu", "P=2.0mu"):
+        assert r.details[key]["inner_err"] < 0.01
+        assert r.details[key]["outer_err"] < 0.01
+
+
+def test_sphere_volume_control_follows_analytic_curve_past_its_maximum():
+    r = V.sphere_volume_test()
+    assert r.details["passed_maximum"]
+    assert r.passed, r.details
+
+
+def test_sphere_pressure_control_reports_the_limit_point():
+    r = V.sphere_limit_test()
+    assert r.passed, r.details
+    assert any("limit point at P ~" in e for e in r.details["events"])
+
+
+def test_newton_converges_quadratically_under_follower_pressure():
+    r = V.newton_test()
+    res = np.array(r.details["residuals"])
+    assert res[-1] < 1e-12
+    # last two ratios r_{k+1} / r_k^2 bounded: quadratic, not linear, convergence
+    assert r.passed, r.details
+    assert r.details["orders"][-1] > 1.6
+
+
+def test_diverging_solve_returns_a_failure_naming_the_last_converged_load():
+    mesh = box((1.0, 1.0, 1.0), (1, 1, 1))
+    bcs = [Dirichlet.fixed("z0"), Dirichlet.prescribed("z1", 2, -3.0)]   # crush through itself
+    model = SolidModel(mesh, NeoHookean.nearly_incompressible(0.03, 10.0), dirichlet=bcs)
+    res = load_path(model, [(0.0, 1.0)], control="displacement")
+    assert not res.converged
+    assert "last converged load" in res.message and "Dirichlet factor" in res.message
+
+
+def test_unknown_boundary_tag_is_a_named_error():
+    with pytest.raises(SolverInputError) as err:
+        SolidModel(box(), NeoHookean(mu=0.03, bulk=30.0), dirichlet=[Dirichlet.fixed("nope")])
+    assert err.value.parameter == "dirichlet"
+
+
+def test_reaction_balances_the_pressure_load():
+    """x-equilibrium of a quarter tube: the support force on the plane x = 0 cancels the net
+    pressure force P * int_0^h y_edge(z) dz, y_edge(z) the deformed inner edge on that plane
+    (one quadratic element layer: Simpson's rule over its three nodes is exact)."""
+    model = V.tube_model(3.0, 9.0, n_radial=3, n_angle=4)
+    P = 0.005
+    res = load_path(model, [(P, 0.0)])
+    x = res.steps[-1].x
+    edge = np.intersect1d(model.boundary_nodes("inner"), model.boundary_nodes("sym_x"))
+    pos = model.nodes[:, edge] + model.displacement(x)[:, edge]
+    y0, ymid, y1 = pos[1, np.argsort(pos[2])]
+    resultant = P * (y0 + 4 * ymid + y1) / 6
+    support = model.reaction(x, "sym_x", pressure=P)
+    assert support[0] == pytest.approx(-resultant, rel=1e-7)
