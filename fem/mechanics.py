@@ -101,7 +101,7 @@ class SolidModel:
 
         if self.mixed:
             self.pbasis = skfem.Basis(mesh, skfem.ElementTetP1(), quadrature=self.basis.quadrature)
-            self.Np = np.stack([phi[0].value for phi in self.pbasis.basis])   # (4, E, Q)
+            self.Np = np.stack([np.asarray(phi[0]) for phi in self.pbasis.basis])   # (4, E, Q)
             self.p_dofs = self.n_u + self.pbasis.element_dofs                # (4, E)
             self.n_p = self.pbasis.N
         else:
@@ -145,7 +145,7 @@ class SolidModel:
                                            f"known: {sorted(boundaries)}")
             facets = np.concatenate([boundaries[t] for t in self.chamber])
             fb = skfem.FacetBasis(mesh, skfem.ElementTetP2(), facets=facets, intorder=4)
-            self.f_N = np.stack([phi[0].value for phi in fb.basis])     # (10, F, Qf)
+            self.f_N = np.stack([np.asarray(phi[0]) for phi in fb.basis])     # (10, F, Qf)
             self.f_dN = np.stack([phi[0].grad for phi in fb.basis])     # (10, 3, F, Qf)
             self.f_normal = fb.normals                                   # (3, F, Qf) solid outward
             self.f_dx = fb.dx

@@ -44,8 +44,9 @@ class NewtonOptions:
     stall_iter: int = 8               # after this many iterations the residual must keep halving
     max_backtracks: int = 6
     max_cutbacks: int = 6             # halvings of a load sub-step before giving up
-    min_step_fraction: float = 1e-3   # of the first target spacing
+    min_step_fraction: float = 1e-3   # smallest sub-step, as a fraction of a load segment
     post_limit_steps: int = 6
+    max_control_switches: int = 4     # pressure -> volume control hand-overs in one path
     solver: str | None = None
 
 
@@ -244,9 +245,8 @@ def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = Non
     load = (0.0, 0.0)
     steps: list[Step] = []
     events: list[str] = []
-    spacing = max(abs(targets[0][0]), abs(targets[0][1]), 1e-300)
-    first = np.hypot(*np.subtract(targets[0], load))
     h_min = opt.min_step_fraction
+    switches = 0
     i = 0
     while i < len(targets):
         target = targets[i]
@@ -254,8 +254,9 @@ def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = Non
             x, record, n_sub = _advance(solver, x, load, target, opt, h_min)
         except _Diverged as exc:
             # Pressure control cannot advance: try volume control from the last converged state.
-            if not model.chamber or target[0] <= load[0]:
+            if not model.chamber or switches >= opt.max_control_switches:
                 return _failed(steps, events, solver, t0, load, str(exc))
+            switches += 1
             events.append(f"pressure control stalled above P = {load[0] * 1e3:.4g} kPa ({exc}); "
                           "switching to volume control")
             outcome = _volume_continuation(solver, x, load, targets[i:], steps, events, opt)

@@ -2,7 +2,8 @@ r"""Post-processing of solved states: actuator metrics, stretches and stresses.
 
 - Actuator length: mean z of the deformed `top` face nodes minus that of the `bottom` face.
 - Outer radius at a reference height Z0: the `outer` surface nodes of the node layer nearest to
-  Z0 (in the reference configuration); radius = mean distance from their deformed centroid axis.
+  Z0 (in the reference configuration); radius = mean distance from the centre of the circle
+  fitted to their deformed positions (so a shifted axis or a symmetry sector is handled).
 - Principal stretches: square roots of the eigenvalues of C = F^T F at the quadrature points.
 - Cauchy stress sigma = J^{-1} P F^T, with the mixed pressure p in P for the p2p1 formulation;
   von Mises sigma_vm = sqrt(3/2 s:s), s = dev sigma. Element values are quadrature averages.
@@ -31,9 +32,17 @@ def outer_radius_at(model: SolidModel, x, z_ref: float, tag="outer") -> float:
     Z = model.nodes[2, nodes]
     dz = np.abs(Z - z_ref)
     layer = nodes[dz <= dz.min() + 1e-9 * max(1.0, abs(z_ref))]
-    pos = deformed_nodes(model, x)[:, layer]
-    centre = pos[:2].mean(axis=1, keepdims=True) if layer.size > 8 else np.zeros((2, 1))
-    return float(np.hypot(*(pos[:2] - centre)).mean())
+    pos = deformed_nodes(model, x)[:2, layer]
+    centre = circle_centre(pos) if layer.size >= 3 else np.zeros(2)
+    return float(np.hypot(*(pos - centre[:, None])).mean())
+
+
+def circle_centre(xy: np.ndarray) -> np.ndarray:
+    """Least-squares (Kasa) circle centre of points xy (2, n): 2 x.c + k = |x|^2. Works for a
+    full ring and for an arc (symmetry sectors)."""
+    M = np.column_stack([2 * xy[0], 2 * xy[1], np.ones(xy.shape[1])])
+    sol, *_ = np.linalg.lstsq(M, (xy ** 2).sum(axis=0), rcond=None)
+    return sol[:2]
 
 
 @dataclass(frozen=True)

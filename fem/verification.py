@@ -180,3 +180,22 @@ CASES = {
 
 def run_all(names=None) -> list[CaseResult]:
     return [CASES[n]() for n in (names or CASES)]
+
+
+def tube_convergence(levels=((6, 4), (12, 8), (24, 16)), pressure_over_mu=0.5, k_over_mu=1000.0,
+                     inner=1.0, outer=20.0):
+    """Inner-radius error of the plane-strain tube under uniform refinement.
+
+    Returns a list of (dofs, relative error) and the observed orders log2(e_k / e_{k+1}) (the
+    levels halve the cell size). The analytic solution is incompressible, so at K/mu = 1000 the
+    error levels off near the compressibility error O(p/K) once the discretisation error is below it.
+    """
+    rows = []
+    for n_radial, n_angle in levels:
+        model = tube_model(inner, outer, n_radial, n_angle, k_over_mu=k_over_mu)
+        res = load_path(model, [(pressure_over_mu * MU, 0.0)])
+        la = analytic.tube_inner_stretch(MU, pressure_over_mu * MU, inner, outer)
+        err = abs(mean_radius(model, res.steps[-1].x, "inner") - la * inner) / (la * inner)
+        rows.append((model.n_dofs, err))
+    orders = [float(np.log2(a[1] / b[1])) for a, b in zip(rows, rows[1:])]
+    return rows, orders
