@@ -1,0 +1,142 @@
+"""Boundary facets of a tetrahedral mesh and their tags, found by geometric predicates.
+
+pytetwild (fTetWild) keeps no surface tags and moves boundary vertices within its envelope, so the
+tags are recovered after meshing. Each part describes its boundary as a list of
+:class:`RevolvedSegment` (tag, a straight segment p0 -> p1 in the (rho, z) half plane, revolved about
+an axis parallel to z through ``centre``). A segment with constant z is a plane annulus, one with
+constant rho a cylinder, any other a cone. The segment is listed with the solid on its left, so the
+outward normal in the (rho, z) plane is the right normal (t_z, -t_rho) of the direction t.
+
+A boundary facet gets the tag of the segment that is nearest to all three of its vertices (the
+largest vertex distance), provided that distance is within ``tol`` and the facet normal points
+within 60 degrees of the segment's outward normal. :func:`snap_to_surfaces` then moves the tagged
+vertices onto the exact surfaces (closest point on the segment, same polar angle about the axis),
+reverting any move that would invert a tetrahedron.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Local faces of a positively oriented tet (a, b, c, d), each listed with an outward normal.
+TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
+
+
+@dataclass(frozen=True)
+class RevolvedSegment:
+    """A tagged surface patch: segment p0 -> p1 in (rho, z), revolved about the axis at ``centre``."""
+
+    tag: str
+    p0: tuple[float, float]
+    p1: tuple[float, float]
+    centre: tuple[float, float] = (0.0, 0.0)
+    curved: bool = False  # True when rho varies over the surface (cylinder, cone): P2 nodes are snapped
+
+    def _rz(self, x: np.ndarray):
+        dx = x[:, 0] - self.centre[0]
+        dy = x[:, 1] - self.centre[1]
+        rho = np.hypot(dx, dy)
+        return dx, dy, rho, x[:, 2]
+
+    def closest(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Closest points on the surface to x (n, 3) and their distances."""
+        dx, dy, rho, z = self._rz(x)
+        p0 = np.asarray(self.p0, float)
+        p1 = np.asarray(self.p1, float)
+        t = p1 - p0
+        s = np.clip(((rho - p0[0]) * t[0] + (z - p0[1]) * t[1]) / (t @ t), 0.0, 1.0)
+        rq = p0[0] + s * t[0]
+        zq = p0[1] + s * t[1]
+        safe = np.where(rho > 1e-12, rho, 1.0)
+        cx = np.where(rho > 1e-12, dx / safe, 1.0)
+        cy = np.where(rho > 1e-12, dy / safe, 0.0)
+        q = np.column_stack([self.centre[0] + rq * cx, self.centre[1] + rq * cy, zq])
+        return q, np.hypot(rho - rq, z - zq)
+
+    def normal(self, x: np.ndarray) -> np.ndarray:
+        """Outward unit normal of the exact surface at (the polar angle of) x."""
+        dx, dy, rho, _ = self._rz(x)
+        t = np.asarray(self.p1, float) - np.asarray(self.p0, float)
+        t = t / np.linalg.norm(t)
+        n_rho, n_z = t[1], -t[0]
+        safe = np.where(rho > 1e-12, rho, 1.0)
+        return np.column_stack([n_rho * dx / safe, n_rho * dy / safe, np.full(len(x), n_z)])
+
+    def area(self) -> float:
+        """Exact area of the revolved segment (full revolution): pi (rho0 + rho1) |p1 - p0|."""
+        return float(np.pi * (self.p0[0] + self.p1[0]) * np.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1]))
+
+
+def boundary_facets(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Outward-oriented boundary triangles (k, 3) of positively oriented tets, and their tet index."""
+    faces = tets[:, TET_FACES].reshape(-1, 3)
+    owner = np.repeat(np.arange(len(tets)), 4)
+    key = np.sort(faces, axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    once = counts[inverse.ravel()] == 1
+    return faces[once], owner[once]
+
+
+def facet_normals(points: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    a, b, c = points[tris[:, 0]], points[tris[:, 1]], points[tris[:, 2]]
+    n = np.cross(b - a, c - a)
+    return n / np.linalg.norm(n, axis=1, keepdims=True)
+
+
+def classify_facets(points: np.ndarray, tris: np.ndarray, segments: list[RevolvedSegment],
+                    tol: float, min_alignment: float = 0.5) -> np.ndarray:
+    """Index into ``segments`` for each triangle, -1 where no segment matches."""
+    normals = facet_normals(points, tris)
+    centroids = points[tris].mean(axis=1)
+    best = np.full(len(tris), -1)
+    best_dist = np.full(len(tris), np.inf)
+    for i, seg in enumerate(segments):
+        dist = np.max([seg.closest(points[tris[:, k]])[1] for k in range(3)], axis=0)
+        align = np.einsum("ij,ij->i", normals, seg.normal(centroids))
+        ok = (dist <= tol) & (align >= min_alignment) & (dist < best_dist)
+        best[ok] = i
+        best_dist[ok] = dist[ok]
+    return best
+
+
+def tet_volumes(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    a = points[tets[:, 0]]
+    return np.einsum("ij,ij->i", np.cross(points[tets[:, 1]] - a, points[tets[:, 2]] - a),
+                     points[tets[:, 3]] - a) / 6.0
+
+
+def snap_to_surfaces(points: np.ndarray, tets: np.ndarray, facets: dict[str, np.ndarray],
+                     segments: dict[str, list[RevolvedSegment]], max_move: float) -> tuple[np.ndarray, int]:
+    """Project the vertices of tagged facets onto their exact surfaces.
+
+    ``segments`` maps a tag to the surfaces it may lie on (a vertex goes to the nearest). Vertices on
+    several tags (edges of the part) are projected in turn, which lands them on the intersection
+    curve for the orthogonal plane/cylinder pairs of these parts. Moves larger than ``max_move`` are
+    skipped; moves that would make a tet's volume drop below 10 % of its old value are reverted.
+    Returns the new points and the number of vertices moved.
+    """
+    new = points.copy()
+    for tag, tris in facets.items():
+        if tag not in segments or len(tris) == 0:
+            continue
+        verts = np.unique(tris)
+        x = new[verts]
+        q_best = x.copy()
+        d_best = np.full(len(verts), np.inf)
+        for seg in segments[tag]:
+            q, d = seg.closest(x)
+            take = d < d_best
+            q_best[take] = q[take]
+            d_best[take] = d[take]
+        move = d_best <= max_move
+        new[verts[move]] = q_best[move]
+    vol0 = tet_volumes(points, tets)
+    for _ in range(10):
+        bad = tet_volumes(new, tets) < 0.1 * vol0
+        if not bad.any():
+            break
+        revert = np.unique(tets[bad])
+        new[revert] = points[revert]
+    moved = int(np.count_nonzero(np.any(new != points, axis=1)))
+    return new, moved
