@@ -154,3 +154,50 @@ def mesh_epsa(design: EPSADesign | None = None, edge_length: float | None = None
     return mesh_part("epsa", lambda: epsa_surface(design, n_theta), epsa_segments(design),
                      design.short_hash(), "epsa", edge_length, cache_dir, n_theta, sagitta,
                      fiber_helices(design))
+
+
+def mesh_seal_head(design: EPSADesign | None = None, edge_length: float | None = None, cache_dir=None,
+                   n_theta: int = DEFAULT_N_THETA) -> TaggedMesh:
+    """The ABS seal head disk of an ePSA, z in [L, L + t_s] (region ``seal_head``)."""
+    from geometry.epsa import seal_head_segments, seal_head_surface
+
+    design = design or EPSADesign()
+    sagitta = design.outer_radius * (1 - np.cos(np.pi / n_theta))
+    return mesh_part("seal_head", lambda: seal_head_surface(design, n_theta), seal_head_segments(design),
+                     design.short_hash(), "seal_head", edge_length, cache_dir, n_theta, sagitta)
+
+
+def mesh_foot(design=None, edge_length: float | None = None, cache_dir=None, n_theta: int | None = None) -> TaggedMesh:
+    """The grooved flexible foot (region ``foot``), hub top face at z = 0, see ``geometry.foot``."""
+    from geometry.design import FootDesign
+    from geometry.foot import FOOT_N_THETA, foot_segments, foot_surface
+
+    design = design or FootDesign()
+    n_theta = n_theta or FOOT_N_THETA
+    sagitta = design.tip_radius * (1 - np.cos(np.pi / n_theta))
+    return mesh_part("foot", lambda: foot_surface(design, n_theta), foot_segments(design),
+                     design.short_hash(), "foot", edge_length, cache_dir, n_theta, sagitta)
+
+
+def mesh_ring(design=None, edge_length: float | None = None, cache_dir=None) -> TaggedMesh:
+    """The connecting ring (region ``ring``), z in [-t/2, t/2], see ``geometry.ring``."""
+    from geometry.design import RingDesign
+    from geometry.ring import ring_segments, ring_surface
+
+    design = design or RingDesign()
+    surface = ring_surface(design)
+    # input polygon sagitta on the largest circle for the chosen spacing
+    spacing = float(np.max(np.linalg.norm(np.diff(np.asarray(surface.points)[:8, :2], axis=0), axis=1)))
+    sagitta = spacing**2 / (8 * design.hole_radius)
+    return mesh_part("ring", lambda: surface, ring_segments(design), design.short_hash(), "ring",
+                     edge_length, cache_dir, 0, sagitta)
+
+
+def mesh_robot(design=None, edge_length: float | None = None, cache_dir=None) -> TaggedMesh:
+    """The assembled robot, see :func:`geometry.robot.assemble_robot`."""
+    from geometry.robot import assemble_robot
+
+    return assemble_robot(design, edge_length=edge_length, cache_dir=cache_dir)
+
+
+MESHERS = {"epsa": mesh_epsa, "foot": mesh_foot, "ring": mesh_ring, "robot": mesh_robot}
