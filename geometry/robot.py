@@ -131,3 +131,26 @@ def actuator_clearance(mesh: TaggedMesh, design: RobotDesign) -> dict:
             rho = np.hypot(p[:, 0] - cj[0], p[:, 1] - cj[1])
             intrusion = max(intrusion, float(R0 - rho.min()))
     return {"channel_radius_mm": channel, "max_intrusion_mm": intrusion}
+
+
+def robot_surfaces(design: RobotDesign | None = None, n_theta: int = 48) -> dict:
+    """Watertight surfaces of every part, placed as in the assembly ({part name: pyvista.PolyData})."""
+    from geometry.epsa import epsa_surface, seal_head_surface
+    from geometry.foot import foot_surface
+    from geometry.ring import ring_surface
+
+    design = design or RobotDesign()
+    e, f = design.epsa, design.foot
+    body, seal = epsa_surface(e, n_theta), seal_head_surface(e, n_theta)
+    out = {}
+    for i, (cx, cy) in enumerate(design.actuator_centres, start=1):
+        out[f"epsa{i}"] = body.translate((cx, cy, 0.0), inplace=False)
+        out[f"seal_head{i}"] = seal.translate((cx, cy, 0.0), inplace=False)
+    if design.n_rings:
+        ring = ring_surface(design.ring)
+        for k, zk in enumerate(design.ring_centres_z, start=1):
+            out[f"ring{k}"] = ring.translate((0.0, 0.0, zk), inplace=False)
+    foot = foot_surface(f)
+    out["foot_rear"] = foot
+    out["foot_front"] = foot.translate((0.0, 0.0, e.length + e.seal_head_thickness + f.hub_thickness), inplace=False)
+    return out
