@@ -140,3 +140,41 @@ def snap_to_surfaces(points: np.ndarray, tets: np.ndarray, facets: dict[str, np.
         new[revert] = points[revert]
     moved = int(np.count_nonzero(np.any(new != points, axis=1)))
     return new, moved
+
+
+def _point_segment(x, a, b):
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", x - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+    return np.linalg.norm(x - (a + t[:, None] * ab), axis=1)
+
+
+def point_triangle_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Distance of points x (n, 3) to triangles (a, b, c) (n, 3 each), pairwise.
+
+    If the projection on the triangle's plane falls inside (barycentric coordinates >= 0) the distance
+    is the plane distance, otherwise the distance to the nearest edge.
+    """
+    n = np.cross(b - a, c - a)
+    nn = np.einsum("ij,ij->i", n, n)
+    dist_plane = np.einsum("ij,ij->i", x - a, n) / np.sqrt(nn)
+    p = x - (dist_plane / np.sqrt(nn))[:, None] * n
+    w_a = np.einsum("ij,ij->i", np.cross(c - b, p - b), n) / nn
+    w_b = np.einsum("ij,ij->i", np.cross(a - c, p - c), n) / nn
+    w_c = 1.0 - w_a - w_b
+    inside = (w_a >= 0) & (w_b >= 0) & (w_c >= 0)
+    edge = np.minimum(np.minimum(_point_segment(x, a, b), _point_segment(x, b, c)), _point_segment(x, c, a))
+    return np.where(inside, np.abs(dist_plane), edge)
+
+
+def distance_to_surface(x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: int = 12) -> np.ndarray:
+    """Distance of points x to a triangle set (exact among the k triangles with the nearest centroids)."""
+    from scipy.spatial import cKDTree
+
+    cent = points[tris].mean(axis=1)
+    _, idx = cKDTree(cent).query(x, k=min(k, len(tris)))
+    idx = np.atleast_2d(idx.T).T if idx.ndim == 1 else idx
+    best = np.full(len(x), np.inf)
+    for j in range(idx.shape[1]):
+        t = tris[idx[:, j]]
+        best = np.minimum(best, point_triangle_distance(x, points[t[:, 0]], points[t[:, 1]], points[t[:, 2]]))
+    return best

@@ -78,21 +78,27 @@ def build_design(kind: str, params: dict, base=None):
     nested = {part: {k.split(".", 1)[1]: v for k, v in params.items() if k.startswith(part + ".")}
               for part in ("epsa", "foot", "ring")}
     base = base or RobotDesign()
-    epsa = base.epsa.replace(**nested["epsa"]) if nested["epsa"] else base.epsa
+    epsa = _part(base.epsa, "epsa", nested["epsa"])
     d = top.get("d", base.d)
     # Parts derived from d unless the base file set them or the user overrides them.
     derived = RobotDesign(epsa=epsa, d=d, n_rings=top.get("n_rings", base.n_rings))
     foot = base.foot if d == base.d and epsa == base.epsa else derived.foot
     ring = base.ring if d == base.d and epsa == base.epsa else derived.ring
-    try:
-        foot = foot.replace(**nested["foot"]) if nested["foot"] else foot
-    except ValueError as exc:
-        raise DesignError(f"foot.{getattr(exc, 'parameter', '')}", getattr(exc, "detail", str(exc))) from None
-    try:
-        ring = ring.replace(**nested["ring"]) if nested["ring"] else ring
-    except ValueError as exc:
-        raise DesignError(f"ring.{getattr(exc, 'parameter', '')}", getattr(exc, "detail", str(exc))) from None
+    foot = _part(foot, "foot", nested["foot"])
+    ring = _part(ring, "ring", nested["ring"])
     return base.replace(epsa=epsa, foot=foot, ring=ring, **top)
+
+
+def _part(design, name: str, changes: dict):
+    """``design.replace(**changes)`` with errors named ``<name>.<parameter>``."""
+    from geometry.design import DesignError
+
+    if not changes:
+        return design
+    try:
+        return design.replace(**changes)
+    except DesignError as exc:
+        raise DesignError(f"{name}.{exc.parameter}", exc.detail) from None
 
 
 def run(args: argparse.Namespace) -> int:
