@@ -73,6 +73,7 @@ def assemble_robot(design: RobotDesign | None = None, edge_length: float | None 
             inter.append((rg, f"hole{i}", a, np.ones(len(meshes[rg].facets[f"hole{i}"]), bool)))
 
     points, tets, region, facets, fibers = [], [], [], {}, []
+    source: dict[str, tuple[str, str]] = {}  # robot tag -> (part, part tag)
     region_names: dict[int, str] = {}
     offset = 0
     for rid, (name, m) in enumerate(parts, start=1):
@@ -87,17 +88,22 @@ def assemble_robot(design: RobotDesign | None = None, edge_length: float | None 
             mask = mask & ~used[tag]
             used[tag] |= mask
             facets[f"interface:{name}/{other}"] = m.facets[tag][mask] + offset
+            source[f"interface:{name}/{other}"] = (name, tag)
         for tag, t in m.facets.items():
             rest = t[~used[tag]]
             if len(rest):
                 facets[f"{name}:{tag}"] = rest + offset
+                source[f"{name}:{tag}"] = (name, tag)
         fibers.extend(m.fibers)
         offset += m.n_nodes
+    curved = {}
+    for new_tag, (name, tag) in source.items():
+        segs = meshes[name].meta.get("curved_surfaces", {}).get(tag)
+        if segs:
+            curved[new_tag] = _shift_segments(segs, name, design)
     meta = {"kind": "robot", "parts": [n for n, _ in parts], "channel_radius_mm": design.channel_radius,
-            "curved_surfaces": {}}
-    for name, m in parts:
-        for tag, segs in m.meta.get("curved_surfaces", {}).items():
-            meta["curved_surfaces"][f"{name}:{tag}"] = _shift_segments(segs, name, design)
+            "curved_surfaces": curved,
+            "n_untagged_facets": int(sum(m.meta.get("n_untagged_facets", 0) for _, m in parts))}
     return TaggedMesh(np.vstack(points), np.vstack(tets), np.concatenate(region), region_names, facets,
                       tuple(fibers), design.short_hash(), float(edge_length or epsa.edge_length), meta)
 
