@@ -34,7 +34,7 @@ def main() -> None:
         lc = design.chamber_length
         vol_err = mesh.volume() / design.body_volume - 1
         wall_err = mesh.area("chamber_wall") / (2 * math.pi * design.chamber_radius * lc) - 1
-        fib_err = max(abs(x / design.helix_length - 1) for x in mesh.fiber_lengths())
+        fib_err = max((x / design.helix_length - 1 for x in mesh.fiber_lengths()), key=abs)
         fib_dist = max(distance_to_surface(f, mesh.points, mesh.facets["outer"]).max() for f in mesh.fibers)
         q = mesh.quality()
         print(f"run {run + 1}: {seconds:.1f} s (pytetwild {mesh.meta['mesh_seconds']:.1f} s), "
