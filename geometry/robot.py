@@ -123,10 +123,11 @@ def _shift_segments(segs, name: str, design: RobotDesign):
 
 def actuator_clearance(mesh: TaggedMesh, design: RobotDesign) -> dict:
     """Measured from the mesh: the centre channel radius (min distance of actuator nodes to the axis)
-    and, for each actuator, the largest intrusion of another actuator's nodes into its cylinder."""
+    and the largest intrusion of any actuator's nodes into another actuator's cylinder (negative: the
+    actuators are apart by at least that much)."""
     R0 = design.epsa.outer_radius
     channel = np.inf
-    intrusion = 0.0
+    intrusion = -np.inf
     for i, c in enumerate(design.actuator_centres, start=1):
         nodes = np.unique(mesh.tets[mesh.region == mesh.region_id(f"epsa{i}")])
         p = mesh.points[nodes]
