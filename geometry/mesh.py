@@ -213,7 +213,7 @@ class TaggedMesh:
     def write(self, path: str | Path) -> Path:
         """Write with meshio: ``.vtu`` (cell data ``gmsh:physical``: region id for tets, tag id for
         triangles; ids in ``mesh.json``/``physical_ids()``), ``.msh`` (Gmsh 2.2, physical groups named)
-        or ``.xdmf``."""
+        or any other meshio format (``.xdmf`` needs h5py, which is not a dependency)."""
         import meshio
 
         path = Path(path)
