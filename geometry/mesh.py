@@ -86,6 +86,22 @@ class TaggedMesh:
     def fiber_lengths(self) -> list[float]:
         return [float(np.linalg.norm(np.diff(f, axis=0), axis=1).sum()) for f in self.fibers]
 
+    def embed_fibers(self, tag: str = "outer") -> list[dict]:
+        """Fiber points located on the boundary facets of ``tag`` (for tying the fibers to the body).
+
+        Per fiber: ``facet`` (n,) index into ``facets[tag]``, ``nodes`` (n, 3) its node ids,
+        ``weights`` (n, 3) barycentric coordinates of the closest point, ``distance`` (n,) mm.
+        The closest point sum_k weights_k * points[nodes_k] is the fiber point on the meshed surface.
+        """
+        from geometry.tagging import embed_points
+
+        out = []
+        tris = self.facets[tag]
+        for f in self.fibers:
+            host, bary, dist = embed_points(f, self.points, tris)
+            out.append({"facet": host, "nodes": tris[host], "weights": bary, "distance": dist})
+        return out
+
     def quality(self) -> dict:
         """Mean ratio (min, mean, share below 0.1), min dihedral angle (deg), counts."""
         p, t = self.points, self.tets

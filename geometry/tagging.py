@@ -178,3 +178,54 @@ def distance_to_surface(x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: 
         t = tris[idx[:, j]]
         best = np.minimum(best, point_triangle_distance(x, points[t[:, 0]], points[t[:, 1]], points[t[:, 2]]))
     return best
+
+
+def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
+    """Closest points of triangles (a, b, c) to x, pairwise: (distance (n,), barycentric (n, 3))."""
+    n = np.cross(b - a, c - a)
+    nn = np.einsum("ij,ij->i", n, n)
+    dist_plane = np.einsum("ij,ij->i", x - a, n) / np.sqrt(nn)
+    p = x - (dist_plane / np.sqrt(nn))[:, None] * n
+    wa = np.einsum("ij,ij->i", np.cross(c - b, p - b), n) / nn
+    wb = np.einsum("ij,ij->i", np.cross(a - c, p - c), n) / nn
+    bary = np.column_stack([wa, wb, 1.0 - wa - wb])
+    dist = np.abs(dist_plane)
+    inside = (bary >= 0).all(axis=1)
+    if (~inside).any():
+        best = np.full(len(x), np.inf)
+        best_bary = np.zeros((len(x), 3))
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            pi, pj = (a, b, c)[i], (a, b, c)[j]
+            e = pj - pi
+            t = np.clip(np.einsum("ij,ij->i", x - pi, e) / np.einsum("ij,ij->i", e, e), 0.0, 1.0)
+            d = np.linalg.norm(x - (pi + t[:, None] * e), axis=1)
+            take = d < best
+            best[take] = d[take]
+            w = np.zeros((len(x), 3))
+            w[:, i], w[:, j] = 1.0 - t, t
+            best_bary[take] = w[take]
+        dist = np.where(inside, dist, best)
+        bary = np.where(inside[:, None], bary, best_bary)
+    return dist, bary
+
+
+def embed_points(x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: int = 12):
+    """Host triangle, barycentric coordinates and distance of each point x on a triangle set.
+
+    Among the k triangles with the nearest centroids, the one with the closest point is taken;
+    returns (triangle index (n,), barycentric (n, 3), distance (n,)).
+    """
+    from scipy.spatial import cKDTree
+
+    cent = points[tris].mean(axis=1)
+    _, idx = cKDTree(cent).query(x, k=min(k, len(tris)))
+    idx = idx.reshape(len(x), -1)
+    best = np.full(len(x), np.inf)
+    host = np.zeros(len(x), dtype=np.int64)
+    bary = np.zeros((len(x), 3))
+    for j in range(idx.shape[1]):
+        t = tris[idx[:, j]]
+        d, w = closest_on_triangles(x, points[t[:, 0]], points[t[:, 1]], points[t[:, 2]])
+        take = d < best
+        best[take], host[take], bary[take] = d[take], idx[take, j], w[take]
+    return host, bary, best

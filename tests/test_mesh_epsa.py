@@ -158,3 +158,11 @@ def test_cli_mesh_epsa_writes_outputs(mesh, cache_dir, tmp_path):
     assert set(data["area_mm2"]) == EPSA_TAGS
     assert data["n_tets"] == mesh.n_tets
     assert (out / "mesh.vtu").exists() and (out / "mesh.msh").exists() and (out / "mesh.png").stat().st_size > 1000
+
+
+def test_embed_fibers_on_outer_facets(mesh):
+    for fiber, emb in zip(mesh.fibers, mesh.embed_fibers("outer")):
+        assert emb["distance"].max() < FIBER_SURFACE_TOL
+        assert (emb["weights"] >= -1e-12).all() and np.allclose(emb["weights"].sum(axis=1), 1)
+        on_surface = np.einsum("nk,nkj->nj", emb["weights"], mesh.points[emb["nodes"]])
+        assert np.allclose(np.linalg.norm(on_surface - fiber, axis=1), emb["distance"])
