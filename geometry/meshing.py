@@ -66,10 +66,15 @@ def tetrahedralize(surface, edge_length: float, epsilon: float = EPSILON) -> tup
     """pytetwild on a closed surface -> (points, positively oriented tets), unused points removed."""
     import pytetwild
 
+    started = time.time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         grid = pytetwild.tetrahedralize_pv(surface.triangulate(), edge_length_abs=float(edge_length),
                                            epsilon=epsilon, quiet=True)
+    # fTetWild leaves its tracked surface "__tracked_surface.stl" in the working directory: remove ours
+    stray = Path.cwd() / "__tracked_surface.stl"
+    if stray.exists() and stray.stat().st_mtime >= started - 1:
+        stray.unlink(missing_ok=True)
     tets = np.array(grid.cells.reshape(-1, 5)[:, 1:], dtype=np.int64)
     points = np.array(grid.points, dtype=float)
     vol = tet_volumes(points, tets)
