@@ -255,7 +255,9 @@ class TaggedMesh:
                   "design_hash": self.design_hash, "edge_length": self.edge_length, "meta": self.meta,
                   "facet_order": list(self.facets)}
         arrays["header"] = np.array(json.dumps(header))
-        tmp = path.with_name(path.name + ".tmp.npz")
+        import os
+
+        tmp = path.with_name(f"{path.stem}.{os.getpid()}.tmp.npz")  # atomic for concurrent writers
         np.savez_compressed(tmp, **arrays)
         tmp.replace(path)
         return path
