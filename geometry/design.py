@@ -1,0 +1,422 @@
+"""Design parameters of the ePSA, the flexible foot, the connecting ring and the robot.
+
+Frozen, keyword-only dataclasses, validated on construction. Units: mm, degrees for angles.
+Defaults are the paper's Table 1 (ePSA length 100 mm, radius 9 mm, chamber radius 3 mm, 20 winding
+turns, groove height 1 mm, foot radius d = 14 mm, 3 connecting rings) plus dimensions the paper
+gives or implies (Sections II, V, VI):
+
+* Kevlar fiber diameter 0.3 mm (DESIGN.md, section 3).
+* End caps: the silicone body closes each end of the air chamber with ``end_cap_thickness`` = 5 mm.
+  The paper gives no value; 5 mm is close to the 6 mm side wall (R0 - r0), so the ends are not the
+  weak spot of the chamber, and leaves 90 % of the body length (90 mm) pressurised.
+* Seal head: a separate ABS disk of the ePSA radius, ``seal_head_thickness`` = 3 mm (not given).
+* Prototype diameters (Section VI.B): maximum 78 mm = foot tip diameter (``FootDesign.tip_radius`` =
+  39 mm), minimum 46 mm = 2 (d + R0), the envelope of the actuator bundle. Feet of 78 mm touch the
+  wall of every pipe of the 55-75 mm range the prototype was built for.
+* Foot angle 120 deg (the included angle of the foot's conical skirt, see ``geometry.foot``).
+
+Every invalid value raises :class:`DesignError`, a ``ValueError`` whose ``parameter`` attribute is
+the field name (dotted for nested designs, e.g. ``foot.hub_radius``).
+
+Analytic helpers (``EPSADesign``): chamber length l_c = L - 2 c; silicone body volume
+V = pi (R0^2 L - r0^2 l_c); length of one fiber helix of N turns on radius R0 over length L,
+s = N sqrt((2 pi R0)^2 + (L / N)^2) = sqrt((2 pi R0 N)^2 + L^2).
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any, ClassVar
+
+#: Angular positions psi_i of the three actuators on the circle of radius d (degrees).
+ACTUATOR_ANGLES_DEG: tuple[float, float, float] = (90.0, 210.0, 330.0)
+#: Smallest material ligament accepted between holes or edges of rigid parts (mm).
+MIN_LIGAMENT = 0.5
+
+
+class DesignError(ValueError):
+    """An invalid design parameter. ``parameter`` names the offending field."""
+
+    def __init__(self, parameter: str, message: str):
+        self.parameter = parameter
+        self.detail = message
+        super().__init__(f"{parameter}: {message}")
+
+
+def _check_number(obj, name: str, *, positive: bool = True, integer: bool = False,
+                  minimum: float | None = None) -> None:
+    value = getattr(obj, name)
+    pname = name
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise DesignError(pname, f"must be a number, got {value!r}")
+    if integer:
+        if isinstance(value, float):
+            if not value.is_integer():
+                raise DesignError(pname, f"must be an integer, got {value!r}")
+            object.__setattr__(obj, name, int(value))
+            value = int(value)
+    elif isinstance(value, int):
+        object.__setattr__(obj, name, float(value))
+    if not math.isfinite(value):
+        raise DesignError(pname, f"must be finite, got {value!r}")
+    if positive and value <= 0:
+        raise DesignError(pname, f"must be positive, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise DesignError(pname, f"must be >= {minimum}, got {value!r}")
+
+
+class _Design:
+    """Shared serialisation, hashing and file I/O of the design dataclasses."""
+
+    kind: ClassVar[str] = ""
+    _nested: ClassVar[dict[str, type]] = {}
+
+    def to_dict(self) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            out[f.name] = value.to_dict() if isinstance(value, _Design) else value
+        return out
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], _prefix: str = ""):
+        data = dict(data)
+        kind = data.pop("kind", cls.kind)
+        if kind != cls.kind:
+            raise DesignError(_prefix + "kind", f"expected {cls.kind!r}, got {kind!r}")
+        names = {f.name for f in fields(cls)}
+        for key in data:
+            if key not in names:
+                raise DesignError(_prefix + key, f"unknown parameter of {cls.__name__}")
+        for key, sub in cls._nested.items():
+            if isinstance(data.get(key), dict):
+                try:
+                    data[key] = sub.from_dict(data[key], _prefix=f"{_prefix}{key}.")
+                except DesignError as exc:
+                    if exc.parameter.startswith(f"{_prefix}{key}."):
+                        raise
+                    raise DesignError(f"{_prefix}{key}.{exc.parameter}", exc.detail) from None
+        try:
+            return cls(**data)
+        except TypeError as exc:  # a missing/extra argument that slipped through
+            raise DesignError(_prefix or "design", str(exc)) from None
+
+    def replace(self, **changes):
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def canonical_json(self) -> str:
+        return json.dumps({"kind": self.kind, **self.to_dict()}, sort_keys=True,
+                          separators=(",", ":"))
+
+    def short_hash(self) -> str:
+        """12 hex characters of the sha256 of the canonical JSON; stable across processes."""
+        return hashlib.sha256(self.canonical_json().encode()).hexdigest()[:12]
+
+    def save(self, path: str | Path) -> Path:
+        """Write the design to ``.json`` or ``.toml``."""
+        path = Path(path)
+        data = {"kind": self.kind, **self.to_dict()}
+        if path.suffix == ".json":
+            path.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+        elif path.suffix == ".toml":
+            path.write_text(to_toml(data))
+        else:
+            raise DesignError("path", f"unsupported design file type {path.suffix!r} (use .json or .toml)")
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path):
+        """Read a design from ``.json`` or ``.toml`` (the inverse of :meth:`save`)."""
+        return cls.from_dict(read_design_file(path))
+
+
+def read_design_file(path: str | Path) -> dict[str, Any]:
+    path = Path(path)
+    if path.suffix == ".json":
+        return json.loads(path.read_text())
+    if path.suffix == ".toml":
+        import tomllib
+
+        return tomllib.loads(path.read_text())
+    raise DesignError("path", f"unsupported design file type {path.suffix!r} (use .json or .toml)")
+
+
+def _toml_scalar(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)
+    raise TypeError(f"cannot write {value!r} to TOML")
+
+
+def to_toml(data: dict[str, Any], _table: str = "") -> str:
+    """Minimal TOML writer for nested tables of scalars (enough for the designs)."""
+    lines = [f"{k} = {_toml_scalar(v)}" for k, v in data.items() if not isinstance(v, dict)]
+    text = "\n".join(lines) + ("\n" if lines else "")
+    for key, value in data.items():
+        if isinstance(value, dict):
+            name = f"{_table}.{key}" if _table else key
+            text += f"\n[{name}]\n" + to_toml(value, name)
+    return text
+
+
+@dataclass(frozen=True, kw_only=True)
+class EPSADesign(_Design):
+    """Extensible pneumatic soft actuator: silicone cylinder with a closed axial air chamber."""
+
+    kind: ClassVar[str] = "epsa"
+    length: float = 100.0             #: L0, body length (mm)
+    outer_radius: float = 9.0         #: R0 (mm)
+    chamber_radius: float = 3.0       #: r0 (mm)
+    fiber_turns: int = 20             #: N, turns of each of the two helices
+    fiber_diameter: float = 0.3       #: Kevlar thread diameter (mm)
+    end_cap_thickness: float = 5.0    #: silicone closing each chamber end (mm)
+    seal_head_thickness: float = 3.0  #: ABS seal head disk (mm)
+
+    def __post_init__(self):
+        for name in ("length", "outer_radius", "chamber_radius", "fiber_diameter",
+                     "end_cap_thickness", "seal_head_thickness"):
+            _check_number(self, name)
+        _check_number(self, "fiber_turns", positive=False, integer=True, minimum=0)
+        p = ""
+        if self.chamber_radius >= self.outer_radius:
+            raise DesignError(p + "chamber_radius", f"{self.chamber_radius} must be smaller than "
+                              f"outer_radius {self.outer_radius}")
+        if self.outer_radius - self.chamber_radius < MIN_LIGAMENT:
+            raise DesignError(p + "chamber_radius", f"wall thickness {self.outer_radius - self.chamber_radius} "
+                              f"is below {MIN_LIGAMENT} mm")
+        if self.fiber_diameter >= self.outer_radius - self.chamber_radius:
+            raise DesignError(p + "fiber_diameter", "must be smaller than the wall thickness")
+        if 2 * self.end_cap_thickness >= self.length:
+            raise DesignError(p + "end_cap_thickness", f"two end caps of {self.end_cap_thickness} mm "
+                              f"leave no chamber in a body of length {self.length} mm")
+
+    @property
+    def wall_thickness(self) -> float:
+        return self.outer_radius - self.chamber_radius
+
+    @property
+    def chamber_length(self) -> float:
+        """l_c = L - 2 c."""
+        return self.length - 2 * self.end_cap_thickness
+
+    @property
+    def chamber_volume(self) -> float:
+        return math.pi * self.chamber_radius**2 * self.chamber_length
+
+    @property
+    def body_volume(self) -> float:
+        """Silicone volume pi (R0^2 L - r0^2 l_c)."""
+        return math.pi * self.outer_radius**2 * self.length - self.chamber_volume
+
+    @property
+    def chamber_wall_area(self) -> float:
+        return 2 * math.pi * self.chamber_radius * self.chamber_length
+
+    @property
+    def helix_length(self) -> float:
+        """Length of one helix: N sqrt((2 pi R0)^2 + (L/N)^2) (= L for N = 0)."""
+        return math.hypot(2 * math.pi * self.outer_radius * self.fiber_turns, self.length)
+
+    @property
+    def fiber_angle_deg(self) -> float:
+        """Winding angle of the fibers measured from the axis."""
+        return math.degrees(math.atan2(2 * math.pi * self.outer_radius * self.fiber_turns, self.length))
+
+
+@dataclass(frozen=True, kw_only=True)
+class FootDesign(_Design):
+    """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
+
+    kind: ClassVar[str] = "foot"
+    d: float = 14.0                #: distance foot centre -> actuator ("sub circle") centres (mm)
+    hub_radius: float = 24.0       #: hub disk radius (>= d + R0 to carry the actuators) (mm)
+    hub_thickness: float = 4.0     #: axial hub thickness (mm)
+    bore_radius: float = 4.0       #: central bore for the endoscope (<= d - R0) (mm)
+    tip_radius: float = 39.0       #: skirt tip radius: 78 mm prototype maximum diameter (mm)
+    angle: float = 120.0           #: included angle of the conical skirt (deg), 180 = flat disk
+    skirt_thickness: float = 3.0   #: skirt wall thickness (mm)
+    groove_height: float = 1.0     #: h, groove depth on the back face (mm)
+    groove_width: float = 1.0      #: width of a groove along the skirt (mm)
+    n_grooves: int = 5             #: number of grooves on the back face
+
+    def __post_init__(self):
+        for name in ("d", "hub_radius", "hub_thickness", "tip_radius", "angle", "skirt_thickness",
+                     "groove_height", "groove_width"):
+            _check_number(self, name)
+        _check_number(self, "bore_radius", positive=False, minimum=0.0)
+        _check_number(self, "n_grooves", positive=False, integer=True, minimum=0)
+        p = ""
+        if self.angle > 180:
+            raise DesignError(p + "angle", f"{self.angle} deg: the skirt angle must be in (0, 180]")
+        if self.bore_radius + MIN_LIGAMENT > self.hub_radius:
+            raise DesignError(p + "bore_radius", "leaves no hub material (must be < hub_radius)")
+        if self.tip_radius <= self.hub_radius + self.skirt_thickness:
+            raise DesignError(p + "tip_radius", f"{self.tip_radius} must exceed hub_radius + skirt_thickness")
+        if self.hub_thickness < self.skirt_thickness / self.sin_half_angle - 1e-9:
+            raise DesignError(p + "hub_thickness", f"{self.hub_thickness} must be >= skirt_thickness / "
+                              f"sin(angle / 2) = {self.skirt_thickness / self.sin_half_angle:.3f} so the "
+                              f"skirt root lies on the hub")
+        if self.groove_height > self.skirt_thickness - MIN_LIGAMENT:
+            raise DesignError(p + "groove_height", f"{self.groove_height} must leave {MIN_LIGAMENT} mm of "
+                              f"the {self.skirt_thickness} mm skirt")
+        land = self.back_face_length / (self.n_grooves + 1) - self.groove_width
+        if self.n_grooves and land < MIN_LIGAMENT:
+            raise DesignError(p + "n_grooves", f"{self.n_grooves} grooves of width {self.groove_width} mm "
+                              f"do not fit on the {self.back_face_length:.2f} mm back face")
+
+    @property
+    def sin_half_angle(self) -> float:
+        return math.sin(math.radians(self.angle / 2))
+
+    @property
+    def front_face_length(self) -> float:
+        """Slant length of the smooth front face, hub rim to tip."""
+        return (self.tip_radius - self.hub_radius) / self.sin_half_angle
+
+    @property
+    def back_face_length(self) -> float:
+        """Slant length of the back face (before grooves), from where it leaves the hub to the tip."""
+        a = math.radians(self.angle / 2)
+        return self.front_face_length - self.skirt_thickness * math.cos(a) / math.sin(a)
+
+
+@dataclass(frozen=True, kw_only=True)
+class RingDesign(_Design):
+    """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
+
+    kind: ClassVar[str] = "ring"
+    d: float = 14.0             #: radius of the actuator hole centres (mm)
+    hole_radius: float = 9.0    #: actuator holes (= ePSA radius, tied to it) (mm)
+    outer_radius: float = 25.0  #: ring outer radius (mm)
+    bore_radius: float = 3.5    #: central bore (endoscope passage; 0 = none) (mm)
+    thickness: float = 5.0      #: axial thickness (mm)
+
+    def __post_init__(self):
+        for name in ("d", "hole_radius", "outer_radius", "thickness"):
+            _check_number(self, name)
+        _check_number(self, "bore_radius", positive=False, minimum=0.0)
+        p = ""
+        gap = self.d * math.sqrt(3) - 2 * self.hole_radius
+        if gap < MIN_LIGAMENT:
+            raise DesignError(p + "hole_radius", f"holes of radius {self.hole_radius} at d = {self.d} "
+                              f"overlap or leave less than {MIN_LIGAMENT} mm between them")
+        if self.d + self.hole_radius + MIN_LIGAMENT > self.outer_radius:
+            raise DesignError(p + "outer_radius", f"{self.outer_radius} must be >= d + hole_radius + "
+                              f"{MIN_LIGAMENT} = {self.d + self.hole_radius + MIN_LIGAMENT}")
+        if self.bore_radius > 0 and self.bore_radius + MIN_LIGAMENT > self.d - self.hole_radius:
+            raise DesignError(p + "bore_radius", f"{self.bore_radius} must be <= d - hole_radius - "
+                              f"{MIN_LIGAMENT} = {self.d - self.hole_radius - MIN_LIGAMENT}")
+
+
+@dataclass(frozen=True, kw_only=True)
+class RobotDesign(_Design):
+    """Three ePSAs at radius d, psi = 90, 210, 330 deg, n_rings rings, a foot at each end.
+
+    Layout (z along the robot axis): rear foot hub z in [-hub_thickness, 0]; ePSAs z in [0, L];
+    seal heads z in [L, L + t_s]; front foot hub z in [L + t_s, L + t_s + hub_thickness]; ring k
+    (k = 1..n) centred at z = k L / (n + 1). ``foot`` and ``ring`` default to parts sized from d
+    and the ePSA radius; given explicitly, they must agree with d and R0.
+    """
+
+    kind: ClassVar[str] = "robot"
+    epsa: EPSADesign = field(default_factory=EPSADesign)
+    d: float = 14.0
+    n_rings: int = 3
+    foot: FootDesign | None = None
+    ring: RingDesign | None = None
+    pipe_diameter_min: float = 55.0  #: smallest pipe the robot is sized for (mm)
+    pipe_diameter_max: float = 75.0  #: largest pipe the robot is sized for (mm)
+
+    def __post_init__(self):
+        _check_number(self, "d")
+        _check_number(self, "n_rings", positive=False, integer=True, minimum=0)
+        _check_number(self, "pipe_diameter_min")
+        _check_number(self, "pipe_diameter_max")
+        if not isinstance(self.epsa, EPSADesign):
+            raise DesignError("epsa", "must be an EPSADesign")
+        R0 = self.epsa.outer_radius
+        if self.d * math.sqrt(3) <= 2 * R0:
+            raise DesignError("d", f"actuators of radius {R0} overlap at d = {self.d} "
+                              f"(need d > 2 R0 / sqrt(3) = {2 * R0 / math.sqrt(3):.3f})")
+        if self.d <= R0:
+            raise DesignError("d", f"d = {self.d} <= R0 = {R0}: no centre channel for the endoscope")
+        if self.foot is None:
+            object.__setattr__(self, "foot", FootDesign(d=self.d, hub_radius=self.d + R0 + 1.0,
+                                                        bore_radius=min(4.0, self.d - R0)))
+        if self.ring is None:
+            object.__setattr__(self, "ring", RingDesign(d=self.d, hole_radius=R0, outer_radius=self.d + R0 + 2.0,
+                                                        bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5))))
+        if not isinstance(self.foot, FootDesign):
+            raise DesignError("foot", "must be a FootDesign")
+        if not isinstance(self.ring, RingDesign):
+            raise DesignError("ring", "must be a RingDesign")
+        if self.foot.d != self.d:
+            raise DesignError("foot.d", f"{self.foot.d} differs from the robot's d = {self.d}")
+        if self.ring.d != self.d:
+            raise DesignError("ring.d", f"{self.ring.d} differs from the robot's d = {self.d}")
+        if self.ring.hole_radius != R0:
+            raise DesignError("ring.hole_radius", f"{self.ring.hole_radius} must equal the ePSA radius {R0}")
+        if self.foot.hub_radius < self.d + R0:
+            raise DesignError("foot.hub_radius", f"{self.foot.hub_radius} must be >= d + R0 = {self.d + R0} "
+                              f"to carry the actuators")
+        if self.foot.bore_radius > self.d - R0:
+            raise DesignError("foot.bore_radius", f"{self.foot.bore_radius} cuts into the actuators "
+                              f"(must be <= d - R0 = {self.d - R0})")
+        if self.n_rings and self.epsa.length / (self.n_rings + 1) <= self.ring.thickness + MIN_LIGAMENT:
+            raise DesignError("n_rings", f"{self.n_rings} rings of thickness {self.ring.thickness} mm "
+                              f"do not fit along the {self.epsa.length} mm actuators")
+        if self.pipe_diameter_min > self.pipe_diameter_max:
+            raise DesignError("pipe_diameter_min", "must not exceed pipe_diameter_max")
+        if 2 * self.ring.outer_radius >= self.pipe_diameter_min:
+            raise DesignError("ring.outer_radius", f"rings of diameter {2 * self.ring.outer_radius} mm do "
+                              f"not fit in a {self.pipe_diameter_min} mm pipe")
+        if 2 * self.foot.tip_radius <= self.pipe_diameter_max:
+            raise DesignError("foot.tip_radius", f"feet of diameter {2 * self.foot.tip_radius} mm do not "
+                              f"touch the wall of a {self.pipe_diameter_max} mm pipe")
+
+    _nested: ClassVar[dict[str, type]] = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign}
+
+    @property
+    def channel_radius(self) -> float:
+        """Radius of the free centre channel between the actuators (endoscope room): d - R0."""
+        return self.d - self.epsa.outer_radius
+
+    @property
+    def actuator_centres(self) -> list[tuple[float, float]]:
+        return [(self.d * math.cos(math.radians(a)), self.d * math.sin(math.radians(a)))
+                for a in ACTUATOR_ANGLES_DEG]
+
+    @property
+    def ring_centres_z(self) -> list[float]:
+        return [k * self.epsa.length / (self.n_rings + 1) for k in range(1, self.n_rings + 1)]
+
+    @property
+    def max_diameter(self) -> float:
+        return 2 * self.foot.tip_radius
+
+    @property
+    def bundle_diameter(self) -> float:
+        """Envelope of the actuator bundle, 2 (d + R0) (46 mm for Table 1: the prototype minimum)."""
+        return 2 * (self.d + self.epsa.outer_radius)
+
+
+DESIGN_TYPES: dict[str, type] = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
+
+
+def load_design(path: str | Path):
+    """Load any design file; its ``kind`` key selects the class."""
+    data = read_design_file(path)
+    kind = data.get("kind")
+    if kind not in DESIGN_TYPES:
+        raise DesignError("kind", f"unknown design kind {kind!r} (one of {sorted(DESIGN_TYPES)})")
+    return DESIGN_TYPES[kind].from_dict(data)
