@@ -673,7 +673,8 @@ def _fit_result(model, names, values, lam, stress, predicted, max_strain, notes)
 _G_PER_CM3 = 1.0e-9  # t/mm^3 per g/cm^3
 
 #: Densities [t/mm^3]. Smooth-On technical bulletins give specific gravity 1.07 (Ecoflex 00-30,
-#: 00-50) and 1.08 (Dragon Skin 30).
+#: 00-50) and 1.08 (Dragon Skin 30). The datasheet numbers quoted in the preset sources are from
+#: the bulletins as the author knows them, not re-checked against the current editions.
 _SILICONE_DENSITY = {"ecoflex-00-50": 1.07 * _G_PER_CM3, "ecoflex-00-30": 1.07 * _G_PER_CM3,
                      "dragon-skin-30": 1.08 * _G_PER_CM3}
 
@@ -683,7 +684,7 @@ def _ecoflex_00_50() -> Material:
         name="ecoflex-00-50", model="neo-hookean", mu=0.030,
         density=_SILICONE_DENSITY["ecoflex-00-50"],
         source="DESIGN.md sec. 3 default mu = 0.030 MPa (literature 0.022-0.047 MPa; Smooth-On "
-               "TDS 100 % modulus 12 psi = 0.083 MPa -> NH secant mu = 0.047 MPa); SG 1.07 "
+               "TDS (not re-checked) 100 % modulus 12 psi = 0.083 MPa -> NH secant mu = 0.047 MPa); SG 1.07 "
                "(Smooth-On TDS)")
 
 
@@ -692,7 +693,7 @@ def _ecoflex_00_30() -> Material:
         name="ecoflex-00-30", model="neo-hookean", mu=0.018,
         density=_SILICONE_DENSITY["ecoflex-00-30"],
         source="literature mu ~ 0.0125-0.023 MPa, mid value 0.018 MPa (SRMD tensile fit 0-100 % "
-               "gives 0.016 MPa; Smooth-On TDS 100 % modulus 10 psi = 0.069 MPa -> NH secant "
+               "gives 0.016 MPa; Smooth-On TDS (not re-checked) 100 % modulus 10 psi = 0.069 MPa -> NH secant "
                "0.039 MPa, an upper bound); SG 1.07 (Smooth-On TDS)")
 
 
@@ -701,7 +702,7 @@ def _dragon_skin_30() -> Material:
         name="dragon-skin-30", model="neo-hookean", mu=0.20,
         density=_SILICONE_DENSITY["dragon-skin-30"],
         source="literature mu ~ 0.1-0.2 MPa, upper value 0.20 MPa since the SRMD tensile fit "
-               "0-100 % gives 0.22 MPa (0-50 %: 0.19 MPa; Smooth-On TDS 100 % modulus 86 psi = "
+               "0-100 % gives 0.22 MPa (0-50 %: 0.19 MPa; Smooth-On TDS (not re-checked) 100 % modulus 86 psi = "
                "0.59 MPa -> NH secant 0.34 MPa); SG 1.08 (Smooth-On TDS)")
 
 

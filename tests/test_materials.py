@@ -176,9 +176,10 @@ def test_toe_points_are_dropped():
     assert np.all(stress > 0.0) and lam[0] == data.stretch[1]
 
 
-def _synthetic(stress_of_stretch, noise, seed=1):
+def _synthetic(stress_of_stretch, noise, seed=1, max_strain=1.0, n=45):
+    """Stress at n stretches up to 1 + max_strain, Gaussian noise of `noise` x max stress."""
     rng = np.random.default_rng(seed)
-    lam = 1.0 + np.linspace(0.0, 1.0, 45)
+    lam = 1.0 + np.linspace(0.0, max_strain, n)
     clean = stress_of_stretch(lam)
     noisy = clean + noise * float(np.max(clean)) * rng.standard_normal(lam.size)
     noisy[0] = -1e-4  # toe reading
@@ -189,19 +190,19 @@ def test_neo_hookean_fit_recovers_known_mu_from_noisy_data():
     mu = 0.0345
     lam, stress = _synthetic(lambda l: materials.neo_hookean_uniaxial(l, mu), noise=0.01)
     fit = materials.fit_neo_hookean(lam, stress)
-    assert fit.params["mu"] == pytest.approx(mu, rel=0.01)
+    assert fit.params["mu"] == pytest.approx(mu, rel=0.01)  # worst of 200 seeds: 0.7 %
     assert fit.rms_error == pytest.approx(0.01 * mu * (2 - 0.25), rel=0.35)
     assert fit.n_points == 44
 
 
 def test_yeoh_fit_recovers_known_constants():
     c = (0.011, 0.0009, 0.00005)
-    lam, stress = _synthetic(lambda l: materials.yeoh_uniaxial(l, c), noise=1e-4, seed=3)
-    lam_wide = np.concatenate([lam, 1.0 + np.linspace(1.05, 2.0, 20)])
-    stress_wide = np.concatenate([stress, materials.yeoh_uniaxial(lam_wide[lam.size:], c)])
-    fit = materials.fit_yeoh(lam_wide, stress_wide, max_strain=2.0)
-    assert fit.values[0] == pytest.approx(c[0], rel=0.01)
-    assert fit.values[1] == pytest.approx(c[1], rel=0.05)
+    lam, stress = _synthetic(lambda l: materials.yeoh_uniaxial(l, c), noise=0.005, seed=3,
+                             max_strain=2.0, n=88)
+    fit = materials.fit_yeoh(lam, stress, max_strain=2.0)
+    # Tolerances hold for 200 noise seeds (worst: 2.5 %, 8 %, 13 %).
+    assert fit.values[0] == pytest.approx(c[0], rel=0.03)
+    assert fit.values[1] == pytest.approx(c[1], rel=0.10)
     assert fit.values[2] == pytest.approx(c[2], rel=0.15)
     assert fit.notes == () and fit.r_squared > 0.999
 
