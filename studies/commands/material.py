@@ -1,0 +1,218 @@
+"""`softcrawl material`: list the material presets and fit hyperelastic constants to tensile data.
+
+    softcrawl material list [--json]
+    softcrawl material show NAME [--json]
+    softcrawl material fit [--data NAME|PATH] [--model neo-hookean|yeoh] [--max-strain X]
+                           [--out DIR] [--json]
+    softcrawl material fit-table [--max-strain X] [--json]
+
+Units: moduli in MPa, density in t/mm^3, strain is engineering strain (stretch - 1).
+"""
+from __future__ import annotations
+
+import argparse
+
+DATA_CHOICES_HELP = "ecoflex-00-50 | ecoflex-00-30 | dragon-skin-30 | PATH to a CSV"
+
+
+def register(subparsers) -> None:
+    parser = subparsers.add_parser("material", help="material presets and tensile-data fits",
+                                   description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="material_command", required=True)
+
+    list_parser = sub.add_parser("list", help="table of the material presets")
+    list_parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    list_parser.set_defaults(func=_run_list)
+
+    show = sub.add_parser("show", help="all constants of one preset")
+    show.add_argument("name", help="preset name (see `softcrawl material list`)")
+    show.add_argument("--json", action="store_true", help="print JSON")
+    show.set_defaults(func=_run_show)
+
+    fit = sub.add_parser("fit", help="fit Neo-Hookean or Yeoh constants to uniaxial tensile data")
+    fit.add_argument("--data", default="ecoflex-00-50", help=f"{DATA_CHOICES_HELP} "
+                                                             "(default ecoflex-00-50)")
+    fit.add_argument("--model", default="neo-hookean", choices=("neo-hookean", "yeoh"))
+    fit.add_argument("--max-strain", type=float, default=None,
+                     help="upper engineering strain of the fit (default 1.0: stretch 2, the "
+                          "actuator's operating range)")
+    fit.add_argument("--out", default=None, help="directory for fit.json and fit.png")
+    fit.add_argument("--json", action="store_true", help="print JSON")
+    fit.set_defaults(func=_run_fit)
+
+    table = sub.add_parser("fit-table", help="both models fitted to every shipped data set")
+    table.add_argument("--max-strain", type=float, default=None,
+                       help="upper engineering strain of the fits (default 1.0)")
+    table.add_argument("--json", action="store_true", help="print JSON")
+    table.set_defaults(func=_run_fit_table)
+
+
+# -- list / show --------------------------------------------------------------------------------
+
+
+def _run_list(args: argparse.Namespace) -> int:
+    import json
+
+    from fem import materials
+
+    records = [materials.get_material(name) for name in materials.material_names()]
+    if args.json:
+        print(json.dumps([m.to_dict() for m in records], indent=2))
+        return 0
+    header = f"{'name':<20} {'model':<15} {'mu [MPa]':>10} {'K [MPa]':>10} {'E [MPa]':>10} " \
+             f"{'nu':>7} {'rho [t/mm^3]':>12}  source"
+    print(header)
+    for m in records:
+        print(f"{m.name:<20} {m.model:<15} {m.mu:>10.4g} {m.bulk:>10.4g} "
+              f"{m.youngs_modulus:>10.4g} {m.poisson_ratio:>7.4f} {m.density:>12.3g}  "
+              f"{_first_clause(m.source)}")
+    print("Full source text: softcrawl material show NAME. Fit presets are derived from the Soft "
+          "Robotics Materials Database (ODbL 1.0 / DbCL 1.0), see fem/data/README.md.")
+    return 0
+
+
+def _first_clause(text: str, width: int = 70) -> str:
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def _run_show(args: argparse.Namespace) -> int:
+    import json
+
+    from fem import materials
+
+    record = materials.get_material(args.name).to_dict()
+    if args.json:
+        print(json.dumps(record, indent=2))
+    else:
+        for key, value in record.items():
+            print(f"{key:<15} {value}")
+    return 0
+
+
+# -- fit ------------------------------------------------------------------------------------------
+
+
+def _max_strain(args: argparse.Namespace) -> float:
+    from fem import materials
+
+    return materials.DEFAULT_MAX_STRAIN if args.max_strain is None else args.max_strain
+
+
+def _fit_record(data, fit) -> dict:
+    from fem import materials
+
+    record = {"data": data.name, "file": data.path}
+    record.update(fit.to_dict())
+    record["units"] = {"params": "MPa", "strain": "engineering strain (stretch - 1)",
+                       "rms_error": "MPa, on nominal (engineering) stress"}
+    if data.attribution:
+        record["attribution"] = data.attribution
+        record["license"] = materials.DATA_LICENSE
+    else:
+        record["attribution"] = "user-supplied file"
+    return record
+
+
+def _run_fit(args: argparse.Namespace) -> int:
+    import json
+    from pathlib import Path
+
+    from fem import materials
+
+    data = materials.load_tensile(args.data)
+    fit = materials.fit_tensile(data, args.model, _max_strain(args))
+    record = _fit_record(data, fit)
+    if args.out is not None:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "fit.json").write_text(json.dumps(record, indent=2) + "\n")
+        _plot_fit(data, fit, out / "fit.png")
+        record["outputs"] = [str(out / "fit.json"), str(out / "fit.png")]
+    if args.json:
+        print(json.dumps(record, indent=2))
+    else:
+        _print_fit(record)
+    return 0
+
+
+def _print_fit(record: dict) -> None:
+    params = ", ".join(f"{k} = {v:.5g} MPa" for k, v in record["params_mpa"].items())
+    lo, hi = record["strain_range"]
+    print(f"{record['data']}: {record['model']} {params}")
+    print(f"  initial shear modulus {record['initial_shear_modulus_mpa']:.5g} MPa")
+    print(f"  strain range {lo:.3f}-{hi:.3f} (max_strain {record['max_strain']:g}), "
+          f"{record['n_points']} points")
+    print(f"  RMS error {record['rms_error_mpa']:.3g} MPa ({100 * record['relative_rms_error']:.2f} %"
+          f" of RMS stress), R^2 = {record['r_squared']:.5f}")
+    for note in record["notes"]:
+        print(f"  note: {note}")
+    for path in record.get("outputs", []):
+        print(f"  wrote {path}")
+    print(f"  {record['attribution']}")
+
+
+def _plot_fit(data, fit, path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    strain, stress = data.strain, data.nominal_stress
+    fig, (near, full) = plt.subplots(1, 2, figsize=(11, 4.2))
+    zoom = min(2.0 * fit.max_strain, float(strain.max()))
+    for axis, upper in ((near, zoom), (full, float(strain.max()))):
+        shown = strain <= upper
+        axis.plot(strain[shown], stress[shown], ".", ms=3, color="0.4", label="data")
+        curve = np.linspace(0.0, upper, 300)
+        axis.plot(curve, fit.predict(1.0 + curve), "-", color="C3",
+                  label=f"{fit.model} fit ({_params_text(fit)})")
+        axis.axvspan(fit.strain_range[0], fit.strain_range[1], color="C0", alpha=0.12,
+                     label="fitted range")
+        axis.set_xlabel("engineering strain [-]")
+        axis.set_ylabel("nominal stress [MPa]")
+        axis.set_ylim(min(0.0, float(stress[shown].min())), 1.15 * float(stress[shown].max()))
+        axis.grid(alpha=0.3)
+    near.set_title(f"{data.name}: fitted range and beyond")
+    full.set_title("whole pull-to-failure test")
+    near.legend(fontsize=8, loc="upper left")
+    fig.text(0.01, 0.01, f"RMS error {fit.rms_error:.2g} MPa ({100 * fit.relative_rms_error:.1f} %),"
+             f" strain {fit.strain_range[0]:.2f}-{fit.strain_range[1]:.2f}. "
+             + ("Data: Soft Robotics Materials Database (Marechal et al. 2021), ODbL/DbCL."
+                if data.attribution else "Data: user-supplied file."), fontsize=7)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _params_text(fit) -> str:
+    return ", ".join(f"{k}={v:.3g}" for k, v in fit.params.items()) + " MPa"
+
+
+def _run_fit_table(args: argparse.Namespace) -> int:
+    import json
+
+    from fem import materials
+
+    records = []
+    for name in materials.TENSILE_FILES:
+        data = materials.load_tensile(name)
+        for model in materials.FIT_MODELS:
+            records.append(_fit_record(data, materials.fit_tensile(data, model, _max_strain(args))))
+    if args.json:
+        print(json.dumps(records, indent=2))
+        return 0
+    print(f"{'data':<15} {'model':<12} {'constants [MPa]':<44} {'mu0 [MPa]':>9} {'strain':>11} "
+          f"{'n':>3} {'RMS [MPa]':>9} {'rel':>6} {'R^2':>7}")
+    for r in records:
+        params = ", ".join(f"{k}={v:.4g}" for k, v in r["params_mpa"].items())
+        lo, hi = r["strain_range"]
+        print(f"{r['data']:<15} {r['model']:<12} {params:<44} {r['initial_shear_modulus_mpa']:>9.4g}"
+              f" {lo:>5.3f}-{hi:<5.3f} {r['n_points']:>3} {r['rms_error_mpa']:>9.2g} "
+              f"{100 * r['relative_rms_error']:>5.1f}% {r['r_squared']:>7.4f}")
+    notes = sorted({f"{r['data']} {r['model']}: {n}" for r in records for n in r["notes"]})
+    for note in notes:
+        print(f"note: {note}")
+    print(materials.DATA_ATTRIBUTION)
+    print(materials.DATA_LICENSE)
+    return 0
