@@ -39,6 +39,9 @@ import skfem
 from fem.errors import SolverInputError
 from fem.neohooke import (NeoHookean, _outer, cofactor3, det3, iso_stress, iso_tangent, pressure_stress,
                           pressure_tangent)
+from fem.fibers import element_arrays as fiber_arrays
+from fem.fibers import embed as embed_fibers
+from fem.fibers import segment_dofs as fiber_segment_dofs
 from fem.pattern import Pattern
 
 FORMULATIONS = ("p2p1", "p2")
@@ -76,10 +79,13 @@ class SolidModel:
     mesh: `skfem.MeshTet` (straight) or `skfem.MeshTet2` (curved), with named `boundaries`.
     materials: one `NeoHookean`, or a mapping subdomain name -> `NeoHookean`.
     chamber: boundary tags that form the pressurised chamber surface (None: no pressure load).
+    fibers: polylines (reference positions, mm) of embedded truss fibers (`fem.fibers`), with
+        `fiber_youngs` (MPa) and `fiber_diameter` (mm); None or empty: no fibers.
     """
 
     def __init__(self, mesh, materials, *, dirichlet=(), chamber=None, formulation="p2p1",
-                 intorder=2, volume_weights=(1.0, 1.0, 1.0)):
+                 intorder=2, volume_weights=(1.0, 1.0, 1.0), fibers=None, fiber_youngs=None,
+                 fiber_diameter=None, fiber_tension_only=False):
         if formulation not in FORMULATIONS:
             raise SolverInputError("formulation", f"{formulation!r} is not one of {FORMULATIONS}")
         self.mesh = mesh
@@ -153,6 +159,14 @@ class SolidModel:
             self.f_u_dofs = (3 * self.f_node_dofs[:, None, :]
                              + np.arange(3)[None, :, None]).reshape(30, -1)
             groups.append(self.f_u_dofs)
+        self.fibers = None
+        if fibers is not None and len(fibers) > 0:
+            if fiber_youngs is None or fiber_diameter is None:
+                raise SolverInputError("fibers", "embedded fibers need fiber_youngs and fiber_diameter")
+            self.fibers = embed_fibers(self.basis, fibers, youngs=fiber_youngs, diameter=fiber_diameter,
+                                       tension_only=fiber_tension_only)
+            self.fiber_dofs = fiber_segment_dofs(self.fibers)
+            groups.append(self.fiber_dofs)
         self.pattern = Pattern(self.free_index, groups)
 
     # ------------------------------------------------------------------ helpers
@@ -260,7 +274,11 @@ class SolidModel:
 
     def internal_force(self, x: np.ndarray) -> np.ndarray:
         """Full internal force vector (all dofs, including the constrained ones)."""
-        return self._scatter(self._element_residual(x, self._stress(x)), self.element_dofs)
+        f = self._scatter(self._element_residual(x, self._stress(x)), self.element_dofs)
+        if self.fibers is not None:
+            Rf, _ = fiber_arrays(self.fibers, x[: self.n_u].reshape(-1, 3), with_tangent=False)
+            f += self._scatter(Rf, self.fiber_dofs)
+        return f
 
     def pressure_load(self, x: np.ndarray) -> np.ndarray:
         """q = dV_cav/du on all dofs; the pressure load vector is P q."""
@@ -283,7 +301,20 @@ class SolidModel:
             q, dq = self._chamber_load(x, True)
             R -= pressure * self._scatter(q, self.f_u_dofs)
             blocks.append(-pressure * dq)
+        if self.fibers is not None:
+            Rf, Kf = fiber_arrays(self.fibers, x[: self.n_u].reshape(-1, 3))
+            R += self._scatter(Rf, self.fiber_dofs)
+            blocks.append(Kf)
         return R, self.pattern.assemble(blocks)
+
+    def fiber_tension(self, x: np.ndarray) -> np.ndarray:
+        """Axial force (N) of every fiber segment; empty without fibers."""
+        if self.fibers is None:
+            return np.zeros(0)
+        from fem.fibers import fiber_state, segment_forces
+
+        N, *_ = segment_forces(self.fibers, fiber_state(self.fibers, x[: self.n_u].reshape(-1, 3)))
+        return N
 
     def reaction(self, x: np.ndarray, tag: str, pressure: float = 0.0) -> np.ndarray:
         """Total support force (N) on the constrained dofs of boundary `tag`, per component.

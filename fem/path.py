@@ -103,6 +103,19 @@ class _Diverged(Exception):
     pass
 
 
+class _ReportingList(list):
+    """A list of steps that calls `on_step` for every appended step."""
+
+    def __init__(self, on_step=None):
+        super().__init__()
+        self._on_step = on_step
+
+    def append(self, step):
+        super().append(step)
+        if self._on_step is not None:
+            self._on_step(step)
+
+
 class _Solver:
     """Newton iterations on one model, accumulating timing statistics."""
 
@@ -229,11 +242,12 @@ def _force_floor(model):
 
 
 def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = None,
-              control: str = "pressure") -> PathResult:
+              control: str = "pressure", on_step=None) -> PathResult:
     """Follow the load through `targets`, a sequence of (pressure MPa, Dirichlet factor) pairs.
 
     Starts from the undeformed state at (0, 0). See the module docstring for cut-back and limit
-    point handling. `control` only labels the steps ("pressure" or "displacement").
+    point handling. `control` only labels the steps ("pressure" or "displacement"). `on_step`,
+    if given, is called with every converged `Step` as it is found (progress reports).
     """
     opt = options or NewtonOptions()
     targets = [(float(P), float(f)) for P, f in targets]
@@ -243,7 +257,7 @@ def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = Non
     t0 = time.perf_counter()
     x = model.initial_state()
     load = (0.0, 0.0)
-    steps: list[Step] = []
+    steps: list[Step] = _ReportingList(on_step)
     events: list[str] = []
     h_min = opt.min_step_fraction
     switches = 0

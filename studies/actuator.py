@@ -1,0 +1,200 @@
+"""The ePSA evaluator: one pure entry point from a design to its pressure-response curve.
+
+    design (EPSADesign) -> swept tetrahedral mesh with the ABS seal head (geometry.swept) -> P2-P1
+    solid model with the chamber pressure, the end z = 0 fixed (and the seal head's top fixed too
+    for the blocked force) and the Kevlar double helix as embedded trusses (fem) -> pressure ramp with limit-point continuation
+    (fem.path) -> one CurveRow per converged state (fem.post).
+
+Everything the sweeps, the optimiser and the CLI know about an actuator comes from here. A solve
+that diverges is not an exception: the curve comes back with `converged = False`, the rows it
+reached, a "failed" row for every pressure it did not reach, and the solver's message. An
+impossible design raises `DesignError` (it names the parameter) before anything is computed.
+
+Mesh. `MeshSettings` of the swept mesher; the presets are "default" (the converged mesh of the
+convergence study, `softcrawl epsa --convergence`) and "quick" (coarse, for CI and quick sweeps).
+Material: a preset name of `fem.materials` (Neo-Hookean), converted to MPa constants here.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from geometry.design import DesignError, EPSADesign
+
+STATUSES = ("reference", "converged", "volume-control", "failed")
+
+
+@dataclass(frozen=True, kw_only=True)
+class MeshSettings:
+    n_around: int = 16
+    n_radial: int = 2
+    axial_size: float = 5.0          # mm
+    fiber_points_per_turn: int = 32
+
+    @classmethod
+    def from_size(cls, h: float, design: EPSADesign) -> "MeshSettings":
+        """A mesh of element size about h (mm): axial h, ~h around the outer surface, ~h/1.5 across."""
+        if not (isinstance(h, (int, float)) and h > 0 and math.isfinite(h)):
+            raise DesignError("mesh_size", f"must be a positive length in mm, got {h}")
+        wall = design.outer_radius - design.chamber_radius
+        n_around = max(12, 4 * math.ceil(2 * math.pi * design.outer_radius / (4 * 1.5 * h)))
+        return cls(n_around=n_around, n_radial=max(1, round(1.5 * wall / h)), axial_size=float(h))
+
+
+MESH_PRESETS = {"default": MeshSettings(), "quick": MeshSettings(n_around=12, n_radial=1, axial_size=10.0,
+                                                                  fiber_points_per_turn=16)}
+
+
+@dataclass(frozen=True)
+class CurveRow:
+    pressure_kpa: float
+    length_mm: float
+    outer_radius_mm: float
+    chamber_volume_mm3: float
+    max_principal_stretch: float
+    max_fiber_tension_n: float
+    status: str
+    blocked_force_n: float = float("nan")
+
+
+@dataclass(frozen=True)
+class ActuatorCurve:
+    rows: tuple[CurveRow, ...]
+    converged: bool
+    limit_pressure_kpa: float | None
+    message: str
+    wall_s: float
+    n_dofs: int
+    material: str
+    mu_mpa: float
+    design: dict = field(default_factory=dict)
+    mesh: dict = field(default_factory=dict)
+    events: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict:
+        out = asdict(self)
+        out["rows"] = [asdict(r) for r in self.rows]
+        return out
+
+    def column(self, name: str) -> np.ndarray:
+        return np.array([getattr(r, name) for r in self.rows], dtype=float)
+
+
+@dataclass(frozen=True)
+class Solved:
+    """The curve plus what a caller needs to export shapes (model, path result)."""
+
+    curve: ActuatorCurve
+    model: object
+    path: object
+
+
+def solid_material(name: str):
+    """Neo-Hookean constants of a `fem.materials` preset (or a Material)."""
+    from fem.materials import Material, get_material
+    from fem.neohooke import NeoHookean
+
+    mat = name if isinstance(name, Material) else get_material(name)
+    if mat.model != "neo-hookean":
+        raise DesignError("material", f"{mat.name} is {mat.model}; the ePSA body needs a Neo-Hookean "
+                          "material (e.g. ecoflex-00-50, ecoflex-00-50-fit)")
+    return mat, NeoHookean(mu=mat.mu, bulk=mat.bulk)
+
+
+def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings | str = "default",
+                blocked: bool = False, fiber_material: str = "kevlar", seal_material: str = "abs"):
+    """The actuator model: body (Neo-Hookean `material`), ABS seal head on top (tied, stiff
+    Neo-Hookean with the ABS shear and bulk moduli: at 20-100 kPa its strains are ~1e-4, so the
+    hyperelastic and linear-elastic ABS agree), Kevlar fibers, base z = 0 fixed (glued to the
+    robot's foot); with `blocked`, the seal head's top face is fixed too."""
+    from fem.materials import get_material
+    from fem.mechanics import Dirichlet, SolidModel
+    from geometry.swept import mesh_epsa_swept
+
+    from fem.neohooke import NeoHookean
+
+    settings = MESH_PRESETS[mesh] if isinstance(mesh, str) else mesh
+    mat, neo = solid_material(material)
+    tagged = mesh_epsa_swept(design, n_around=settings.n_around, n_radial=settings.n_radial,
+                             axial_size=settings.axial_size,
+                             fiber_points_per_turn=settings.fiber_points_per_turn, seal_head=True)
+    bcs = [Dirichlet.fixed("end_bottom")] + ([Dirichlet.fixed("seal_top")] if blocked else [])
+    kevlar, abs_ = get_material(fiber_material), get_material(seal_material)
+    materials = {"epsa": neo, "seal_head": NeoHookean(mu=abs_.mu, bulk=abs_.bulk)}
+    model = SolidModel(tagged.to_skfem(order=2), materials, dirichlet=bcs,
+                       chamber=("chamber_wall", "chamber_ends"), fibers=tagged.fibers or None,
+                       fiber_youngs=kevlar.youngs_modulus, fiber_diameter=design.fiber_diameter)
+    return model, mat, settings
+
+
+def parse_pressures(spec: str) -> tuple[float, ...]:
+    """'0:100:20' -> (20, 40, 60, 80, 100) (kPa; the 0 kPa reference row is always written);
+    '10,30,50' -> (10, 30, 50)."""
+    try:
+        if ":" in spec:
+            a, b, s = (float(v) for v in spec.split(":"))
+            if s <= 0 or b <= a:
+                raise ValueError
+            values = np.arange(a, b + 1e-9 * s, s)
+        else:
+            values = np.array([float(v) for v in spec.split(",")])
+    except ValueError:
+        raise DesignError("pressures", f"{spec!r} is not START:STOP:STEP or a comma list (kPa)") from None
+    values = values[values > 0]
+    if values.size == 0 or np.any(np.diff(values) <= 0) or values.max() > 1000:
+        raise DesignError("pressures", f"{spec!r}: give increasing pressures in (0, 1000] kPa")
+    return tuple(float(v) for v in values)
+
+
+def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa=(20, 40, 60, 80, 100),
+                  mesh: MeshSettings | str = "default", mesh_size: float | None = None,
+                  quick: bool = False, blocked: bool = False, progress=None,
+                  keep_model: bool = False):
+    """Simulate the closed actuator under a pressure ramp. Returns an `ActuatorCurve`
+    (or `Solved` with the model and path when `keep_model`)."""
+    from fem.path import load_path
+    from fem.post import actuator_length, max_principal_stretch, outer_radius_at
+
+    t0 = time.perf_counter()
+    if quick:
+        mesh = "quick"
+    if mesh_size is not None:
+        mesh = MeshSettings.from_size(mesh_size, design)
+    pressures = tuple(float(p) for p in pressures_kpa)
+    if not pressures or min(pressures) <= 0:
+        raise DesignError("pressures", "give positive pressures in kPa")
+    model, mat, settings = build_model(design, material, mesh, blocked)
+
+    def row(step, status):
+        x = step.x
+        tension = model.fiber_tension(x)
+        force = -model.reaction(x, "seal_top", step.pressure)[2] if blocked else float("nan")
+        return CurveRow(step.pressure * 1e3, actuator_length(model, x),
+                        outer_radius_at(model, x, design.length / 2), step.volume,
+                        max_principal_stretch(model, x), float(tension.max()) if tension.size else 0.0,
+                        status, float(force))
+
+    def on_step(step):
+        if progress is not None:
+            progress(f"P = {step.pressure * 1e3:7.2f} kPa  ({step.control} control, "
+                     f"{step.newton.iterations} Newton iterations)")
+
+    result = load_path(model, [(p * 1e-3, 0.0) for p in pressures], on_step=on_step)
+    x0 = model.initial_state()
+    from fem.path import NewtonRecord, Step
+
+    rows = [row(Step(0.0, 0.0, model.chamber_volume(x0), x0, "pressure", NewtonRecord((0.0,), True)),
+                "reference")]
+    rows += [row(s, "converged" if s.control == "pressure" else "volume-control") for s in result.steps]
+    reached = max([s.pressure for s in result.steps if s.control == "pressure"], default=0.0) * 1e3
+    nan = float("nan")
+    if not result.converged:
+        rows += [CurveRow(p, nan, nan, nan, nan, nan, "failed") for p in pressures if p > reached + 1e-9]
+    limit = None if result.limit_pressure is None else result.limit_pressure * 1e3
+    curve = ActuatorCurve(tuple(rows), bool(result.converged), limit, result.message,
+                          time.perf_counter() - t0, int(model.n_dofs), mat.name, float(mat.mu),
+                          design.to_dict(), asdict(settings), tuple(result.events))
+    return Solved(curve, model, result) if keep_model else curve
