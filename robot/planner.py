@@ -1,0 +1,302 @@
+"""Gait planning through a pipe (paper Section IV, eqs. 16-18, Fig. 25).
+
+Model of one crawling cycle (assumption (c) of Section III-C and Fig. 4):
+
+1. Inflation, rear foot fixed. The pressures go linearly from the deflated triple to the inflated
+   triple P, whose ePSA lengths come from the statics model (eq. 3); each stage is a
+   constant-curvature arc (eqs. 4-6) posed from the rear foot frame (eq. 9).
+2. Deflation, front foot fixed, curvature kept (eqs. 16, 18: kappa_2 = kappa_1, phi_2 = phi_1). The
+   body shrinks along its own arc to the deflated centreline length l_def, so the rear foot slides
+   along the inflated arc by (l_c - l_def), i.e. through the angle theta_2 = (l_c - l_def) kappa
+   (eq. 17; the paper writes (l_1 - 100) kappa).
+
+Deflated length, two modes (`deflation=`):
+
+* "paper" (default): eq. (17) as printed, the deflated centreline has the rest length whatever the
+  curvature. We use the model's P = 0 centreline length, mean_i l_i(0) (99.25 mm for the nominal
+  actuator), instead of the printed 100 mm so that a straight robot deflates to exactly P = 0.
+  The deflated ePSA lengths l_i = l_def (1 - kappa d cos(psi_i - phi)) then put the inner ePSA below
+  its rest length: it is fully vented (0 kPa) and the kept curvature is the paper's assumption
+  (the pipe and the anchored front foot hold it), while ePSAs above their rest length keep the
+  pressure that the inverted statics model gives (the paper's gait 2, "deflated but not fully").
+* "held": no ePSA may go below its rest length, so the curvature is held by pressure alone:
+  l_def = max_i l_i(0) / (1 - kappa d cos(psi_i - phi)). Bent bodies then stay long after
+  deflation and the stride in a bend is much shorter.
+
+Deflated triples invert the statics model (`EPSAParams.pressure_for_length`: smallest pressure on
+the monotone branch; a length inside an upward 60 kPa gap -> 60 kPa; lengths below rest -> 0 kPa).
+During inflation the ePSA lengths go linearly from the deflated lengths to the statics lengths of
+the inflated triple (the shape path between two static states is not modelled by the paper).
+
+Constraint: the body is a tube of radius `body_radius` (default d + R0 = 23 mm, half the
+prototype's 46 mm minimum diameter; the feet, 78 mm, deform and are not checked) around the arc;
+every sampled arc point of every inflation stage must lie within D/2 - body_radius of the pipe
+centreline. Deflated bodies are sub-arcs of the inflated one, hence inside as well.
+
+Search. The inflated triple of each cycle is chosen on a pressure grid (0-100 kPa, `step_kpa`)
+by forward statics, so commanded pressures and the predicted shapes are consistent also across the
+60 kPa jump. A beam search (`beam` states kept per cycle, 1 = greedy) maximises the rear foot's
+progress along the pipe; ties and near-ties are broken towards a centred, pipe-aligned rear foot.
+The plan ends when the rear foot passes the goal (pipe end, or end of the bend), or fails when no
+triple advances the robot.
+
+Gravity: only the "vertical" pipe applies g along the body axis (climbing). Straight and elbow plans
+are made without gravity, as the paper's kinematics are (assumption (d)).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from robot import kinematics as kin
+from robot.epsa import G_STANDARD, P_MAX_KPA, EPSAParams
+from robot.errors import ModelInputError
+from robot.pipe import Pipe
+from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+
+
+@dataclass(frozen=True)
+class Cycle:
+    index: int
+    pressures_inflated: tuple[float, float, float]   # kPa
+    pressures_deflated: tuple[float, float, float]   # kPa, held after deflation
+    lengths_inflated: tuple[float, float, float]     # mm
+    lengths_deflated: tuple[float, float, float]     # mm
+    kappa: float
+    theta: float
+    phi: float
+    length_inflated: float                           # centreline, mm
+    length_deflated: float
+    rear_before: tuple[float, float, float]
+    front: tuple[float, float, float]                # front foot, fixed during deflation
+    rear_after: tuple[float, float, float]
+    progress: float                                  # rear-foot arc length after the cycle, mm
+    clearance: float                                 # smallest wall clearance in the cycle, mm
+
+
+@dataclass(frozen=True)
+class Plan:
+    pipe: Pipe
+    success: bool
+    cycles: tuple[Cycle, ...]
+    body_radius: float
+    d: float
+    actuators: str
+    step_kpa: float
+    start_rear: tuple[float, float, float]
+    start_pressures: tuple[float, float, float]
+    message: str = ""
+
+    def gait(self):
+        """[(phase, P1, P2, P3)] kPa: 'inflate', 'deflate' per cycle."""
+        out = []
+        for c in self.cycles:
+            out.append(("inflate",) + c.pressures_inflated)
+            out.append(("deflate",) + c.pressures_deflated)
+        return out
+
+
+@dataclass
+class _State:
+    pos: np.ndarray
+    rot: np.ndarray
+    p_def: np.ndarray
+    l_cur: np.ndarray
+    kappa: float
+    phi: float
+    l_def: float
+    progress: float
+    cycles: list = field(default_factory=list)
+
+
+def _pressure_grid(step_kpa: float) -> np.ndarray:
+    n = int(round(P_MAX_KPA / step_kpa))
+    if n < 1 or abs(n * step_kpa - P_MAX_KPA) > 1e-9:
+        raise ModelInputError("step", f"must divide {P_MAX_KPA:g} kPa, got {step_kpa:g}")
+    v = np.linspace(0.0, P_MAX_KPA, n + 1)
+    return np.stack(np.meshgrid(v, v, v, indexing="ij"), -1).reshape(-1, 3)
+
+
+def _lengths(acts, P, g):
+    return np.stack([acts[i].length(P[..., i], g) for i in range(3)], -1)
+
+
+def _body_points(pos, rot, lengths, d, n_s):
+    """World points (..., n_s, 3) of the arcs with the given ePSA lengths from the pose."""
+    k, t, p, lc = kin.forward(lengths, d)
+    f = np.linspace(0.0, 1.0, n_s)
+    local = kin.arc_point(t[..., None] * f, p[..., None], lc[..., None] * f)
+    return pos + local @ rot.T
+
+
+def _deflated_length(acts, kappa, phi, d, g, mode):
+    rest = np.array([float(a.length(0.0, g)) for a in acts])
+    if mode == "paper":
+        return np.full(np.shape(kappa), rest.mean())
+    c = 1.0 - np.asarray(kappa)[..., None] * d * np.cos(kin.PSI - np.asarray(phi)[..., None])
+    return np.max(rest / c, axis=-1)
+
+
+def _deflated_pressure(a: EPSAParams, length, g):
+    if length <= float(a.length(0.0, g)) + 1e-12:
+        return 0.0
+    return a.pressure_for_length(length, g)
+
+
+def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
+         body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
+         stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper",
+         lookahead: int = 0, cell_mm: float = 2.0, cell_deg: float = 3.0, lookahead_step_kpa: float = 20.0, lookahead_width: int = 12) -> Plan:
+    """Plan the fewest-cycle gait through `pipe`; see the module docstring."""
+    acts: tuple[EPSAParams, ...] = actuator_set(actuators)
+    if body_radius <= 0:
+        raise ModelInputError("body-radius", "must be > 0 mm")
+    allow = pipe.diameter / 2.0 - body_radius
+    if allow < 0:
+        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
+                                          f"{pipe.diameter:g} mm pipe")
+    if beam < 1:
+        raise ModelInputError("beam", "must be >= 1")
+    if deflation not in ("paper", "held"):
+        raise ModelInputError("deflation", f"must be 'paper' or 'held', got {deflation!r}")
+    g = G_STANDARD if pipe.kind == "vertical" else 0.0
+    grid = _pressure_grid(step_kpa)
+    goal = pipe.goal()
+
+    p0 = np.zeros(3)
+    l0 = _lengths(acts, p0, g)
+    k0, t0, f0, lc0 = kin.forward(l0, d)
+    start = _State(np.zeros(3), np.eye(3), p0, l0, float(k0), float(f0), float(lc0), 0.0)
+    d0, _ = pipe.locate(_body_points(start.pos, start.rot, l0, d, samples))
+    if d0.max() > allow + tol:
+        raise ModelInputError("diameter", "the deflated robot does not fit the pipe at the start")
+
+    lam = np.linspace(0.0, 1.0, stages + 1)[1:]
+    L_grid = _lengths(acts, grid, g)
+    coarse = _pressure_grid(lookahead_step_kpa) if lookahead > 0 else None
+    L_coarse = _lengths(acts, coarse, g) if lookahead > 0 else None
+
+    def expand(st, Lg):
+        """Feasible, advancing successors of `st` over the length grid `Lg`."""
+        L = st.l_cur + lam[:, None, None] * (Lg[None] - st.l_cur)          # (stages, n, 3)
+        pts = _body_points(st.pos, st.rot, L, d, samples)                   # (stages, n, s, 3)
+        dist, _ = pipe.locate(pts)
+        worst = dist.max(axis=(0, 2))
+        idx = np.flatnonzero(worst <= allow + tol)
+        Lc = L[-1, idx]
+        k, t, ph, lc = kin.forward(Lc, d)
+        ldef = _deflated_length(acts, k, ph, d, g, deflation)
+        step = np.maximum(lc - ldef, 0.0)
+        new_pos = st.pos + kin.arc_point(k * step, ph, step) @ st.rot.T
+        dn, sn = pipe.locate(new_pos)
+        keep = sn > st.progress + 1e-6
+        rot = st.rot @ kin.arc_rotation(k[keep] * step[keep], ph[keep])
+        align = np.einsum("mi,mi->m", rot[:, :, 2], pipe.tangent(sn[keep]))
+        return dict(idx=idx[keep], k=k[keep], t=t[keep], ph=ph[keep], lc=lc[keep],
+                    ldef=ldef[keep], pos=new_pos[keep], rot=rot, s=sn[keep], dn=dn[keep],
+                    align=align, clr=allow - worst[idx[keep]], L=Lc[keep])
+
+    def make_state(st, e, j):
+        k, ph, ldef = e["k"][j], e["ph"][j], e["ldef"][j]
+        ldef_i = ldef * (1.0 - k * d * np.cos(kin.PSI - ph))
+        p_def = np.array([_deflated_pressure(acts[i], ldef_i[i], g) for i in range(3)])
+        return _State(e["pos"][j], e["rot"][j], p_def, ldef_i, float(k), float(ph), float(ldef),
+                      float(e["s"][j]), st.cycles)
+
+    def value(st, depth):
+        """Best rear progress reachable from `st` in `depth` more cycles (coarse grid)."""
+        if depth == 0 or st.progress >= goal:
+            return st.progress
+        e = expand(st, L_coarse)
+        if e["s"].size == 0:
+            return st.progress
+        order = np.argsort(-e["s"])[:lookahead_width]
+        return max(value(make_state(st, e, j), depth - 1) for j in order)
+
+    states = [start]
+    message = "no triple advances the robot"
+    success = False
+    best_final = start
+    for _ in range(max_cycles):
+        pool = []
+        for st in states:
+            e = expand(st, L_grid)
+            if e["s"].size == 0:
+                continue
+            score = e["s"] - 0.05 * e["dn"] - 2.0 * (1.0 - e["align"])
+            order = np.argsort(-score)
+            # keep a spread of candidates: the best by score, and the best per bending direction
+            picks = list(order[: max(beam * 4, lookahead_width)])
+            if lookahead > 0:
+                bins = np.round(np.where(e["t"] > 1e-9, e["ph"], 0.0) / (np.pi / 12)).astype(int)
+                for b in np.unique(bins):
+                    members = order[np.isin(order, np.flatnonzero(bins == b))]
+                    picks.extend(members[:3])
+            seen = set()
+            for j in picks:
+                if j in seen:
+                    continue
+                seen.add(j)
+                cand = make_state(st, e, j)
+                v = value(cand, lookahead) if lookahead > 0 else 0.0
+                pool.append(((v, score[j]), st, e, j, cand))
+        if not pool:
+            break
+        pool.sort(key=lambda x: (-x[0][0], -x[0][1]))
+        new_states, keys = [], set()
+        for _key, st, e, j, cand in pool:
+            if len(new_states) >= beam:
+                break
+            key = tuple(np.round(cand.pos / cell_mm).astype(int)) + \
+                tuple(np.round(cand.rot[:, 2] / np.deg2rad(cell_deg)).astype(int))
+            if key in keys:
+                continue  # keep the beam diverse: one state per cell of position and heading
+            keys.add(key)
+            gi = e["idx"][j]
+            front = st.pos + st.rot @ kin.arc_point(e["t"][j], e["ph"][j], e["lc"][j])
+            cyc = Cycle(len(st.cycles) + 1, tuple(map(float, grid[gi])), tuple(map(float, cand.p_def)),
+                        tuple(map(float, e["L"][j])), tuple(map(float, cand.l_cur)),
+                        float(e["k"][j]), float(e["t"][j]), float(e["ph"][j]), float(e["lc"][j]),
+                        float(e["ldef"][j]), tuple(map(float, st.pos)), tuple(map(float, front)),
+                        tuple(map(float, cand.pos)), float(cand.progress), float(e["clr"][j]))
+            cand.cycles = st.cycles + [cyc]
+            new_states.append(cand)
+        states = new_states
+        best_final = max(states, key=lambda s_: s_.progress)
+        done = [s_ for s_ in states if s_.progress >= goal]
+        if done:
+            best_final = min(done, key=lambda s_: len(s_.cycles))
+            success, message = True, f"rear foot passed s = {goal:.1f} mm"
+            break
+    else:
+        message = f"not through after {max_cycles} cycles"
+    return Plan(pipe, success, tuple(best_final.cycles), body_radius, d, actuators, step_kpa,
+                tuple(map(float, start.pos)), tuple(map(float, p0)), message)
+
+
+def smallest_bend_radius(diameter: float = 70.0, lo: float = 20.0, hi: float = 120.0,
+                         resolution: float = 0.5, **kwargs) -> tuple[float, Plan]:
+    """Bisection on the elbow bend radius: the smallest radius (to `resolution` mm) a plan passes.
+
+    Assumes passability is monotone in the radius (checked at `hi`).
+    """
+    def ok(r):
+        return plan(Pipe("elbow", diameter, r), **kwargs)
+
+    top = ok(hi)
+    if not top.success:
+        raise ModelInputError("bend-radius", f"the planner does not pass even R = {hi:g} mm")
+    best = (hi, top)
+    a, b = lo, hi
+    low_plan = ok(lo)
+    if low_plan.success:
+        return lo, low_plan
+    while b - a > resolution:
+        m = 0.5 * (a + b)
+        pm = ok(m)
+        if pm.success:
+            b, best = m, (m, pm)
+        else:
+            a = m
+    return best
