@@ -56,6 +56,8 @@ from robot.pipe import Pipe
 from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
 
 
+
+
 @dataclass(frozen=True)
 class Cycle:
     index: int
@@ -87,6 +89,7 @@ class Plan:
     start_rear: tuple[float, float, float]
     start_pressures: tuple[float, float, float]
     message: str = ""
+    start_rotation: tuple = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
     def gait(self):
         """[(phase, P1, P2, P3)] kPa: 'inflate', 'deflate' per cycle."""
@@ -110,11 +113,34 @@ class _State:
     cycles: list = field(default_factory=list)
 
 
-def _pressure_grid(step_kpa: float) -> np.ndarray:
+def _pose_cells(pipe: Pipe, pos, rot, progress, cell_mm: float, cell_deg: float,
+                cell_s_mm: float = np.inf) -> np.ndarray:
+    """Cells (m, 4) of the rear feet's lateral offsets and headings relative to the pipe.
+
+    The progress along the pipe enters only coarsely (`cell_s_mm`): per cell, the beam keeps the
+    state that went furthest, and near a bend a state a little behind can be the better one.
+    """
+    c = pipe.point(progress)
+    t = pipe.tangent(progress)
+    n = np.stack([t[..., 2], np.zeros_like(t[..., 0]), -t[..., 0]], -1)
+    off = pos - c
+    head = rot[..., :, 2]
+    h = np.sin(np.deg2rad(cell_deg))
+    cells = np.stack([np.einsum("...i,...i->...", off, n) / cell_mm, off[..., 1] / cell_mm,
+                      np.einsum("...i,...i->...", head, n) / h, head[..., 1] / h,
+                      np.asarray(progress) / cell_s_mm], -1)
+    return np.round(cells).astype(int)
+
+
+def _pressure_grid(step_kpa: float, planar: bool = False) -> np.ndarray:
+    """All triples on a `step_kpa` grid, or only P2 = P3 (bending in the plane of ePSA 1)."""
     n = int(round(P_MAX_KPA / step_kpa))
     if n < 1 or abs(n * step_kpa - P_MAX_KPA) > 1e-9:
         raise ModelInputError("step", f"must divide {P_MAX_KPA:g} kPa, got {step_kpa:g}")
     v = np.linspace(0.0, P_MAX_KPA, n + 1)
+    if planar:
+        a, b = np.meshgrid(v, v, indexing="ij")
+        return np.stack([a.ravel(), b.ravel(), b.ravel()], -1)
     return np.stack(np.meshgrid(v, v, v, indexing="ij"), -1).reshape(-1, 3)
 
 
@@ -147,7 +173,7 @@ def _deflated_pressure(a: EPSAParams, length, g):
 def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
          body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
          stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper",
-         lookahead: int = 0, cell_mm: float = 2.0, cell_deg: float = 3.0, lookahead_step_kpa: float = 20.0, lookahead_width: int = 12) -> Plan:
+         planar: bool | None = None, lookahead: int = 0, cell_mm: float = 3.0, cell_deg: float = 4.0, cell_s_mm: float = 10.0, lookahead_step_kpa: float = 20.0, lookahead_width: int = 12) -> Plan:
     """Plan the fewest-cycle gait through `pipe`; see the module docstring."""
     acts: tuple[EPSAParams, ...] = actuator_set(actuators)
     if body_radius <= 0:
@@ -161,20 +187,26 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     if deflation not in ("paper", "held"):
         raise ModelInputError("deflation", f"must be 'paper' or 'held', got {deflation!r}")
     g = G_STANDARD if pipe.kind == "vertical" else 0.0
-    grid = _pressure_grid(step_kpa)
+    if planar is None:
+        planar = pipe.kind == "elbow"
+    grid = _pressure_grid(step_kpa, planar)
     goal = pipe.goal()
+    # Roll the robot so that ePSA 1 (psi = 90 deg, local +y) faces the inside of the bend (world +x):
+    # bends in the bend plane are then the P2 = P3 family, as in the paper's gait 2.
+    rot0 = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]) if pipe.kind == "elbow" \
+        else np.eye(3)
 
     p0 = np.zeros(3)
     l0 = _lengths(acts, p0, g)
     k0, t0, f0, lc0 = kin.forward(l0, d)
-    start = _State(np.zeros(3), np.eye(3), p0, l0, float(k0), float(f0), float(lc0), 0.0)
+    start = _State(np.zeros(3), rot0, p0, l0, float(k0), float(f0), float(lc0), 0.0)
     d0, _ = pipe.locate(_body_points(start.pos, start.rot, l0, d, samples))
     if d0.max() > allow + tol:
         raise ModelInputError("diameter", "the deflated robot does not fit the pipe at the start")
 
     lam = np.linspace(0.0, 1.0, stages + 1)[1:]
     L_grid = _lengths(acts, grid, g)
-    coarse = _pressure_grid(lookahead_step_kpa) if lookahead > 0 else None
+    coarse = _pressure_grid(lookahead_step_kpa, planar) if lookahead > 0 else None
     L_coarse = _lengths(acts, coarse, g) if lookahead > 0 else None
 
     def expand(st, Lg):
@@ -227,7 +259,12 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
             score = e["s"] - 0.05 * e["dn"] - 2.0 * (1.0 - e["align"])
             order = np.argsort(-score)
             # keep a spread of candidates: the best by score, and the best per bending direction
-            picks = list(order[: max(beam * 4, lookahead_width)])
+            picks = list(order[: max(beam, lookahead_width)])
+            if beam > 1:  # plus the furthest candidate of every pose cell
+                cells = _pose_cells(pipe, e["pos"], e["rot"], e["s"], cell_mm, cell_deg, cell_s_mm)
+                _, first = np.unique(cells[np.argsort(-e["s"], kind="stable")], axis=0,
+                                     return_index=True)
+                picks.extend(np.argsort(-e["s"], kind="stable")[first])
             if lookahead > 0:
                 bins = np.round(np.where(e["t"] > 1e-9, e["ph"], 0.0) / (np.pi / 12)).astype(int)
                 for b in np.unique(bins):
@@ -248,10 +285,9 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
         for _key, st, e, j, cand in pool:
             if len(new_states) >= beam:
                 break
-            key = tuple(np.round(cand.pos / cell_mm).astype(int)) + \
-                tuple(np.round(cand.rot[:, 2] / np.deg2rad(cell_deg)).astype(int))
+            key = tuple(_pose_cells(pipe, cand.pos, cand.rot, cand.progress, cell_mm, cell_deg, cell_s_mm))
             if key in keys:
-                continue  # keep the beam diverse: one state per cell of position and heading
+                continue  # keep the beam diverse: the best state per cell of offset and heading
             keys.add(key)
             gi = e["idx"][j]
             front = st.pos + st.rot @ kin.arc_point(e["t"][j], e["ph"][j], e["lc"][j])
@@ -272,31 +308,15 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     else:
         message = f"not through after {max_cycles} cycles"
     return Plan(pipe, success, tuple(best_final.cycles), body_radius, d, actuators, step_kpa,
-                tuple(map(float, start.pos)), tuple(map(float, p0)), message)
+                tuple(map(float, start.pos)), tuple(map(float, p0)), message,
+                tuple(tuple(map(float, r)) for r in rot0))
 
 
-def smallest_bend_radius(diameter: float = 70.0, lo: float = 20.0, hi: float = 120.0,
-                         resolution: float = 0.5, **kwargs) -> tuple[float, Plan]:
-    """Bisection on the elbow bend radius: the smallest radius (to `resolution` mm) a plan passes.
+def scan_bend_radius(radii, diameter: float = 70.0, **kwargs) -> list[tuple[float, Plan]]:
+    """Plan an elbow for every bend radius in `radii` (mm); returns [(radius, plan)].
 
-    Assumes passability is monotone in the radius (checked at `hi`).
+    Passability is not monotone in the radius for a rigid constant-curvature body: a sharp elbow
+    leaves room to cut the corner with one long arc, a wider one does not (its inner wall is
+    further out), so we scan rather than bisect.
     """
-    def ok(r):
-        return plan(Pipe("elbow", diameter, r), **kwargs)
-
-    top = ok(hi)
-    if not top.success:
-        raise ModelInputError("bend-radius", f"the planner does not pass even R = {hi:g} mm")
-    best = (hi, top)
-    a, b = lo, hi
-    low_plan = ok(lo)
-    if low_plan.success:
-        return lo, low_plan
-    while b - a > resolution:
-        m = 0.5 * (a + b)
-        pm = ok(m)
-        if pm.success:
-            b, best = m, (m, pm)
-        else:
-            a = m
-    return best
+    return [(float(r), plan(Pipe("elbow", diameter, float(r)), **kwargs)) for r in radii]

@@ -52,7 +52,7 @@ def plot_plan(plan, path) -> None:
     ax.plot(cl[:, 0], cl[:, 2], color="0.6", lw=0.8, ls="--")
     cmap = plt.get_cmap("viridis")
     n = max(len(plan.cycles), 1)
-    rot = np.eye(3)
+    rot = np.asarray(plan.start_rotation)
     for c in plan.cycles:
         col = cmap(c.index / n)
         pts = _arc_world(c.rear_before, rot, c.theta, c.phi, c.length_inflated)
