@@ -28,17 +28,34 @@ the monotone branch; a length inside an upward 60 kPa gap -> 60 kPa; lengths bel
 During inflation the ePSA lengths go linearly from the deflated lengths to the statics lengths of
 the inflated triple (the shape path between two static states is not modelled by the paper).
 
-Constraint: the body is a tube of radius `body_radius` (default d + R0 = 23 mm, half the
-prototype's 46 mm minimum diameter; the feet, 78 mm, deform and are not checked) around the arc;
-every sampled arc point of every inflation stage must lie within D/2 - body_radius of the pipe
-centreline. Deflated bodies are sub-arcs of the inflated one, hence inside as well.
+Constraint: with `body="tube"` (default) the body is a tube of radius `body_radius` (d + R0 = 23 mm,
+half the prototype's 46 mm minimum diameter; the feet, 78 mm, deform and are not checked) around
+the arc, so every sampled arc point of every inflation stage must lie within D/2 - 23 = 12 mm of the
+pipe centreline (70 mm pipe). With `body="epsa"` only the three ePSA tubes (R0 = 9 mm around their
+own centrelines at d = 14 mm) are checked; this ignores the connecting rings. Deflated bodies are
+sub-arcs of the inflated one, hence inside as well.
+
+Roll. In an elbow the robot is inserted with ePSA 1 (psi = 90 deg) facing the inside of the bend, so
+bends in the bend plane are the family P2 = P3, P1 lower (the paper's gait 2: "ePSA2 and ePSA3 are
+inflated for 1.5 s, ePSA1 for 0.3 s"). By default (`planar=None`) the elbow search uses only this
+family (2D pressure grid); straight pipes search all triples.
 
 Search. The inflated triple of each cycle is chosen on a pressure grid (0-100 kPa, `step_kpa`)
 by forward statics, so commanded pressures and the predicted shapes are consistent also across the
-60 kPa jump. A beam search (`beam` states kept per cycle, 1 = greedy) maximises the rear foot's
-progress along the pipe; ties and near-ties are broken towards a centred, pipe-aligned rear foot.
-The plan ends when the rear foot passes the goal (pipe end, or end of the bend), or fails when no
-triple advances the robot.
+60 kPa jump. A beam search over cycles (`beam` states kept per cycle; 1 = greedy) keeps, per cell of
+lateral offset, heading and coarse progress (`cell_mm`, `cell_deg`, `cell_s_mm`), the state whose
+rear foot went furthest, and ranks by rear-foot progress with a small preference for a centred,
+pipe-aligned rear foot. Breadth per cycle means the first plan through uses the fewest cycles among
+the states kept. The plan ends when the rear foot passes the goal (pipe end, or end of the bend), or
+fails (reported, not raised) when no triple advances the robot.
+
+Limits found (see the package report): a straight or vertical pipe is crossed with (100, 100, 100)
+/ (0, 0, 0) in ceil(L / 54 mm) cycles. Passing an elbow is NOT monotone in its radius for a rigid
+arc body, and a 70 mm pipe leaves the 23 mm-radius body a 12 mm corridor: R = 80 mm passes greedily
+in 7 cycles, R = 60 mm needs the beam, and R = 40 mm is not passed from a centred start (the
+corner-cutting arcs that exist need the rear foot ~8 mm off-centre and tilted away from the bend,
+which the straight leg does not let the robot reach). The paper's 38.2 mm minimum turning radius
+is for a soft body that the pipe deforms, which this model does not have.
 
 Gravity: only the "vertical" pipe applies g along the body axis (climbing). Straight and elbow plans
 are made without gravity, as the paper's kinematics are (assumption (d)).
@@ -53,7 +70,7 @@ from robot import kinematics as kin
 from robot.epsa import G_STANDARD, P_MAX_KPA, EPSAParams
 from robot.errors import ModelInputError
 from robot.pipe import Pipe
-from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from robot.prototype import BODY_RADIUS_MM, D_MM, EPSA_RADIUS_MM, actuator_set
 
 
 
@@ -86,6 +103,7 @@ class Plan:
     d: float
     actuators: str
     step_kpa: float
+    body: str
     start_rear: tuple[float, float, float]
     start_pressures: tuple[float, float, float]
     message: str = ""
@@ -148,11 +166,20 @@ def _lengths(acts, P, g):
     return np.stack([acts[i].length(P[..., i], g) for i in range(3)], -1)
 
 
-def _body_points(pos, rot, lengths, d, n_s):
-    """World points (..., n_s, 3) of the arcs with the given ePSA lengths from the pose."""
+def _body_points(pos, rot, lengths, d, n_s, epsa: bool = False):
+    """World points of the body arcs with the given ePSA lengths, posed from the rear foot.
+
+    (..., n_s, 3) on the body centreline, or with `epsa` (..., 3 * n_s, 3) on the three ePSA
+    centrelines (offset d at psi_i in the cross-section frame, which follows the arc by eq. 9).
+    """
     k, t, p, lc = kin.forward(lengths, d)
     f = np.linspace(0.0, 1.0, n_s)
     local = kin.arc_point(t[..., None] * f, p[..., None], lc[..., None] * f)
+    if epsa:
+        frames = kin.arc_rotation(t[..., None] * f, p[..., None])             # (..., n_s, 3, 3)
+        offs = d * np.stack([np.cos(kin.PSI), np.sin(kin.PSI), np.zeros(3)], -1)  # (3, 3)
+        local = (local[..., None, :] + np.einsum("...ij,aj->...ai", frames, offs))
+        local = local.reshape(local.shape[:-3] + (-1, 3))
     return pos + local @ rot.T
 
 
@@ -172,12 +199,17 @@ def _deflated_pressure(a: EPSAParams, length, g):
 
 def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
          body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
-         stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper",
+         stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper", body: str = "tube",
          planar: bool | None = None, lookahead: int = 0, cell_mm: float = 3.0, cell_deg: float = 4.0, cell_s_mm: float = 10.0, lookahead_step_kpa: float = 20.0, lookahead_width: int = 12) -> Plan:
     """Plan the fewest-cycle gait through `pipe`; see the module docstring."""
     acts: tuple[EPSAParams, ...] = actuator_set(actuators)
     if body_radius <= 0:
         raise ModelInputError("body-radius", "must be > 0 mm")
+    if body not in ("tube", "epsa"):
+        raise ModelInputError("body", f"must be 'tube' or 'epsa', got {body!r}")
+    epsa_body = body == "epsa"
+    if epsa_body:
+        body_radius = EPSA_RADIUS_MM
     allow = pipe.diameter / 2.0 - body_radius
     if allow < 0:
         raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
@@ -200,7 +232,7 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     l0 = _lengths(acts, p0, g)
     k0, t0, f0, lc0 = kin.forward(l0, d)
     start = _State(np.zeros(3), rot0, p0, l0, float(k0), float(f0), float(lc0), 0.0)
-    d0, _ = pipe.locate(_body_points(start.pos, start.rot, l0, d, samples))
+    d0, _ = pipe.locate(_body_points(start.pos, start.rot, l0, d, samples, epsa_body))
     if d0.max() > allow + tol:
         raise ModelInputError("diameter", "the deflated robot does not fit the pipe at the start")
 
@@ -212,7 +244,7 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     def expand(st, Lg):
         """Feasible, advancing successors of `st` over the length grid `Lg`."""
         L = st.l_cur + lam[:, None, None] * (Lg[None] - st.l_cur)          # (stages, n, 3)
-        pts = _body_points(st.pos, st.rot, L, d, samples)                   # (stages, n, s, 3)
+        pts = _body_points(st.pos, st.rot, L, d, samples, epsa_body)                 # (stages, n, s, 3)
         dist, _ = pipe.locate(pts)
         worst = dist.max(axis=(0, 2))
         idx = np.flatnonzero(worst <= allow + tol)
@@ -307,7 +339,7 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
             break
     else:
         message = f"not through after {max_cycles} cycles"
-    return Plan(pipe, success, tuple(best_final.cycles), body_radius, d, actuators, step_kpa,
+    return Plan(pipe, success, tuple(best_final.cycles), body_radius, d, actuators, step_kpa, body,
                 tuple(map(float, start.pos)), tuple(map(float, p0)), message,
                 tuple(tuple(map(float, r)) for r in rot0))
 

@@ -71,8 +71,9 @@ def plot_plan(plan, path) -> None:
     if gait:
         P = np.array([g[1:] for g in gait])
         x = np.arange(len(gait) + 1)
-        for i in range(3):
-            ag.step(x, np.append(P[:, i], P[-1, i]), where="post", label=f"P{i + 1}")
+        for i, ls in zip(range(3), ("-", "--", ":")):
+            ag.step(x, np.append(P[:, i], P[-1, i]), where="post", ls=ls, lw=2 - 0.4 * i,
+                    label=f"P{i + 1}")
         ag.set_xlabel("phase (inflate, deflate, ...)"), ag.set_ylabel("pressure [kPa]")
         ag.set_ylim(-5, 105), ag.legend(), ag.grid(alpha=0.3), ag.set_title("gait sequence")
     fig.tight_layout()

@@ -173,14 +173,14 @@ def _plan(args) -> int:
                 exit=args.exit_length)
     out = _out_dir(args.out)
     result = plan(pipe, actuators=args.actuators, step_kpa=args.step, beam=args.beam,
-                  deflation=args.deflation)
+                  deflation=args.deflation, body=args.body, cell_mm=1.0, cell_deg=1.0)
     cycles = [asdict(c) for c in result.cycles]
     payload = dict(pipe=dict(kind=pipe.kind, diameter_mm=pipe.diameter,
                              bend_radius_mm=pipe.bend_radius if pipe.kind == "elbow" else None,
                              goal_mm=pipe.goal()),
                    success=result.success, message=result.message, cycles=len(cycles),
                    body_radius_mm=result.body_radius, actuators=result.actuators,
-                   deflation=args.deflation,
+                   deflation=args.deflation, body=args.body,
                    gait=[dict(phase=g[0], pressures_kpa=list(g[1:])) for g in result.gait()],
                    steps=cycles)
     (out / "plan.json").write_text(json.dumps(payload, indent=2))
@@ -268,5 +268,7 @@ def register(subparsers) -> None:
     s.add_argument("--deflation", choices=["paper", "held"], default="paper")
     s.add_argument("--step", type=float, default=5.0, help="pressure grid step, kPa")
     s.add_argument("--beam", type=int, default=1, help="beam width of the search (1 = greedy)")
+    s.add_argument("--body", choices=["tube", "epsa"], default="tube",
+                   help="clearance of a 23 mm tube, or of the three 9 mm ePSA tubes")
     s.add_argument("--out", required=True)
     s.set_defaults(func=_plan)
