@@ -77,3 +77,16 @@ def gait_response(actuator: EPSAParams, pressure_kpa: float, inflate_s: float = 
     y0 = float(actuator.extension(0.0, g))
     phases = [(inflate_s, pressure_kpa), (deflate_s, 0.0)] * int(cycles)
     return simulate(actuator, phases, y0=y0, g=g)
+
+
+def gait_stride(actuator: EPSAParams, pressure_kpa: float, inflate_s: float = 1.5,
+                deflate_s: float = 0.5, cycles: int = 4, g: float = 0.0) -> float:
+    """Friction-free stride (mm) of a periodic inflate/deflate gait with eq. (1)'s dynamics.
+
+    The extension at the end of the last inflation minus that at the end of the last deflation:
+    with the 1.5 s + 0.5 s cycle of the paper's gait 1 the actuator neither fully extends nor fully
+    retracts, so this is below the static stride y(P) - y(0).
+    """
+    r = gait_response(actuator, pressure_kpa, inflate_s, deflate_s, cycles, g)
+    n = r.t.size // (2 * cycles)
+    return float(r.y[-n - 1] - r.y[-1])

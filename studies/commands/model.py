@@ -96,14 +96,22 @@ def _speed(args) -> int:
         raise _ArgError("pressure", "must be within 0-100 kPa")
     est = crawl_speed(acts, args.pressure, args.friction, args.cycle, _g(args))
     need = friction_for_speed(acts, args.pressure, args.paper_speed, args.cycle, _g(args))
+    from robot.dynamics import gait_stride
+
+    dyn = [gait_stride(a, args.pressure, 0.75 * args.cycle, 0.25 * args.cycle, g=_g(args))
+           for a in acts]
     payload = dict(pressure_kpa=args.pressure, friction_n=args.friction, cycle_s=args.cycle,
                    extensions_mm=list(est.extensions_mm), stride_mm=est.stride_mm,
                    speed_mm_s=est.speed_mm_s, paper_speed_mm_s=args.paper_speed,
                    difference_mm_s=est.speed_mm_s - args.paper_speed,
-                   friction_for_paper_speed_n=need)
+                   friction_for_paper_speed_n=need,
+                   dynamic_friction_free_stride_mm=sum(dyn) / 3.0,
+                   dynamic_friction_free_speed_mm_s=sum(dyn) / 3.0 / args.cycle)
     _emit(args, payload, f"stride {est.stride_mm:.2f} mm, speed {est.speed_mm_s:.2f} mm/s at "
                          f"{args.cycle:g} s cycle (paper {args.paper_speed:g} mm/s; the model "
-                         f"matches it with {need:.2f} N total friction)")
+                         f"matches it with {need:.2f} N total friction); friction-free with eq. (1) "
+                         f"dynamics over a {0.75 * args.cycle:g} s + {0.25 * args.cycle:g} s cycle: "
+                         f"{sum(dyn) / 3.0 / args.cycle:.2f} mm/s")
     return 0
 
 
