@@ -133,8 +133,11 @@ def read_table(path):
     """CSV with header columns pressure_kpa, load_n, extension_mm (extra columns ignored)."""
     import csv
 
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    try:
+        with open(path, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    except OSError as exc:
+        raise ModelInputError("table", f"cannot read {path}: {exc.strerror}") from None
     try:
         cols = [np.array([float(r[c]) for r in rows]) for c in ("pressure_kpa", "load_n", "extension_mm")]
     except (KeyError, ValueError) as exc:

@@ -68,3 +68,23 @@ def test_workspace_and_plan_write_files(capsys, tmp_path):
         assert len(set(g["pressures_kpa"])) == 1
     for name in ("plan.png", "plan.json", "gait.csv"):
         assert (tmp_path / "p" / name).exists()
+
+
+def test_identify_from_csv(capsys, tmp_path):
+    import numpy as np
+
+    from robot.identification import synthetic_table
+    from robot.prototype import prototype_epsa
+
+    a = prototype_epsa(1)
+    P, W, y = synthetic_table(a, np.arange(10.0, 101.0, 10.0), [0.0, 1.0, 2.0])
+    path = tmp_path / "t.csv"
+    np.savetxt(path, np.column_stack([P, W, y]), delimiter=",", comments="",
+               header="pressure_kpa,load_n,extension_mm")
+    code, out, _ = run(capsys, "identify", "--table", str(path), "--json")
+    data = json.loads(out)
+    assert code == 0
+    assert data["k_p_n_per_m"]["low"] == pytest.approx([-2.579, 266.8], rel=1e-6)
+    assert data["f_p_n"]["high"] == pytest.approx([0.1463, -6.534], rel=1e-6)
+    code, out, err = run(capsys, "identify", "--table", str(tmp_path / "missing.csv"))
+    assert code == 2 and "table" in err
