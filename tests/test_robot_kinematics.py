@@ -52,7 +52,7 @@ def test_straight_configuration():
 lengths = st.floats(min_value=95.0, max_value=160.0, allow_nan=False)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(lengths, lengths, lengths)
 def test_ik_inverts_fk_hypothesis(l1, l2, l3):
     l = np.array([l1, l2, l3])
