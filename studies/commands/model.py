@@ -1,6 +1,6 @@
 """`softcrawl model ...`: the paper's analytic models (package `robot`).
 
-Subcommands: statics, fk, ik, load, speed, identify, workspace, plan. Pressures are entered in kPa,
+Subcommands: statics, fk, ik, load, speed, identify, workspace, plan, elbow-scan. Pressures are entered in kPa,
 lengths in mm; `--json` prints a JSON object on stdout instead of text.
 """
 from __future__ import annotations
@@ -209,6 +209,28 @@ def _plan(args) -> int:
     return 0 if result.success else 1
 
 
+def _elbow_scan(args) -> int:
+    from robot.planner import scan_bend_radius
+
+    if any(not r > 0 for r in args.radii):
+        raise _ArgError("radii", "bend radii must be > 0 mm")
+    rows = []
+    for r in sorted(args.radii):
+        (_, result), = scan_bend_radius([r], args.diameter, step_kpa=args.step, beam=args.beam,
+                                         body=args.body, cell_mm=1.0, cell_deg=1.0)
+        rows.append(dict(bend_radius_mm=r, success=result.success, cycles=len(result.cycles),
+                         rear_progress_mm=result.cycles[-1].progress if result.cycles else 0.0))
+        if not args.json:
+            print(f"R = {r:g} mm: {'through' if result.success else 'stuck'} after "
+                  f"{len(result.cycles)} cycles", flush=True)
+    passed = [row["bend_radius_mm"] for row in rows if row["success"]]
+    smallest = min(passed) if passed else None
+    payload = dict(diameter_mm=args.diameter, beam=args.beam, step_kpa=args.step, body=args.body,
+                   smallest_passed_mm=smallest, rows=rows)
+    _emit(args, payload, f"smallest bend radius passed: {smallest} mm (of {sorted(args.radii)})")
+    return 0
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser("model", help="the paper's analytic models (statics, kinematics, "
                                             "planning)", description=__doc__.splitlines()[0])
@@ -280,3 +302,11 @@ def register(subparsers) -> None:
                    help="clearance of a 23 mm tube, or of the three 9 mm ePSA tubes")
     s.add_argument("--out", required=True)
     s.set_defaults(func=_plan)
+
+    s = common(sub.add_parser("elbow-scan", help="which elbow bend radii the planner passes"))
+    s.add_argument("--radii", type=float, nargs="+", required=True, help="mm")
+    s.add_argument("--diameter", type=float, default=70.0)
+    s.add_argument("--beam", type=int, default=32)
+    s.add_argument("--step", type=float, default=5.0, help="pressure grid step, kPa")
+    s.add_argument("--body", choices=["tube", "epsa"], default="tube")
+    s.set_defaults(func=_elbow_scan)
