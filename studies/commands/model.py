@@ -163,8 +163,10 @@ def _workspace(args) -> int:
                    bounds_mm=dict(x=[float(tip[:, 0].min()), float(tip[:, 0].max())],
                                   y=[float(tip[:, 1].min()), float(tip[:, 1].max())],
                                   z=[float(tip[:, 2].min()), float(tip[:, 2].max())]),
-                   max_theta_rad=float(ws.theta.max()), max_kappa_per_mm=float(ws.kappa.max()))
-    _emit(args, payload, f"{tip.shape[0]} tips -> {out}/workspace.csv, {out}/workspace.png")
+                   max_theta_rad=float(ws.theta.max()), max_kappa_per_mm=float(ws.kappa.max()),
+                   min_bending_radius_mm=float(1.0 / ws.kappa.max()))
+    _emit(args, payload, f"{tip.shape[0]} tips -> {out}/workspace.csv, {out}/workspace.png; "
+                         f"smallest body bending radius {1.0 / ws.kappa.max():.1f} mm")
     return 0
 
 
