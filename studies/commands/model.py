@@ -46,6 +46,9 @@ def _statics(args) -> int:
                    extension_mm=length - a.l0, blocked_force_n=force,
                    k_p_n_per_m=float(a.k_p(p)) * 1e3, f_p_n=float(a.f_p(p)),
                    branch="low" if p <= a.k_p.breakpoint_kpa else "high")
+    lo, hi, jump = a.length_jump(g)
+    payload["at_breakpoint_mm"] = dict(pressure_kpa=a.k_p.breakpoint_kpa, lower_branch=lo,
+                                       upper_branch=hi, jump=jump)
     if p > 100:
         payload["warning"] = "above the identified 0-100 kPa range"
     _emit(args, payload, f"{a.name} at {p:g} kPa (g = {args.g:g} m/s^2): length {length:.3f} mm "
