@@ -56,10 +56,11 @@ def test_elbow_r80_passes_inside_the_pipe():
 
 @pytest.mark.xfail(strict=True, reason=(
     "Rigid constant-curvature body of >= 99.25 mm, tube radius 23 mm in a 70 mm pipe (12 mm "
-    "corridor): the search finds no way to R = 40 mm from a centred start 150 mm before the bend "
-    "(greedy, beam 64 and a 3000-state beam all stall with the rear foot ~40 mm before the bend). "
-    "The corner-cutting arcs exist but need the rear foot ~8 mm off-centre and tilted 5 deg away "
-    "from the bend, which the straight leg does not let the robot reach. See robot/planner.py."))
+    "corridor): no plan through R = 40 mm exists on the discretisation. The exhaustive planar "
+    "breadth-first search (robot.planar, 10 kPa grid, 1 mm / 1 deg cells) runs dry with the rear "
+    "foot ~25 mm before the bend; greedy and beam searches stall there too. Corner-cutting arcs "
+    "exist but need the rear foot ~8 mm off-centre and tilted ~5 deg away from the bend, which the "
+    "straight leg does not let the robot reach. See robot/planner.py and the report."))
 def test_elbow_r40_acceptance():
     result = plan(Pipe("elbow", 70.0, 40.0), step_kpa=10.0, beam=8, cell_mm=1.0, cell_deg=1.0)
     assert result.success
@@ -77,3 +78,22 @@ def test_body_too_wide_raises():
     with pytest.raises(ModelInputError) as e:
         plan(Pipe("straight", 40.0))
     assert e.value.parameter == "diameter"
+
+
+def test_planar_bfs_agrees_and_is_inside():
+    from robot.planar import bfs_plan
+
+    through = bfs_plan(Pipe("elbow", 70.0, 80.0), step_kpa=20.0)
+    assert through.success and len(through.cycles) == 11
+    _check_inside(through)
+    assert not bfs_plan(Pipe("elbow", 70.0, 40.0), step_kpa=20.0).success
+
+
+@pytest.mark.slow
+def test_planar_bfs_10kpa_r40_none_r60_through():
+    from robot.planar import bfs_plan
+
+    assert not bfs_plan(Pipe("elbow", 70.0, 40.0), step_kpa=10.0).success
+    r60 = bfs_plan(Pipe("elbow", 70.0, 60.0), step_kpa=10.0)
+    assert r60.success and len(r60.cycles) == 10
+    _check_inside(r60)

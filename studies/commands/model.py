@@ -185,15 +185,22 @@ def _plan(args) -> int:
     pipe = Pipe(args.pipe, args.diameter, args.bend_radius or 40.0, entry=args.length,
                 exit=args.exit_length)
     out = _out_dir(args.out)
-    result = plan(pipe, actuators=args.actuators, step_kpa=args.step, beam=args.beam,
-                  deflation=args.deflation, body=args.body, cell_mm=1.0, cell_deg=1.0)
+    if args.search == "bfs":
+        from robot.planar import bfs_plan
+
+        if args.body != "tube" or args.deflation != "paper":
+            raise _ArgError("search", "bfs supports --body tube and --deflation paper only")
+        result = bfs_plan(pipe, actuators=args.actuators, step_kpa=args.step)
+    else:
+        result = plan(pipe, actuators=args.actuators, step_kpa=args.step, beam=args.beam,
+                      deflation=args.deflation, body=args.body, search=args.search, cell_mm=1.0, cell_deg=1.0)
     cycles = [asdict(c) for c in result.cycles]
     payload = dict(pipe=dict(kind=pipe.kind, diameter_mm=pipe.diameter,
                              bend_radius_mm=pipe.bend_radius if pipe.kind == "elbow" else None,
                              goal_mm=pipe.goal()),
                    success=result.success, message=result.message, cycles=len(cycles),
                    body_radius_mm=result.body_radius, actuators=result.actuators,
-                   deflation=args.deflation, body=args.body,
+                   deflation=args.deflation, body=args.body, search=args.search,
                    gait=[dict(phase=g[0], pressures_kpa=list(g[1:])) for g in result.gait()],
                    steps=cycles)
     (out / "plan.json").write_text(json.dumps(payload, indent=2))
@@ -221,8 +228,15 @@ def _elbow_scan(args) -> int:
         raise _ArgError("radii", "bend radii must be > 0 mm")
     rows = []
     for r in sorted(args.radii):
-        (_, result), = scan_bend_radius([r], args.diameter, step_kpa=args.step, beam=args.beam,
-                                         body=args.body, cell_mm=1.0, cell_deg=1.0)
+        if args.search == "bfs":
+            from robot.pipe import Pipe
+            from robot.planar import bfs_plan
+
+            result = bfs_plan(Pipe("elbow", args.diameter, r), step_kpa=args.step)
+        else:
+            (_, result), = scan_bend_radius([r], args.diameter, step_kpa=args.step,
+                                             beam=args.beam, body=args.body, cell_mm=1.0,
+                                             cell_deg=1.0)
         rows.append(dict(bend_radius_mm=r, success=result.success, cycles=len(result.cycles),
                          rear_progress_mm=result.cycles[-1].progress if result.cycles else 0.0))
         if not args.json:
@@ -231,6 +245,7 @@ def _elbow_scan(args) -> int:
     passed = [row["bend_radius_mm"] for row in rows if row["success"]]
     smallest = min(passed) if passed else None
     payload = dict(diameter_mm=args.diameter, beam=args.beam, step_kpa=args.step, body=args.body,
+                   search=args.search,
                    smallest_passed_mm=smallest, rows=rows)
     _emit(args, payload, f"smallest bend radius passed: {smallest} mm (of {sorted(args.radii)})")
     return 0
@@ -305,6 +320,8 @@ def register(subparsers) -> None:
     s.add_argument("--beam", type=int, default=1, help="beam width of the search (1 = greedy)")
     s.add_argument("--body", choices=["tube", "epsa"], default="tube",
                    help="clearance of a 23 mm tube, or of the three 9 mm ePSA tubes")
+    s.add_argument("--search", choices=["beam", "bfs"], default="beam",
+                   help="beam search (any pipe), or exhaustive planar breadth-first (elbow)")
     s.add_argument("--out", required=True)
     s.set_defaults(func=_plan)
 
@@ -314,4 +331,5 @@ def register(subparsers) -> None:
     s.add_argument("--beam", type=int, default=32)
     s.add_argument("--step", type=float, default=5.0, help="pressure grid step, kPa")
     s.add_argument("--body", choices=["tube", "epsa"], default="tube")
+    s.add_argument("--search", choices=["beam", "bfs"], default="beam")
     s.set_defaults(func=_elbow_scan)
