@@ -52,10 +52,13 @@ fails (reported, not raised) when no triple advances the robot.
 Limits found (see the package report): a straight or vertical pipe is crossed with (100, 100, 100)
 / (0, 0, 0) in ceil(L / 54 mm) cycles. Passing an elbow is NOT monotone in its radius for a rigid
 arc body, and a 70 mm pipe leaves the 23 mm-radius body a 12 mm corridor: R = 80 mm passes greedily
-in 7 cycles, R = 60 mm needs the beam, and R = 40 mm is not passed from a centred start (the
-corner-cutting arcs that exist need the rear foot ~8 mm off-centre and tilted away from the bend,
-which the straight leg does not let the robot reach). The paper's 38.2 mm minimum turning radius
-is for a soft body that the pipe deforms, which this model does not have.
+in 7 cycles (10 kPa grid), R = 60 mm needs the beam (9 cycles, 5 kPa grid) or the exhaustive planar
+breadth-first search of `robot.planar` (10 cycles, 10 kPa grid), and R = 40 mm is not passed at all:
+the exhaustive search runs dry with the rear foot ~25 mm before the bend (the corner-cutting arcs
+that exist need the rear foot ~8 mm off-centre and tilted away from the bend, which the straight
+leg does not let the robot reach). The paper's 38.2 mm minimum turning radius belongs to a soft
+body that the pipe deforms, which this model does not have; its own smallest body bending radius
+is 45.1 mm (prototype ePSAs, `softcrawl model workspace`).
 
 Gravity: only the "vertical" pipe applies g along the body axis (climbing). Straight and elbow plans
 are made without gravity, as the paper's kinematics are (assumption (d)).
