@@ -19,7 +19,6 @@ from __future__ import annotations
 import numpy as np
 
 from robot import kinematics as kin
-from robot.epsa import P_MAX_KPA
 from robot.errors import ModelInputError
 from robot.pipe import Pipe
 from robot.planner import Cycle, Plan, _deflated_pressure, _pressure_grid

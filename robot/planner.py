@@ -203,8 +203,15 @@ def _deflated_pressure(a: EPSAParams, length, g):
 def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
          body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
          stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper", body: str = "tube",
-         planar: bool | None = None, lookahead: int = 0, cell_mm: float = 3.0, cell_deg: float = 4.0, cell_s_mm: float = 10.0, lookahead_step_kpa: float = 20.0, lookahead_width: int = 12) -> Plan:
-    """Plan the fewest-cycle gait through `pipe`; see the module docstring."""
+         planar: bool | None = None, cell_mm: float = 3.0, cell_deg: float = 4.0,
+         cell_s_mm: float = 10.0, lookahead: int = 0, lookahead_step_kpa: float = 20.0,
+         lookahead_width: int = 12) -> Plan:
+    """Plan the fewest-cycle gait through `pipe`; see the module docstring.
+
+    `lookahead` > 0 ranks candidates by the best progress reachable `lookahead` cycles later on a
+    coarse grid (`lookahead_step_kpa`, `lookahead_width` branches); it did not help in the elbows
+    we tried and is off by default.
+    """
     acts: tuple[EPSAParams, ...] = actuator_set(actuators)
     if body_radius <= 0:
         raise ModelInputError("body-radius", "must be > 0 mm")

@@ -5,7 +5,6 @@ lengths in mm; `--json` prints a JSON object on stdout instead of text.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
