@@ -192,7 +192,7 @@ def _plan(args) -> int:
         result = bfs_plan(pipe, actuators=args.actuators, step_kpa=args.step)
     else:
         result = plan(pipe, actuators=args.actuators, step_kpa=args.step, beam=args.beam,
-                      deflation=args.deflation, body=args.body, search=args.search, cell_mm=1.0, cell_deg=1.0)
+                      deflation=args.deflation, body=args.body, cell_mm=1.0, cell_deg=1.0)
     cycles = [asdict(c) for c in result.cycles]
     payload = dict(pipe=dict(kind=pipe.kind, diameter_mm=pipe.diameter,
                              bend_radius_mm=pipe.bend_radius if pipe.kind == "elbow" else None,
