@@ -53,7 +53,8 @@ Limits found (see the package report): a straight or vertical pipe is crossed wi
 / (0, 0, 0) in ceil(L / 54 mm) cycles. Passing an elbow is NOT monotone in its radius for a rigid
 arc body, and a 70 mm pipe leaves the 23 mm-radius body a 12 mm corridor: R = 80 mm passes greedily
 in 7 cycles (10 kPa grid), R = 60 mm needs the beam (9 cycles, 5 kPa grid) or the exhaustive planar
-breadth-first search of `robot.planar` (10 cycles, 10 kPa grid), and R = 40 mm is not passed at all:
+breadth-first search of `robot.planar` (10 kPa grid: R = 60, 55, 50 mm in 10, 11, 14 cycles; the
+smallest radius passed), and R = 45 and 40 mm are not passed at all:
 the exhaustive search runs dry with the rear foot ~25 mm before the bend (the corner-cutting arcs
 that exist need the rear foot ~8 mm off-centre and tilted away from the bend, which the straight
 leg does not let the robot reach). The paper's 38.2 mm minimum turning radius belongs to a soft
