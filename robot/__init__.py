@@ -1,2 +1,19 @@
 """The paper's analytic models: ePSA statics/dynamics, constant-curvature kinematics, planning.
-Stands alone: imports neither `fem`, `geometry` nor `studies`."""
+Stands alone: imports neither `fem`, `geometry` nor `studies` (matplotlib only in `plotting`).
+
+Modules (one job each; units mm, N, s, tonne inside, pressures of the identified laws in kPa):
+
+- `epsa`            statics of one ePSA, eq. (3), piecewise-linear k_p, f_p, b_p (eq. 2), the 60 kPa
+                    jump, inverse statics (length -> pressure)
+- `prototype`       the identified parameters of the three prototype ePSAs (eqs. 19-24), units
+                    boundary N/m -> N/mm, mass / damping decisions, robot constants
+- `dynamics`        eq. (1) with scipy for a pressure step or gait
+- `loads`           friction (eqs. 25-26), theoretical load (eq. 27), stride and crawling speed
+- `identification`  Section VII-A: per-pressure least squares, then piecewise-linear fit in P
+- `kinematics`      FK eqs. (4)-(6), (9); exact IK (the printed (11), (13)-(15) do not invert FK)
+- `workspace`       tip cloud over 0-100 kPa (Fig. 11(d))
+- `pipe`            straight / vertical / elbow centrelines, distance and arc length
+- `planner`         gait planning through a pipe (Section IV, eqs. 16-18)
+- `plotting`        PNG plots (Agg)
+- `errors`          `ModelInputError(ValueError)` with a `parameter` attribute
+"""
