@@ -89,12 +89,35 @@ def _shape_gradients(elem, xi):
 
 
 def _locate(basis, points, max_outside):
-    mesh = basis.mesh
-    t = mesh.t
-    verts = mesh.p[:, t]                                       # (3, 4, E) straight tets
+    verts = basis.mesh.p[:, basis.mesh.t]                      # (3, 4, E) straight tets
     tree = cKDTree(verts.mean(axis=1).T)
-    _, cand = tree.query(points, k=min(16, t.shape[1]))
-    cand = np.atleast_2d(cand)
+    _, cand = tree.query(points, k=min(16, verts.shape[2]))
+    hosts, xi, excess = _refine(basis, points, np.atleast_2d(cand))
+    lost = np.flatnonzero(excess > 1e-6)
+    if lost.size:   # elongated cells: the nearest centroids can miss the host; search them all
+        inside = np.array([_straight_containing(verts, p) for p in points[lost]])
+        h2, xi2, ex2 = _refine(basis, points[lost], inside)
+        better = ex2 < excess[lost]
+        hosts[lost[better]], xi[:, lost[better]], excess[lost[better]] = h2[better], xi2[:, better], ex2[better]
+    if excess.max() > max_outside:
+        k = int(excess.argmax())
+        raise SolverInputError("fibers", f"fiber point {points[k].round(4).tolist()} lies outside the "
+                               f"solid (barycentric excess {excess[k]:.3g} > {max_outside})")
+    return hosts, xi
+
+
+def _straight_containing(verts, p, n=4):
+    """The n tets of all whose straight barycentric coordinates at p are the least negative."""
+    D = np.moveaxis(verts[:, 1:, :] - verts[:, :1, :], -1, 0)    # (E, 3, 3): columns v_j - v0
+    lam = np.linalg.solve(D, (p[:, None] - verts[:, 0, :]).T[..., None])[..., 0]
+    worst = np.minimum(1 - lam.sum(axis=1), lam.min(axis=1))
+    return np.argsort(-worst)[:n]
+
+
+def _refine(basis, points, cand):
+    """Best host among candidate elements `cand` (n, k) and the reference coordinates of each
+    point on its quadratic map; returns hosts (n,), xi (3, n) and the barycentric excess (n,)."""
+    verts = basis.mesh.p[:, basis.mesh.t]
     # barycentric coordinates in each candidate's straight tetrahedron
     v0 = verts[:, 0, :][:, cand]                               # (3, n, k)
     D = verts[:, 1:, :][:, :, cand] - v0[:, None]              # (3, 3, n, k): columns v_j - v0
@@ -122,13 +145,7 @@ def _locate(basis, points, max_outside):
     excess = -np.minimum(np.vstack([1 - xi.sum(0), xi]).min(axis=0), 0).reshape(-1, n_try)
     pick = excess.argmin(axis=1)
     sel = np.arange(points.shape[0]) * n_try + pick
-    hosts, xi = hosts[sel], xi[:, sel]
-    outside = -np.minimum(np.vstack([1 - xi.sum(0), xi]).min(axis=0), 0)
-    if outside.max() > max_outside:
-        k = int(outside.argmax())
-        raise SolverInputError("fibers", f"fiber point {points[k].round(4).tolist()} lies outside the "
-                               f"solid (barycentric excess {outside[k]:.3g} > {max_outside})")
-    return hosts, xi
+    return hosts[sel], xi[:, sel], excess[np.arange(points.shape[0]), pick]
 
 
 def fiber_state(fibers: FiberSet, u_nodes: np.ndarray):
@@ -165,8 +182,9 @@ def element_arrays(fibers: FiberSet, u_nodes: np.ndarray, with_tangent=True):
     k_axial = np.where(N > 0, EA, 0.0) if fibers.tension_only else np.full_like(N, EA)
     nn = np.einsum("si,sj->sij", n, n)
     k3 = (k_axial / L0)[:, None, None] * nn + (N / l)[:, None, None] * (np.eye(3) - nn)   # (s, 3, 3)
-    S = np.einsum("e,f->ef", sign, sign)                                      # (2, 2)
-    K = np.einsum("ef,esa,fsb,sij->eaifbjs", S, W, W, k3).reshape(60, 60, -1)
+    SW = (sign[:, None, None] * W).transpose(0, 2, 1).reshape(20, -1)        # (end a, s)
+    K = (SW[:, None, None, None, :] * SW[None, None, :, None, :]) * k3.transpose(1, 2, 0)[None, :, None, :, :]
+    K = K.reshape(60, 60, -1)                                                 # (end a i), (end b j), s
     return R, K
 
 

@@ -265,7 +265,8 @@ class SolidModel:
         # d(cof F N)_i / dF_kL = -J (H_iJ H_kL - H_iL H_kJ) N_J   (the minus: cavity normal)
         HN = np.einsum("iJfq,Jfq->ifq", H, self.f_normal)
         D = -J * (np.einsum("ifq,klfq->iklfq", HN, H) - np.einsum("iLfq,kJfq,Jfq->ikLfq", H, H, self.f_normal))
-        dq = np.einsum("afq,ikLfq,bLfq,fq->aibkf", self.f_N, D, self.f_dN, self.f_dx).reshape(30, 30, -1)
+        E = np.einsum("ikLfq,bLfq->ikbfq", D, self.f_dN) * self.f_dx         # (3, 3, 10, F, Q)
+        dq = np.einsum("afq,ikbfq->aibkf", self.f_N, E, optimize=True).reshape(30, 30, -1)
         return q, dq
 
     # ---------------------------------------------------------------- globals

@@ -2,12 +2,17 @@ r"""Path following: Newton's method under pressure, volume or displacement contr
 
 Load control. The load is the pair (P, f): chamber pressure P (MPa) and the factor f that scales
 the prescribed Dirichlet values. Between two targets the load moves on a straight line in (P, f)
-in sub-steps; a sub-step whose Newton iteration diverges (residual growth, an inverted element,
-no convergence in `max_iter`) is halved, and a successful easy one lets the next grow again.
+in sub-steps; each sub-step starts from the secant predictor (linear extrapolation of the last two
+converged states), a sub-step whose Newton iteration diverges (stalling residual, an inverted
+element, no convergence in `max_iter`) is halved, and an easy one lets the next grow again.
 
-Line search. A Newton correction that does not reduce the residual norm is halved (backtracking)
-up to `max_backtracks` times. Near the solution the full step is always taken, so the quadratic
-convergence of the consistent tangent is kept (`Step.newton.residuals` shows it).
+Newton and line search. Convergence: the force residual on the free dofs relative to the internal
+force norm is below `tol`, and (mixed formulation) the pressure-constraint residual is below
+`tol` x the solid volume; the two are kept apart because they have different units. Backtracking
+is non-monotone: a step is accepted when its force residual is below the largest of the last
+three (nearly incompressible solids overshoot before they converge). Near the solution the full
+step is always taken, so the quadratic convergence of the consistent tangent is kept
+(`Step.newton.residuals` shows it).
 
 Volume control (passes limit points). The cavity volume V is prescribed and P is an unknown:
 
@@ -17,13 +22,13 @@ Each Newton step solves the bordered system with one factorisation and two right
 K a = -R, K b = q, dP = (V* - V - q.a) / (q.b), dx = a + dP b. It stays regular at the pressure
 maximum where K alone is singular.
 
-Limit points. When pressure control cannot advance (the step is cut below `min_step_fraction`),
-the path switches to volume control from the last converged state. If the pressure then rises past
-the next target, pressure control resumes (a snap-through was passed); if it peaks and falls, a
-limit point is reported as "limit point at P ~ x kPa" (the peak is refined by a parabola through
-the three samples around it), and the path continues for `post_limit_steps` volume steps. If volume
-control cannot advance either, the path ends with `converged=False` and a message that names the
-last converged load. Nothing here raises on divergence.
+Limit points. When pressure control cannot advance (`max_cutbacks` halvings fail), the path goes
+on under volume control from the last converged state, through the remaining targets: a secant
+iteration in V lands on each target pressure as the path crosses it. If the pressure peaks and
+falls instead, the limit point is reported as "limit point at P ~ x kPa" (the peak refined by a
+parabola through the three samples around it), and the path continues for `post_limit_steps`
+volume steps. If volume control cannot advance either, the path ends with `converged=False` and
+a message that names the last converged load. Nothing here raises on divergence.
 """
 from __future__ import annotations
 
@@ -43,10 +48,9 @@ class NewtonOptions:
     max_iter: int = 20
     stall_iter: int = 8               # after this many iterations the residual must keep halving
     max_backtracks: int = 6
-    max_cutbacks: int = 6             # halvings of a load sub-step before giving up
+    max_cutbacks: int = 4             # halvings of a load sub-step before giving up
     min_step_fraction: float = 1e-3   # smallest sub-step, as a fraction of a load segment
     post_limit_steps: int = 6
-    max_control_switches: int = 4     # pressure -> volume control hand-overs in one path
     solver: str | None = None
 
 
@@ -127,6 +131,8 @@ class _Solver:
         self.solve_s = 0.0
         self.iterations = 0
         self.linear = LinearSolver(options.solver)
+        self.free_u = self.free[self.free < model.n_u]
+        self._volume = float(model.dx.sum())
         self._q0_norm = np.linalg.norm(model.pressure_load(model.initial_state()))
 
     def _assemble(self, x, P):
@@ -157,46 +163,57 @@ class _Solver:
         m, free = self.model, self.free
         x = m.apply_dirichlet(x, factor)
         history = []
-        rf_prev = np.inf
         for it in range(self.opt.max_iter + 1):
             try:
                 R, K = self._assemble(x, P)
             except InvertedElement as exc:
                 raise _Diverged(str(exc))
-            rf = np.linalg.norm(R[free])
-            scale = self._scale(R, x, P)
-            history.append(rf / scale)
-            if not np.isfinite(rf):
+            merit, p_ok = self._merit(R, x, P)
+            history.append(merit)
+            if not np.isfinite(merit):
                 raise _Diverged("non-finite residual")
-            if rf <= self.opt.tol * scale:
+            if merit <= self.opt.tol and p_ok:
                 return x, NewtonRecord(tuple(history), True)
-            if it >= self.opt.stall_iter and rf > 0.5 * rf_prev:
-                raise _Diverged(f"residual stalls at {rf / scale:.2e} after {it} iterations")
-            rf_prev = min(rf_prev, rf) if it else rf
+            self._check_progress(history)
             dx = -self._solve(K, R[free])
-            x = self._line_search(x, dx, P, rf, scale)
+            x = self._line_search(x, dx, P, history)
         raise _Diverged(f"no convergence in {self.opt.max_iter} iterations")
 
-    def _scale(self, R, x, P):
-        """Force scale of the relative residual: ||f_int|| over all dofs (load plus reactions)."""
-        fint = R + P * self.model.pressure_load(x) if self.model.chamber else R
-        return max(np.linalg.norm(fint), abs(P) * self._q0_norm, _force_floor(self.model))
+    def _merit(self, R, x, P):
+        """Relative force residual ||R_u(free)|| / ||f_int||, and whether the mixed-pressure
+        constraint residual is below tol x the solid volume (it has units of volume)."""
+        m = self.model
+        fint = R[: m.n_u] + P * m.pressure_load(x)[: m.n_u] if m.chamber else R[: m.n_u]
+        scale = max(np.linalg.norm(fint), abs(P) * self._q0_norm, _force_floor(m))
+        merit = float(np.linalg.norm(R[self.free_u]) / scale)
+        p_ok = (not m.mixed) or np.linalg.norm(R[m.n_u:]) <= self.opt.tol * self._volume
+        return merit, p_ok
 
-    def _line_search(self, x, dx, P, rf, scale):
-        """Backtracking on ||R_free|| with residual-only evaluations; the full step is tried first."""
+    def _check_progress(self, history):
+        """Diverged when, after `stall_iter` iterations, the best of the last three merits is not
+        below half the best before them (the residual must keep shrinking)."""
+        k = self.opt.stall_iter
+        if len(history) > k and min(history[-3:]) > 0.5 * min(history[:-3]):
+            raise _Diverged(f"residual stalls at {history[-1]:.2e} after {len(history) - 1} iterations")
+
+    def _line_search(self, x, dx, P, history):
+        """Non-monotone backtracking: accept a step whose merit is below the largest of the last
+        three (early Newton steps of nearly incompressible solids overshoot before they converge);
+        the full step is tried first, and always taken near the solution."""
         free = self.free
+        reference = max(history[-3:])
         alpha = 1.0
         for k in range(self.opt.max_backtracks + 1):
             trial = x.copy()
             trial[free] += alpha * dx
-            if k == 0 and rf <= 1e-3 * scale:
-                return trial          # near the solution: plain Newton (quadratic convergence)
+            if k == 0 and history[-1] <= 1e-3:
+                return trial
             try:
-                new = np.linalg.norm(self._residual(trial, P)[free])
+                merit, _ = self._merit(self._residual(trial, P), trial, P)
             except InvertedElement:
                 alpha *= 0.5
                 continue
-            if np.isfinite(new) and new < rf:
+            if np.isfinite(merit) and merit < reference:
                 return trial
             alpha *= 0.5
         raise _Diverged("line search found no decrease")
@@ -213,12 +230,11 @@ class _Solver:
                 raise _Diverged(str(exc))
             q = m.pressure_load(x)
             g = m.chamber_volume(x) - volume_target
-            rf = np.linalg.norm(R[free])
-            scale = self._scale(R, x, P)
-            history.append(rf / scale)
-            if not (np.isfinite(rf) and np.isfinite(g)):
+            merit, p_ok = self._merit(R, x, P)
+            history.append(merit)
+            if not (np.isfinite(merit) and np.isfinite(g)):
                 raise _Diverged("non-finite residual")
-            if rf <= self.opt.tol * scale and abs(g) <= 1e-10 * abs(volume_target):
+            if merit <= self.opt.tol and p_ok and abs(g) <= 1e-10 * abs(volume_target):
                 return x, P, NewtonRecord(tuple(history), True)
             if it == self.opt.max_iter:
                 break
@@ -255,112 +271,161 @@ def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = Non
         raise SolverInputError("targets", "give at least one load target")
     solver = _Solver(model, opt)
     t0 = time.perf_counter()
-    x = model.initial_state()
-    load = (0.0, 0.0)
+    history = _History(model.initial_state(), (0.0, 0.0))
     steps: list[Step] = _ReportingList(on_step)
     events: list[str] = []
-    h_min = opt.min_step_fraction
-    switches = 0
-    i = 0
-    while i < len(targets):
-        target = targets[i]
+    for i, target in enumerate(targets):
         try:
-            x, record, n_sub = _advance(solver, x, load, target, opt, h_min)
+            record, n_sub = _advance(solver, history, target, opt)
         except _Diverged as exc:
-            # Pressure control cannot advance: try volume control from the last converged state.
-            if not model.chamber or switches >= opt.max_control_switches:
+            load = history.load
+            if not model.chamber or target[0] <= load[0]:
                 return _failed(steps, events, solver, t0, load, str(exc))
-            switches += 1
+            # Pressure control cannot advance: volume control from the last converged state,
+            # through the remaining targets (module docstring).
             events.append(f"pressure control stalled above P = {load[0] * 1e3:.4g} kPa ({exc}); "
                           "switching to volume control")
-            outcome = _volume_continuation(solver, x, load, targets[i:], steps, events, opt)
-            if outcome is None:
-                return _failed(steps, events, solver, t0, load, "volume control could not advance")
-            x, load, i, limit = outcome
-            if limit is not None:
-                msg = f"limit point at P ~ {limit * 1e3:.4g} kPa"
-                return PathResult(tuple(steps), True, msg, limit, tuple(events), solver.stats(t0))
-            continue
-        load = target
-        steps.append(Step(load[0], load[1], model.chamber_volume(x), x, control, record, n_sub))
-        i += 1
+            return _volume_continuation(solver, history, targets[i:], steps, events, opt, t0)
+        steps.append(Step(target[0], target[1], model.chamber_volume(history.x), history.x, control,
+                          record, n_sub))
     return PathResult(tuple(steps), True, "all load targets reached", None, tuple(events), solver.stats(t0))
 
 
-def _advance(solver, x, start, end, opt, h_min):
-    """From load `start` to `end` in adaptive sub-steps; returns (x, last record, n_substeps)."""
-    t, h, n_sub = 0.0, 1.0, 0
-    cuts = 0
+class _History:
+    """The last two converged states on the path: the secant predictor extrapolates from them."""
+
+    def __init__(self, x, load, volume=None):
+        self.x, self.load, self.volume = x, load, volume
+        self.x_prev, self.load_prev, self.volume_prev = None, None, None
+
+    def accept(self, x, load, volume=None):
+        self.x_prev, self.load_prev, self.volume_prev = self.x, self.load, self.volume
+        self.x, self.load, self.volume = x, load, volume
+
+    def predict(self, load=None, volume=None):
+        """Linear extrapolation of the state to a new load (or volume) from the last two states."""
+        if self.x_prev is None:
+            return self.x
+        if volume is not None:
+            span, ahead = self.volume - self.volume_prev, volume - self.volume
+        else:
+            d = np.subtract(self.load, self.load_prev)
+            span = float(np.hypot(*d))
+            ahead = float(np.dot(np.subtract(load, self.load), d) / span) if span > 0 else 0.0
+        if span == 0 or not np.isfinite(ahead / span) or ahead / span > 2.0:
+            return self.x
+        return self.x + (self.x - self.x_prev) * (ahead / span)
+
+
+def _advance(solver, history, end, opt):
+    """From the last converged load to `end` in adaptive sub-steps, each started from the
+    secant prediction; returns (last Newton record, number of sub-steps)."""
+    start = history.load
+    t, h, n_sub, cuts = 0.0, 1.0, 0, 0
     record = None
     while t < 1.0 - 1e-14:
         h = min(h, 1.0 - t)
         s = t + h
-        P = start[0] + s * (end[0] - start[0])
-        f = start[1] + s * (end[1] - start[1])
+        load = (start[0] + s * (end[0] - start[0]), start[1] + s * (end[1] - start[1]))
         try:
-            x_new, record = solver.load_step(x, P, f)
+            x_new, record = solver.load_step(history.predict(load), *load)
         except _Diverged:
             h *= 0.5
             cuts += 1
-            if cuts > opt.max_cutbacks or h < h_min:
+            if cuts > opt.max_cutbacks or h < opt.min_step_fraction:
                 raise
             continue
-        x, t = x_new, s
+        history.accept(x_new, load)
+        t = s
         n_sub += 1
         if record.iterations <= 6:
             h *= 2.0
-    if record is None:  # zero-length step
-        x, record = solver.load_step(x, end[0], end[1])
-    return x, record, n_sub
+    if record is None:  # zero-length segment
+        x_new, record = solver.load_step(history.x, *end)
+        history.accept(x_new, end)
+    return record, n_sub
 
 
-def _volume_continuation(solver, x, load, remaining, steps, events, opt):
-    """Volume control from a stalled pressure-controlled state (see module docstring).
+def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
+    """Volume control from a stalled pressure-controlled state through the remaining targets.
 
-    Returns (x, load, index into `remaining` offset, limit pressure or None), or None on failure.
+    Volume steps adapt to the Newton effort. When the pressure crosses the next target, a secant
+    iteration in V lands on it, and that state is recorded as the target's step (control
+    "volume"). If the pressure peaks and falls, the peak is the limit point; the path goes on for
+    `post_limit_steps` volume steps and ends (targets above the peak are unreachable).
     """
     m = solver.model
-    P, f = load
-    V = m.chamber_volume(x)
-    prev_V = steps[-1].volume if steps else m.chamber_volume(m.initial_state())
-    if len(steps) >= 2:
-        prev_V = steps[-2].volume if steps[-1].volume == V else steps[-1].volume
-    dV = max(abs(V - prev_V) * 0.25, 1e-3 * abs(V))
+    f = history.load[1]
+    P = history.load[0]
+    V = m.chamber_volume(history.x)
+    V_prev = m.chamber_volume(history.x_prev) if history.x_prev is not None else V * 0.99
+    vh = _History(history.x, (P, f), V)
+    vh.x_prev, vh.load_prev, vh.volume_prev = history.x_prev, history.load_prev, V_prev
+    dV = max(0.5 * abs(V - V_prev), 1e-4 * abs(V))
+    pending = [t[0] for t in remaining]
     samples = [(V, P)]
-    next_target = remaining[0][0]
-    n_after_peak = 0
-    peak = None
-    cuts = 0
-    while True:
+    peak, after_peak, cuts = None, 0, 0
+
+    def solve_at(volume):
+        return solver.volume_step(vh.predict(volume=volume), vh.load[0], volume, f)
+
+    while pending:
         try:
-            x_new, P_new, record = solver.volume_step(x, P, V + dV, f)
-        except _Diverged:
+            x_new, P_new, record = solve_at(vh.volume + dV)
+        except _Diverged as exc:
             dV *= 0.5
             cuts += 1
             if cuts > opt.max_cutbacks:
-                if peak is not None:
-                    events.append(f"volume control stopped after the limit point: {peak * 1e3:.4g} kPa")
-                    return x, (P, f), 0, peak
-                return None
+                return _end_of_volume_path(solver, vh, steps, events, t0, peak, str(exc))
             continue
-        x, P, V = x_new, P_new, V + dV
-        samples.append((V, P))
-        steps.append(Step(P, f, V, x, "volume", record))
-        if P >= next_target and peak is None:
-            events.append(f"pressure passed {next_target * 1e3:.4g} kPa on volume control; "
-                          "back to pressure control")
-            # Step back onto pressure control at the next target from here.
-            steps.pop()
-            return x, (P, f), 0, None
+        cuts = 0
+        V_new = vh.volume + dV
+        target = pending[0]
+        if P_new >= target > vh.load[0] and peak is None:
+            # secant in V onto P = target, between the bracketing states
+            lo, hi = (vh.volume, vh.load[0]), (V_new, P_new)
+            x_hit, P_hit, rec_hit, V_hit = x_new, P_new, record, V_new
+            for _ in range(4):
+                Vs = lo[0] + (target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+                try:
+                    x_hit, P_hit, rec_hit = solve_at(Vs)
+                except _Diverged:
+                    break
+                V_hit = Vs
+                if abs(P_hit - target) <= 1e-5 * abs(target):
+                    break
+                lo, hi = ((Vs, P_hit), hi) if P_hit < target else (lo, (Vs, P_hit))
+            vh.accept(x_hit, (P_hit, f), V_hit)
+            steps.append(Step(P_hit, f, V_hit, x_hit, "volume", rec_hit))
+            samples.append((V_hit, P_hit))
+            pending.pop(0)
+            continue
+        vh.accept(x_new, (P_new, f), V_new)
+        samples.append((V_new, P_new))
         if peak is None and len(samples) >= 3 and samples[-1][1] < samples[-2][1]:
             peak = _parabola_peak(samples[-3:])
             events.append(f"limit point at P ~ {peak * 1e3:.4g} kPa (volume control continues)")
         if peak is not None:
-            n_after_peak += 1
-            if n_after_peak >= opt.post_limit_steps:
-                return x, (P, f), 0, peak
+            steps.append(Step(P_new, f, V_new, x_new, "volume", record))
+            after_peak += 1
+            if after_peak >= opt.post_limit_steps:
+                break
         if record.iterations <= 5:
             dV *= 1.5
+    if peak is not None:
+        msg = f"limit point at P ~ {peak * 1e3:.4g} kPa"
+        return PathResult(tuple(steps), True, msg, peak, tuple(events), solver.stats(t0))
+    return PathResult(tuple(steps), True, "all load targets reached (the last ones on volume control)",
+                      None, tuple(events), solver.stats(t0))
+
+
+def _end_of_volume_path(solver, vh, steps, events, t0, peak, reason):
+    if peak is not None:
+        events.append(f"volume control stopped after the limit point ({reason})")
+        return PathResult(tuple(steps), True, f"limit point at P ~ {peak * 1e3:.4g} kPa", peak,
+                          tuple(events), solver.stats(t0))
+    return _failed(steps, events, solver, t0, vh.load, f"volume control could not advance ({reason})",
+                   volume=vh.volume)
 
 
 def _parabola_peak(samples):

@@ -44,8 +44,7 @@ class MeshSettings:
         return cls(n_around=n_around, n_radial=max(1, round(1.5 * wall / h)), axial_size=float(h))
 
 
-MESH_PRESETS = {"default": MeshSettings(), "quick": MeshSettings(n_around=12, n_radial=1, axial_size=10.0,
-                                                                  fiber_points_per_turn=16)}
+MESH_PRESETS = {"default": MeshSettings(), "quick": MeshSettings(n_around=12, n_radial=1, axial_size=10.0)}
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,89 @@
+"""`softcrawl epsa`: simulate one ePSA under a pressure ramp (or blocked, for its output force).
+
+Writes DIR/curve.csv (pressure_kPa, length_mm, outer_radius_mm, chamber_volume_mm3,
+max_principal_stretch, max_fiber_tension_N, status[, blocked_force_N]), DIR/summary.json,
+DIR/vtu/step_NNN.vtu (+ steps.pvd for ParaView) and DIR/epsa.png (length and radius against
+pressure, and the deformed shape). Pressures are entered in kPa.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import sys
+from pathlib import Path
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("epsa", help="simulate one actuator under a pressure ramp",
+                              description=__doc__.splitlines()[0])
+    p.add_argument("--chamber-radius", type=float, default=None, help="r0 (mm), Table 1: 3")
+    p.add_argument("--fiber-turns", type=int, default=None, help="N turns of each helix, Table 1: 20")
+    p.add_argument("--outer-radius", type=float, default=None, help="R0 (mm), Table 1: 9")
+    p.add_argument("--length", type=float, default=None, help="L0 (mm), Table 1: 100")
+    p.add_argument("--design", default=None, help="ePSA design file (.json/.toml) to start from")
+    p.add_argument("--material", default="ecoflex-00-50", help="body material preset (softcrawl material list)")
+    p.add_argument("--pressures", default="0:100:20", help="kPa: START:STOP:STEP or a comma list")
+    p.add_argument("--mesh-size", type=float, default=None, help="element size (mm); default: converged preset")
+    p.add_argument("--quick", action="store_true", help="coarse mesh (seconds; for CI and trials)")
+    p.add_argument("--blocked", action="store_true", help="fix both ends: blocked force (paper Fig. 19)")
+    p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
+    p.add_argument("--out", required=True, help="output folder")
+    p.set_defaults(func=run)
+
+
+def design_from_args(args):
+    from geometry.design import EPSADesign
+
+    base = EPSADesign.load(args.design) if args.design else EPSADesign()
+    changes = {k: v for k, v in (("chamber_radius", args.chamber_radius), ("fiber_turns", args.fiber_turns),
+                                 ("outer_radius", args.outer_radius), ("length", args.length)) if v is not None}
+    return base.replace(**changes) if changes else base
+
+
+def write_curve_csv(path: Path, curve, blocked: bool) -> None:
+    cols = ["pressure_kPa", "length_mm", "outer_radius_mm", "chamber_volume_mm3", "max_principal_stretch",
+            "max_fiber_tension_N", "status"] + (["blocked_force_N"] if blocked else [])
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for r in curve.rows:
+            vals = [r.pressure_kpa, r.length_mm, r.outer_radius_mm, r.chamber_volume_mm3,
+                    r.max_principal_stretch, r.max_fiber_tension_n]
+            vals = [f"{float(v):.6g}" for v in vals] + [r.status]
+            if blocked:
+                vals.append(f"{r.blocked_force_n:.6g}")
+            w.writerow(vals)
+
+
+def run(args) -> int:
+    from studies.actuator import parse_pressures, simulate_epsa
+    from studies.plots_epsa import plot_epsa
+
+    design = design_from_args(args)
+    pressures = parse_pressures(args.pressures)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"ePSA {design.short_hash()}: r0 = {design.chamber_radius} mm, N = {design.fiber_turns}, "
+          f"material {args.material}, {'blocked' if args.blocked else 'free end'}, "
+          f"{len(pressures)} pressure targets up to {pressures[-1]:g} kPa", flush=True)
+    solved = simulate_epsa(design, material=args.material, pressures_kpa=pressures, quick=args.quick,
+                           mesh_size=args.mesh_size, blocked=args.blocked, keep_model=True,
+                           progress=lambda msg: print("  " + msg, flush=True))
+    curve = solved.curve
+    write_curve_csv(out / "curve.csv", curve, args.blocked)
+    summary = curve.to_dict()
+    summary["limit_point"] = (f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa"
+                              if curve.limit_pressure_kpa is not None else None)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    if not args.no_vtu:
+        from fem.vtu import write_path
+
+        write_path(out / "vtu", solved.model, solved.path, stem="step")
+    plot_epsa(out / "epsa.png", curve, solved.model, solved.path)
+    print(f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s -> {out}")
+    if curve.limit_pressure_kpa is not None:
+        print(f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa")
+    if not curve.converged:
+        print(f"warning: {curve.message}", file=sys.stderr)
+    return 0

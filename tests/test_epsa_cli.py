@@ -1,0 +1,76 @@
+"""`softcrawl epsa` and `softcrawl verify` end to end on tiny problems; the swept ePSA mesh."""
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from geometry.design import EPSADesign
+from geometry.swept import mesh_epsa_swept
+from studies.cli import main
+
+
+def test_swept_mesh_volume_tags_and_orientation():
+    d = EPSADesign()
+    m = mesh_epsa_swept(d)
+    assert set(m.facets) == {"chamber_wall", "chamber_ends", "outer", "end_bottom", "end_top"}
+    assert all(len(f) for f in m.facets.values())
+    v = m.points[m.tets]
+    det = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
+    assert det.min() > 0
+    import skfem
+    m2 = m.to_skfem(order=2)
+    exact = skfem.Basis(m2, skfem.ElementTetP2()).dx.sum()       # curved P2 geometry
+    assert exact == pytest.approx(d.body_volume, rel=1e-3)
+    assert m.area("chamber_wall") == pytest.approx(d.chamber_wall_area, rel=0.02)
+    with_head = mesh_epsa_swept(d, seal_head=True)
+    assert set(with_head.region_names.values()) == {"epsa", "seal_head"}
+    assert with_head.volume("seal_head") == pytest.approx(np.pi * 81 * d.seal_head_thickness, rel=0.03)
+
+
+def test_epsa_command_writes_curve_summary_vtu_and_plot(tmp_path, capsys):
+    out = tmp_path / "run"
+    code = main(["epsa", "--length", "40", "--fiber-turns", "8", "--quick", "--pressures", "0:10:5",
+                 "--out", str(out)])
+    assert code == 0
+    rows = list(csv.DictReader(open(out / "curve.csv")))
+    assert [r["status"] for r in rows] == ["reference", "converged", "converged"]
+    assert [float(r["pressure_kPa"]) for r in rows] == [0.0, 5.0, 10.0]
+    lengths = [float(r["length_mm"]) for r in rows]
+    assert lengths[0] == pytest.approx(40.0) and lengths[2] > lengths[1] > lengths[0]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] and summary["material"] == "ecoflex-00-50"
+    assert (out / "vtu" / "step.pvd").exists() and (out / "epsa.png").stat().st_size > 10_000
+    assert "P =   10.00 kPa" in capsys.readouterr().out
+
+
+def test_epsa_blocked_force_grows_with_pressure(tmp_path):
+    out = tmp_path / "blocked"
+    assert main(["epsa", "--length", "40", "--fiber-turns", "8", "--quick", "--blocked", "--no-vtu",
+                 "--pressures", "5,10", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(open(out / "curve.csv")))
+    force = [float(r["blocked_force_N"]) for r in rows]
+    assert force[0] == pytest.approx(0.0, abs=1e-9)
+    # at least the pressure on the chamber's end cap, P * pi r0^2, and growing
+    assert force[2] > force[1] > 0.010 * np.pi * 9.0
+    assert [float(r["length_mm"]) for r in rows] == pytest.approx([40.0] * 3, abs=1e-9)
+
+
+@pytest.mark.parametrize("argv, parameter", [
+    (["epsa", "--chamber-radius", "9.5", "--out", "x"], "chamber_radius"),
+    (["epsa", "--fiber-turns", "-1", "--out", "x"], "fiber_turns"),
+    (["epsa", "--pressures", "100:0:20", "--out", "x"], "pressures"),
+    (["epsa", "--material", "unobtainium", "--out", "x"], "material"),
+    (["epsa", "--material", "abs", "--out", "x"], "material"),
+])
+def test_epsa_bad_input_is_one_line_and_exit_2(argv, parameter, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and parameter in err[0]
+
+
+def test_verify_command_writes_json(tmp_path):
+    path = tmp_path / "verify.json"
+    assert main(["verify", "--case", "patch", "--json", str(path)]) == 0
+    data = json.loads(path.read_text())
+    assert data["all_passed"] and data["cases"][0]["case"] == "patch"
