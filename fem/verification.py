@@ -159,9 +159,10 @@ def sphere_limit_test(inner=5.0, outer=7.5, tolerance=0.03, **mesh) -> CaseResul
 def newton_test(tolerance=10.0) -> CaseResult:
     """Quadratic convergence: r_{k+1} / r_k^2 bounded (C <= tolerance) over the last iterations."""
     model = tube_model(3.0, 9.0, n_radial=4, n_angle=6)
-    res = load_path(model, [(0.02, 0.0)], options=NewtonOptions(tol=1e-13))
+    # tol 1e-10: the round-off floor of this K/mu = 1000 system is ~1e-11 (relative residual)
+    res = load_path(model, [(0.02, 0.0)], options=NewtonOptions(tol=1e-10))
     r = np.array(res.steps[-1].newton.residuals) if res.steps else np.array([])
-    r = r[r > 1e-14]
+    r = r[r > 1e-13]
     ratios = r[1:] / r[:-1] ** 2 if r.size > 2 else np.array([np.inf])
     tail = ratios[-2:]
     orders = np.log(r[2:] / r[1:-1]) / np.log(r[1:-1] / r[:-2]) if r.size > 2 else np.array([])

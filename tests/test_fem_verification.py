@@ -39,7 +39,7 @@ def test_sphere_pressure_control_reports_the_limit_point():
 def test_newton_converges_quadratically_under_follower_pressure():
     r = V.newton_test()
     res = np.array(r.details["residuals"])
-    assert res[-1] < 1e-12
+    assert res[-1] < 1e-10
     # last two ratios r_{k+1} / r_k^2 bounded: quadratic, not linear, convergence
     assert r.passed, r.details
     assert r.details["orders"][-1] > 1.6
