@@ -10,7 +10,9 @@ def plot_epsa(path, curve, model=None, path_result=None):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 3 if model is not None else 2, figsize=(13, 4.2))
+    shape = model is not None and path_result is not None and bool(path_result.steps)
+    fig, axes = plt.subplots(1, 3 if shape else 2, figsize=(13, 4.6),
+                             gridspec_kw={"width_ratios": [1, 1, 0.6] if shape else [1, 1]})
     p = curve.column("pressure_kpa")
     ok = np.array([r.status != "failed" for r in curve.rows])
     vol = np.array([r.status == "volume-control" for r in curve.rows])
@@ -28,20 +30,24 @@ def plot_epsa(path, curve, model=None, path_result=None):
     axes[0].legend(fontsize=8)
     axes[0].set_title(f"{curve.material}, mu = {curve.mu_mpa:.4g} MPa")
     axes[1].set_title(f"r0 = {curve.design.get('chamber_radius')} mm, N = {curve.design.get('fiber_turns')}")
-    if model is not None and path_result is not None and path_result.steps:
+    if shape:
         ax = axes[2]
         outer = model.boundary_nodes("outer")
         X = model.nodes[:, outer]
-        front = X[1] > -1e-9 * np.abs(X).max()
-        ax.plot(X[0][front], X[2][front], ".", ms=2, color="0.6", label="reference")
-        x = X + model.displacement(path_result.steps[-1].x)[:, outer]
-        ax.plot(x[0][front], x[2][front], ".", ms=2, color="C3",
-                label=f"P = {path_result.steps[-1].pressure * 1e3:.1f} kPa")
-        ax.set_aspect("equal")
+        plane = np.abs(X[1]) <= 1e-6 * np.abs(X).max()          # silhouette in the x-z plane
+        last = path_result.steps[-1]
+        x = X + model.displacement(last.x)[:, outer]
+        for pos, colour, label in ((X, "0.6", "reference"), (x, "C3", f"P = {last.pressure * 1e3:.1f} kPa")):
+            for side in (1, -1):
+                sel = plane & (np.sign(X[0]) == side)
+                order = np.argsort(X[2][sel])
+                ax.plot(pos[0][sel][order], pos[2][sel][order], "-", color=colour,
+                        label=label if side == 1 else None)
+        ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x (mm)")
         ax.set_ylabel("z (mm)")
-        ax.set_title("outer surface, side view (y >= 0)")
-        ax.legend(fontsize=8, markerscale=4)
+        ax.set_title("outer silhouette (x-z plane)")
+        ax.legend(fontsize=8, loc="lower center")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
