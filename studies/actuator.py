@@ -197,3 +197,35 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
                           time.perf_counter() - t0, int(model.n_dofs), mat.name, float(mat.mu),
                           design.to_dict(), asdict(settings), tuple(result.events))
     return Solved(curve, model, result) if keep_model else curve
+
+
+@dataclass(frozen=True)
+class ConvergenceRow:
+    mesh_size_mm: float
+    n_dofs: int
+    extension_mm: float
+    outer_radius_mm: float
+    wall_s: float
+    status: str
+
+
+def mesh_convergence(design: EPSADesign, *, material="ecoflex-00-50", pressure_kpa=100.0,
+                     sizes=(10.0, 5.0, 2.5), steps: int = 5, progress=None) -> list[ConvergenceRow]:
+    """Extension and outer radius at `pressure_kpa` against the element size (coarse to fine).
+
+    The ramp to `pressure_kpa` uses `steps` equal targets. The relative change against the finest
+    mesh is the discretisation error estimate; `softcrawl epsa --convergence` writes the table.
+    """
+    rows = []
+    targets = tuple(pressure_kpa * (k + 1) / steps for k in range(steps))
+    for h in sizes:
+        curve = simulate_epsa(design, material=material, pressures_kpa=targets,
+                              mesh=MeshSettings.from_size(h, design))
+        last = curve.rows[-1]
+        ok = curve.converged and abs(last.pressure_kpa - pressure_kpa) < 1e-6 * pressure_kpa
+        rows.append(ConvergenceRow(h, curve.n_dofs, last.length_mm - design.length, last.outer_radius_mm,
+                                   curve.wall_s, "converged" if ok else f"failed: {curve.message}"))
+        if progress is not None:
+            progress(f"h = {h:g} mm: {curve.n_dofs} DOFs, extension {rows[-1].extension_mm:.4g} mm, "
+                     f"{curve.wall_s:.1f} s ({rows[-1].status})")
+    return rows

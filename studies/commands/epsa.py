@@ -28,6 +28,9 @@ def register(subparsers) -> None:
     p.add_argument("--quick", action="store_true", help="coarse mesh (seconds; for CI and trials)")
     p.add_argument("--blocked", action="store_true", help="fix both ends: blocked force (paper Fig. 19)")
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
+    p.add_argument("--convergence", metavar="SIZES", default=None,
+                   help="mesh study instead: element sizes in mm, coarse to fine (e.g. 10,5,2.5); "
+                        "extension at the last pressure -> convergence.csv")
     p.add_argument("--out", required=True, help="output folder")
     p.set_defaults(func=run)
 
@@ -64,6 +67,8 @@ def run(args) -> int:
     pressures = parse_pressures(args.pressures)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.convergence:
+        return run_convergence(args, design, pressures, out)
     print(f"ePSA {design.short_hash()}: r0 = {design.chamber_radius} mm, N = {design.fiber_turns}, "
           f"material {args.material}, {'blocked' if args.blocked else 'free end'}, "
           f"{len(pressures)} pressure targets up to {pressures[-1]:g} kPa", flush=True)
@@ -86,4 +91,27 @@ def run(args) -> int:
         print(f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa")
     if not curve.converged:
         print(f"warning: {curve.message}", file=sys.stderr)
+    return 0
+
+
+def run_convergence(args, design, pressures, out) -> int:
+    from geometry.design import DesignError
+    from studies.actuator import mesh_convergence
+
+    try:
+        sizes = [float(v) for v in args.convergence.split(",")]
+    except ValueError:
+        raise DesignError("convergence", f"{args.convergence!r}: give element sizes in mm, e.g. 10,5,2.5") from None
+    rows = mesh_convergence(design, material=args.material, pressure_kpa=pressures[-1], sizes=sizes,
+                            steps=len(pressures), progress=lambda m: print("  " + m, flush=True))
+    finest = rows[-1]
+    with open(out / "convergence.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["mesh_size_mm", "dofs", "extension_mm", "outer_radius_mm", "change_vs_finest_pct",
+                    "wall_s", "status"])
+        for r in rows:
+            change = 100 * (r.extension_mm - finest.extension_mm) / finest.extension_mm
+            w.writerow([r.mesh_size_mm, r.n_dofs, f"{r.extension_mm:.6g}", f"{r.outer_radius_mm:.6g}",
+                        f"{change:.3g}", f"{r.wall_s:.1f}", r.status])
+    print(f"-> {out / 'convergence.csv'}")
     return 0
