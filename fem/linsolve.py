@@ -41,14 +41,24 @@ def default_solver() -> str:
     return "pardiso" if pardiso_available() else "superlu"
 
 
-@functools.lru_cache(maxsize=1)
-def _pardiso_handle():
-    """One PARDISO handle per process: creating one searches the disk for MKL (seconds)."""
+#: Relative asymmetry below which a tangent is treated as symmetric. Hyperelastic, mixed u-p,
+#: fiber and closed-chamber pressure tangents are symmetric to round-off (~1e-16): the pressure
+#: load P dV/du of a closed (or symmetrically cut) chamber is conservative.
+SYMMETRY_TOL = 1e-11
+
+
+@functools.lru_cache(maxsize=2)
+def _pardiso_handle(mtype: int):
+    """One PARDISO handle per matrix type and process (creating one searches the disk for MKL)."""
     import pypardiso
 
-    ps = pypardiso.PyPardisoSolver(mtype=11)   # real non-symmetric (follower load, mixed u-p)
+    ps = pypardiso.PyPardisoSolver(mtype=mtype)
     ps.set_iparm(1, 1)                         # user-set iparm
     ps.set_iparm(2, 2)                         # METIS nested-dissection ordering
+    if mtype == -2:                            # symmetric indefinite (mixed u-p saddle point)
+        ps.set_iparm(10, 8)                    # pivot perturbation 1e-8
+        ps.set_iparm(11, 1)                    # scaling and weighted matching: advised for
+        ps.set_iparm(13, 1)                    # saddle-point systems
     return ps
 
 
@@ -64,35 +74,43 @@ class LinearSolver:
         self._analysed_pattern = None
 
     def factor(self, A: sp.csr_matrix) -> None:
+        """Factorise A. A matrix from `fem.pattern.Pattern.assemble` that is symmetric (to
+        `SYMMETRY_TOL`) goes to PARDISO's symmetric indefinite factorisation (about half the
+        work of LU); any other to the non-symmetric one."""
+        pattern = getattr(A, "pattern", None)
         A = A if sp.isspmatrix_csr(A) else sp.csr_matrix(A)
         if self.name == "superlu":
             self._lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A",
                                  options=dict(SymmetricMode=True), diag_pivot_thresh=0.01)
             return
-        ps = _pardiso_handle()
-        if not A.has_sorted_indices:
-            A.sort_indices()
-        key = (A.shape[0], A.nnz, zlib.crc32(A.indptr), zlib.crc32(A.indices))
-        dummy = np.zeros(A.shape[0])
-        if _pardiso_handle.owner is not self or self._analysed_pattern != key:
+        symmetric = pattern is not None and pattern.asymmetry(A) < SYMMETRY_TOL
+        mtype = -2 if symmetric else 11
+        M = pattern.upper(A) if symmetric else A
+        ps = _pardiso_handle(mtype)
+        if not M.has_sorted_indices:
+            M.sort_indices()
+        key = (mtype, M.shape[0], M.nnz, zlib.crc32(M.indptr), zlib.crc32(M.indices))
+        dummy = np.zeros(M.shape[0])
+        if _OWNER.get(mtype) is not self or self._analysed_pattern != key:
             ps.free_memory(everything=True)
             ps.set_phase(11)                    # symbolic analysis, once per pattern
-            ps._call_pardiso(A, dummy)
+            ps._call_pardiso(M, dummy)
             self._analysed_pattern = key
-            _pardiso_handle.owner = self
+            _OWNER[mtype] = self
         ps.set_phase(22)                        # numeric factorisation
-        ps._call_pardiso(A, dummy)
-        self._A = A
+        ps._call_pardiso(M, dummy)
+        self._A, self._mtype = M, mtype
+        self.symmetric = symmetric
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         if self.name == "superlu":
             return self._lu.solve(np.asarray(b, dtype=float))
-        ps = _pardiso_handle()
+        ps = _pardiso_handle(self._mtype)
         ps.set_phase(33)
         return ps._call_pardiso(self._A, np.asfortranarray(b, dtype=float))
 
 
-_pardiso_handle.owner = None
+_OWNER: dict = {}   # matrix type -> the LinearSolver whose analysis the handle holds
 
 
 def spsolve(A, b, solver: str | None = None) -> np.ndarray:

@@ -5,6 +5,8 @@ Element contributions come as groups: a group is a dof array `dofs` of shape (n_
 once with `np.unique` over the linear keys row * n + col; each assembly is then a single
 `np.bincount` of the element values into CSR data order. Rows/columns are the free dofs only:
 Dirichlet dofs are condensed out by the caller's `free_index` map (global dof -> free number, -1).
+The pattern also knows its transpose permutation (a symmetry check costs one gather) and its upper
+triangle (the input of symmetric solvers).
 """
 from __future__ import annotations
 
@@ -29,12 +31,32 @@ class Pattern:
         unique, inverse = np.unique(np.concatenate(keys), return_inverse=True)
         self._inverse = inverse
         self.nnz = unique.size
-        self.indices = (unique % self.n).astype(np.int32)
+        col = unique % self.n
         row = unique // self.n
+        self.indices = col.astype(np.int32)
         self.indptr = np.searchsorted(row, np.arange(self.n + 1)).astype(np.int32)
+        # Transpose map: data[transpose] is the data of A^T in this pattern (the pattern is
+        # structurally symmetric: element blocks are square in the same dofs).
+        self._transpose = np.searchsorted(unique, col * self.n + row)
+        upper = col >= row
+        self._upper = np.flatnonzero(upper)
+        self._upper_indices = self.indices[upper]
+        self._upper_indptr = np.searchsorted(row[upper], np.arange(self.n + 1)).astype(np.int32)
 
     def assemble(self, blocks: list[np.ndarray]) -> sp.csr_matrix:
         """`blocks[g]` has shape (n_local, n_local, n_items) for group g."""
         values = np.concatenate([b.reshape(-1)[keep] for b, keep in zip(blocks, self._keep)])
         data = np.bincount(self._inverse, weights=values, minlength=self.nnz)
-        return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+        A = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+        A.pattern = self
+        return A
+
+    def asymmetry(self, A) -> float:
+        """max |A - A^T| / max |A| (a gather over the data, no transposition)."""
+        d = A.data
+        return float(np.abs(d - d[self._transpose]).max() / max(np.abs(d).max(), 1e-300))
+
+    def upper(self, A) -> sp.csr_matrix:
+        """Upper triangle (diagonal included) of A in CSR, for symmetric solvers."""
+        return sp.csr_matrix((A.data[self._upper], self._upper_indices, self._upper_indptr),
+                             shape=(self.n, self.n))
