@@ -166,7 +166,7 @@ def segment_forces(fibers: FiberSet, x_points: np.ndarray):
 
 
 def element_arrays(fibers: FiberSet, u_nodes: np.ndarray, with_tangent=True):
-    """Segment residual (60, s) and tangent (60, 60, s) on the 2 x 10 host nodes x 3 components.
+    """Segment residual (60, s) and tangent (s, 60, 60) on the 2 x 10 host nodes x 3 components.
 
     Local dof order: (end, node a, component i) -> 30 * end + 3 * a + i.
     """
@@ -182,9 +182,9 @@ def element_arrays(fibers: FiberSet, u_nodes: np.ndarray, with_tangent=True):
     k_axial = np.where(N > 0, EA, 0.0) if fibers.tension_only else np.full_like(N, EA)
     nn = np.einsum("si,sj->sij", n, n)
     k3 = (k_axial / L0)[:, None, None] * nn + (N / l)[:, None, None] * (np.eye(3) - nn)   # (s, 3, 3)
-    SW = (sign[:, None, None] * W).transpose(0, 2, 1).reshape(20, -1)        # (end a, s)
-    K = (SW[:, None, None, None, :] * SW[None, None, :, None, :]) * k3.transpose(1, 2, 0)[None, :, None, :, :]
-    K = K.reshape(60, 60, -1)                                                 # (end a i), (end b j), s
+    SW = (sign[:, None, None] * W).transpose(1, 0, 2).reshape(-1, 20)        # (s, end a)
+    K = SW[:, :, None, None, None] * SW[:, None, None, :, None] * k3[:, None, :, None, :]
+    K = K.reshape(-1, 60, 60)                                                 # s, (end a i), (end b j)
     return R, K
 
 

@@ -51,8 +51,8 @@ import numpy as np
 import skfem
 
 from fem.errors import SolverInputError
-from fem.neohooke import (NeoHookean, _outer, cofactor3, det3, iso_stress, iso_tangent, pressure_stress,
-                          pressure_tangent)
+from fem.neohooke import (NeoHookean, _outer, cofactor3, det3, iso_stress, mixed_tangent,
+                          pressure_stress)
 from fem.fibers import element_arrays as fiber_arrays
 from fem.fibers import embed as embed_fibers
 from fem.fibers import segment_dofs as fiber_segment_dofs
@@ -112,6 +112,7 @@ class SolidModel:
         self.n_u = 3 * self.n_nodes
         self.nodes = self.basis.doflocs                         # (3, n_nodes) reference positions
         self.dN = np.stack([phi[0].grad for phi in self.basis.basis])   # (10, 3, E, Q)
+        self.dNt = np.ascontiguousarray(self.dN.transpose(2, 3, 0, 1))  # (E, Q, 10, 3)
         self.dx = self.basis.dx                                  # (E, Q)
         self.node_dofs = self.basis.element_dofs                 # (10, E)
         self.u_dofs = (3 * self.node_dofs[:, None, :] + np.arange(3)[None, :, None]).reshape(30, -1)
@@ -230,27 +231,59 @@ class SolidModel:
 
     def _element_residual(self, x, stress):
         F, J, H, p, P = stress
-        Ru = np.einsum("iJeq,aJeq,eq->aie", P, self.dN, self.dx).reshape(30, -1)
+        E, Q = self.dx.shape
+        Pt = P.transpose(2, 3, 1, 0)                                     # (E, Q, J, i)
+        Ru = np.matmul(self.dNt * self.dx[:, :, None, None], Pt).sum(axis=1).reshape(E, 30).T
         if not self.mixed:
             return Ru
         Rp = np.einsum("eq,ceq,eq->ce", J - 1.0 - p / self.bulk, self.Np, self.dx)
         return np.vstack([Ru, Rp])
 
     def _element_tangent(self, x, stress):
+        """Element matrices (n_local, n_local, E) without forming the 81-component tangent.
+
+        With f_a = F grad N_a, h_a = H grad N_a (H = F^-T), g_a = grad N_a and c = mu J^-2/3, the
+        Neo-Hookean tangent (see `fem.neohooke.mixed_tangent`) gives per quadrature point
+
+            K[(a,i),(b,k)] = c (g_a . g_b) d_ik - 2c/3 (f_ai h_bk + h_ai f_bk)
+                             + w1 h_ai h_bk + w2 h_ak h_bi,
+            w1 = 2c I1/9 + p J (+ K J^2 without the mixed pressure),  w2 = c I1/3 - p J,
+
+        so each element block is a few (30 x Q) @ (Q x 30) products.
+        """
         F, J, H, p, P = stress
-        A = iso_tangent(F, self.mu, J, H) + pressure_tangent(p, J, H)
+        E, Q = self.dx.shape
+        c = self.mu * J ** (-2.0 / 3.0)
+        I1 = np.einsum("ijeq,ijeq->eq", F, F)
+        pJ = p * J
+        w_hh = 2.0 / 9.0 * c * I1 + pJ
         if not self.mixed:
-            A += (self.bulk * J * J) * _outer(H, H)
-        Kuu = _grad_grad(self.dN, A, self.dN, self.dx)                 # (30, 30, E)
+            w_hh = w_hh + self.bulk * J * J
+        w_sw = c * I1 / 3.0 - pJ
+        f = np.matmul(self.dNt, F.transpose(2, 3, 1, 0)).reshape(E, Q, 30)   # f[e,q,(a,i)]
+        h = np.matmul(self.dNt, H.transpose(2, 3, 1, 0)).reshape(E, Q, 30)
+        hT = h.transpose(0, 2, 1)
+        K = np.matmul(f.transpose(0, 2, 1) * (-2.0 / 3.0 * c * self.dx)[:, None, :], h)
+        K += K.transpose(0, 2, 1)
+        K += np.matmul(hT * (w_hh * self.dx)[:, None, :], h)
+        S = np.matmul(hT * (w_sw * self.dx)[:, None, :], h).reshape(E, 10, 3, 10, 3)
+        K += S.transpose(0, 1, 4, 3, 2).reshape(E, 30, 30)
+        g = self.dN.transpose(2, 0, 3, 1)                                  # (E, 10, Q, 3)
+        G = np.matmul((g * (c * self.dx)[:, None, :, None]).reshape(E, 10, 3 * Q),
+                      g.reshape(E, 10, 3 * Q).transpose(0, 2, 1))          # (E, 10, 10)
+        K4 = K.reshape(E, 10, 3, 10, 3)
+        for i in range(3):
+            K4[:, :, i, :, i] += G
         if not self.mixed:
-            return Kuu
-        # K_up[a i, c] = int dN_a,J J H_iJ Np_c
-        G = np.einsum("aJeq,iJeq,eq->aieq", self.dN, J * H, self.dx).reshape(30, *self.dx.shape)
-        Kup = np.einsum("req,ceq->rce", G, self.Np)
-        Kpp = -np.einsum("ceq,deq,eq->cde", self.Np, self.Np, self.dx / self.bulk)
-        top = np.concatenate([Kuu, Kup], axis=1)
-        bottom = np.concatenate([Kup.transpose(1, 0, 2), Kpp], axis=1)
-        return np.concatenate([top, bottom], axis=0)
+            return K                                                        # (E, 30, 30)
+        out = np.empty((E, 34, 34))
+        out[:, :30, :30] = K
+        # K_up[a i, c] = int dN_a,J J H_iJ Np_c = int h_ai J Np_c
+        Kup = np.matmul(hT * (J * self.dx)[:, None, :], self.Np.transpose(1, 2, 0))   # (E, 30, 4)
+        out[:, :30, 30:] = Kup
+        out[:, 30:, :30] = Kup.transpose(0, 2, 1)
+        out[:, 30:, 30:] = -np.einsum("ceq,deq,eq->ecd", self.Np, self.Np, self.dx / self.bulk)
+        return out
 
     # ----------------------------------------------------------- chamber terms
     def _chamber_kinematics(self, x):
@@ -280,7 +313,7 @@ class SolidModel:
         HN = np.einsum("iJfq,Jfq->ifq", H, self.f_normal)
         D = -J * (np.einsum("ifq,klfq->iklfq", HN, H) - np.einsum("iLfq,kJfq,Jfq->ikLfq", H, H, self.f_normal))
         E = np.einsum("ikLfq,bLfq->ikbfq", D, self.f_dN) * self.f_dx         # (3, 3, 10, F, Q)
-        dq = np.einsum("afq,ikbfq->aibkf", self.f_N, E, optimize=True).reshape(30, 30, -1)
+        dq = np.einsum("afq,ikbfq->faibk", self.f_N, E, optimize=True).reshape(-1, 30, 30)
         return q, dq
 
     # ---------------------------------------------------------------- globals

@@ -126,6 +126,22 @@ def iso_tangent(F, mu, J, H):
     return A
 
 
+def mixed_tangent(F, mu, p, J, H):
+    """A_iso + A_p in one pass: four weighted outer products,
+    c dd - 2c/3 (F (x) H + H (x) F) + (2c I1/9 + p J) H (x) H + (c I1/3 - p J) H (.) H, c = mu J^-2/3."""
+    I1 = np.einsum("ij...,ij...->...", F, F)
+    c = mu * J ** (-2 / 3)
+    pJ = p * J
+    A = _outer(F, H)
+    A += _outer(H, F)
+    A *= -2.0 / 3.0 * c
+    A += (2.0 / 9.0 * c * I1 + pJ) * _outer(H, H)
+    A += (c * I1 / 3.0 - pJ) * _cross(H, H)
+    eye = np.eye(3)
+    A += c * (eye[:, None, :, None] * eye[None, :, None, :]).reshape((3, 3, 3, 3) + (1,) * (F.ndim - 2))
+    return A
+
+
 def pressure_stress(p, J, H):
     return p * J * H
 

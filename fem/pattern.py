@@ -1,7 +1,8 @@
 """A fixed sparsity pattern: scatter batches of element matrices into a CSR matrix fast.
 
 Element contributions come as groups: a group is a dof array `dofs` of shape (n_local, n_items)
-(global dof numbers, or -1 for an entry to drop, such as a Dirichlet dof). The pattern is built
+(global dof numbers, or -1 for an entry to drop, such as a Dirichlet dof); its element matrices
+come as an array (n_items, n_local, n_local). The pattern is built
 once with `np.unique` over the linear keys row * n + col; each assembly is then a single
 `np.bincount` of the element values into CSR data order. Rows/columns are the free dofs only:
 Dirichlet dofs are condensed out by the caller's `free_index` map (global dof -> free number, -1).
@@ -20,9 +21,10 @@ class Pattern:
         keys, self._slices, self._keep = [], [], []
         start = 0
         for dofs in groups:
-            f = free_index[dofs]                       # (n_local, n_items)
-            rows = np.broadcast_to(f[:, None, :], (f.shape[0],) + f.shape).reshape(-1)
-            cols = np.broadcast_to(f[None, :, :], (f.shape[0],) + f.shape).reshape(-1)
+            f = free_index[dofs].T                     # (n_items, n_local)
+            n_items, n_local = f.shape
+            rows = np.broadcast_to(f[:, :, None], (n_items, n_local, n_local)).reshape(-1)
+            cols = np.broadcast_to(f[:, None, :], (n_items, n_local, n_local)).reshape(-1)
             keep = np.flatnonzero((rows >= 0) & (cols >= 0))
             keys.append(rows[keep].astype(np.int64) * self.n + cols[keep])
             self._keep.append(keep)
@@ -44,7 +46,8 @@ class Pattern:
         self._upper_indptr = np.searchsorted(row[upper], np.arange(self.n + 1)).astype(np.int32)
 
     def assemble(self, blocks: list[np.ndarray]) -> sp.csr_matrix:
-        """`blocks[g]` has shape (n_local, n_local, n_items) for group g."""
+        """`blocks[g]` has shape (n_items, n_local, n_local) for group g (items first, so element
+        matrices are written in place without a transposed copy)."""
         values = np.concatenate([b.reshape(-1)[keep] for b, keep in zip(blocks, self._keep)])
         data = np.bincount(self._inverse, weights=values, minlength=self.nnz)
         A = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))

@@ -42,3 +42,13 @@ def test_unphysical_material_names_the_parameter(mu, bulk, parameter):
     with pytest.raises(SolverInputError) as err:
         NeoHookean(mu=mu, bulk=bulk)
     assert err.value.parameter == parameter
+
+
+def test_mixed_tangent_is_the_sum_of_isochoric_and_pressure_parts():
+    from fem.neohooke import det3, inv_transpose3, iso_tangent, mixed_tangent, pressure_tangent
+
+    rng = np.random.default_rng(5)
+    F = np.eye(3)[:, :, None] + 0.2 * rng.standard_normal((3, 3, 4))
+    J, H, p = det3(F), inv_transpose3(F), rng.standard_normal(4)
+    assert np.allclose(mixed_tangent(F, 0.03, p, J, H), iso_tangent(F, 0.03, J, H) + pressure_tangent(p, J, H),
+                       rtol=1e-13, atol=1e-15)
