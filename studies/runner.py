@@ -1,0 +1,680 @@
+"""Study runner on optuna: resumable, multi-worker parameter sweeps and optimisations.
+
+A **sweep** is an optuna study over a parameter grid. Every grid point is enqueued once as a
+fixed-parameter trial (``study.enqueue_trial``); workers claim WAITING trials one at a time through
+the storage (``set_trial_state_values(RUNNING)`` only succeeds for the worker that moves the trial
+out of WAITING), evaluate them and ``tell`` the result. The study also carries a ``GridSampler``
+over the same grid, so optuna's own tools (dashboard, ``trials_dataframe``) see the search space,
+but the sampler never picks a point: optuna documents that ``GridSampler`` may evaluate a grid
+point more than once when several processes share a study, and the enqueue/claim scheme does not.
+
+Guarantees and how they are obtained:
+
+* **Exactly once across workers.** PostgreSQL/MySQL: the claim runs ``SELECT ... FOR UPDATE``.
+  SQLite ignores ``FOR UPDATE`` and the Python driver starts transactions lazily, so two processes
+  could both read WAITING and both claim; for ``sqlite:///`` URLs the enqueue + claim step runs
+  under an exclusive ``fcntl`` lock on ``<db>.lock`` (SQLite files are for one machine anyway).
+  The database is put in WAL mode and opened with a 60 s busy timeout. As a last guard, a worker
+  that claims a point which another trial already completed, or claimed earlier, gives its trial
+  up (FAIL with ``user_attrs["duplicate_of"]``; such trials are ignored by :func:`collect`).
+* **Resumable.** A killed worker leaves its trial RUNNING. Every running trial records a heartbeat
+  (``heartbeat_interval`` s); a trial silent for ``grace_period`` s is failed by
+  ``optuna.storages.fail_stale_trials``. A FAIL trial without ``user_attrs["failure"]`` is a lost
+  evaluation (not a result), so its point counts as missing and is enqueued again. COMPLETE trials
+  and failed *evaluations* are never recomputed: restarting a sweep computes only what is missing.
+* **Failures never stop a sweep.** Any exception of the evaluator, and any evaluation that reports
+  ``ok = False`` (a diverged design), becomes a FAIL trial whose reason is kept in
+  ``user_attrs["failure"]`` (and the traceback in ``user_attrs["traceback"]``).
+* **Metrics.** Everything the evaluator returns in ``Evaluation.attrs`` (JSON-able) is stored as
+  trial user attributes; :func:`collect` exports them, one CSV row per grid point and pressure.
+
+Evaluators are referenced as ``"module:function"`` strings, so spawned worker processes can import
+them. Signature: ``evaluator(params: dict, fixed: dict, settings: dict) -> Evaluation``.
+:func:`evaluate_epsa` is the ePSA evaluator: it builds an ``EPSADesign`` and calls
+``studies.actuator.simulate_epsa`` (or the ``settings["simulate"]`` reference, which tests use to
+inject fast fakes).
+"""
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import importlib
+import itertools
+import json
+import math
+import os
+import sqlite3
+import threading
+import time
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Iterator, Mapping, Sequence
+
+#: Seconds between two heartbeats of a running trial.
+DEFAULT_HEARTBEAT_S = 10
+#: A RUNNING trial whose last heartbeat is older than this (s) belongs to a dead worker.
+DEFAULT_GRACE_S = 60
+#: SQLite busy timeout (s): how long a writer waits for another process's lock.
+SQLITE_TIMEOUT_S = 60
+#: Default ePSA evaluator and simulator.
+EPSA_EVALUATOR = "studies.runner:evaluate_epsa"
+EPSA_SIMULATOR = "studies.actuator:simulate_epsa"
+#: Pressures of the paper's ePSA studies (kPa), Section V-A.
+PAPER_PRESSURES_KPA = (20.0, 40.0, 60.0, 80.0, 100.0)
+#: Row statuses of a curve that count as a computed equilibrium.
+OK_ROW_STATUSES = ("converged", "volume-control")
+#: Columns of an ActuatorCurve row, in CSV order.
+CURVE_COLUMNS = ("pressure_kpa", "length_mm", "outer_radius_mm", "chamber_volume_mm3",
+                 "max_principal_stretch", "max_fiber_tension_n", "status")
+
+
+class StudyError(ValueError):
+    """Invalid study input (user error); ``parameter`` names the offending option."""
+
+    def __init__(self, parameter: str, message: str):
+        self.parameter = parameter
+        super().__init__(f"{parameter}: {message}")
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """What an evaluator returns. ``ok = False`` makes the trial FAIL with ``message`` as reason."""
+
+    ok: bool
+    values: tuple[float, ...] = ()
+    attrs: Mapping[str, Any] = field(default_factory=dict)
+    message: str = ""
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """One sweep: a grid (param -> values) on top of fixed params, evaluated by ``evaluator``.
+
+    ``storage`` is an RDB URL; ``None`` means ``sqlite:///<out_dir>/study.db``. ``settings`` are
+    passed to the evaluator unchanged (material, quick, pressures_kpa, simulate, ...).
+    ``directions`` are the optuna directions of the values the evaluator returns.
+    """
+
+    name: str
+    grid: Mapping[str, Sequence[Any]]
+    out_dir: str
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+    evaluator: str = EPSA_EVALUATOR
+    settings: Mapping[str, Any] = field(default_factory=dict)
+    storage: str | None = None
+    directions: tuple[str, ...] = ("maximize",)
+    heartbeat_interval: int = DEFAULT_HEARTBEAT_S
+    grace_period: int = DEFAULT_GRACE_S
+
+    def __post_init__(self):
+        if not self.grid:
+            raise StudyError("grid", "is empty")
+        grid = {}
+        for key, values in self.grid.items():
+            values = tuple(values)
+            if not values:
+                raise StudyError(f"grid.{key}", "has no values")
+            if len(set(values)) != len(values):
+                raise StudyError(f"grid.{key}", f"repeats a value: {values}")
+            grid[str(key)] = values
+        object.__setattr__(self, "grid", grid)
+        object.__setattr__(self, "fixed", dict(self.fixed))
+        object.__setattr__(self, "settings", dict(self.settings))
+        object.__setattr__(self, "out_dir", str(self.out_dir))
+        object.__setattr__(self, "directions", tuple(self.directions))
+        if self.heartbeat_interval < 1 or self.grace_period <= self.heartbeat_interval:
+            raise StudyError("grace_period", "needs heartbeat_interval >= 1 and grace_period > "
+                                             "heartbeat_interval")
+
+    @property
+    def storage_url(self) -> str:
+        if self.storage:
+            return self.storage
+        return f"sqlite:///{Path(self.out_dir).resolve() / 'study.db'}"
+
+    def points(self) -> list[dict[str, Any]]:
+        """Every grid point, in grid order (the last parameter varies fastest)."""
+        keys = list(self.grid)
+        return [dict(zip(keys, combo)) for combo in itertools.product(*self.grid.values())]
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self) | {"grid": {k: list(v) for k, v in self.grid.items()}}
+
+
+def point_key(params: Mapping[str, Any]) -> str:
+    """Canonical identity of a grid point (floats and equal ints compare equal)."""
+    def norm(v):
+        return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+    return json.dumps({k: norm(v) for k, v in sorted(params.items())}, sort_keys=True)
+
+
+def load_callable(ref: str) -> Callable:
+    """Import ``"module:function"``."""
+    if not isinstance(ref, str) or ":" not in ref:
+        raise StudyError("evaluator", f"expected 'module:function', got {ref!r}")
+    module, _, name = ref.partition(":")
+    obj = importlib.import_module(module)
+    for part in name.split("."):
+        obj = getattr(obj, part)
+    return obj
+
+
+# -- storage ------------------------------------------------------------------------------------
+
+
+def _sqlite_path(url: str) -> Path | None:
+    if not url.startswith("sqlite:///"):
+        return None
+    path = url[len("sqlite:///"):]
+    return None if path in ("", ":memory:") else Path(path)
+
+
+def _quiet_optuna() -> None:
+    """Heartbeats are 'experimental' in optuna since 2.9; keep the terminal for progress bars."""
+    import warnings
+
+    import optuna
+
+    warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+
+
+def make_storage(spec: SweepSpec):
+    """The RDB storage of a spec, with heartbeats; SQLite files get WAL mode and a busy timeout."""
+    import optuna
+
+    _quiet_optuna()
+    url = spec.storage_url
+    engine_kwargs = None
+    db = _sqlite_path(url)
+    if db is not None:
+        db.parent.mkdir(parents=True, exist_ok=True)
+        with _file_lock(db):
+            con = sqlite3.connect(db, timeout=SQLITE_TIMEOUT_S)
+            try:
+                con.execute("PRAGMA journal_mode=WAL")
+            finally:
+                con.close()
+        engine_kwargs = {"connect_args": {"timeout": SQLITE_TIMEOUT_S}}
+    with _file_lock(db):  # table creation by two processes at once races on SQLite
+        return optuna.storages.RDBStorage(url, engine_kwargs=engine_kwargs,
+                                          heartbeat_interval=spec.heartbeat_interval,
+                                          grace_period=spec.grace_period)
+
+
+@contextlib.contextmanager
+def _file_lock(db: Path | None) -> Iterator[None]:
+    """Exclusive inter-process lock beside an SQLite file (no-op for other databases)."""
+    if db is None:
+        yield
+        return
+    import fcntl
+
+    with open(f"{db}.lock", "a+") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+def open_study(spec: SweepSpec):
+    """Create or load the optuna study of a sweep."""
+    import optuna
+
+    storage = make_storage(spec)
+    sampler = optuna.samplers.GridSampler({k: list(v) for k, v in spec.grid.items()})
+    with _file_lock(_sqlite_path(spec.storage_url)):
+        study = optuna.create_study(study_name=spec.name, storage=storage, sampler=sampler,
+                                    directions=list(spec.directions), load_if_exists=True)
+    if "spec" not in study.user_attrs:
+        study.set_user_attr("spec", spec.to_dict())
+    return study
+
+
+# -- trial bookkeeping --------------------------------------------------------------------------
+
+
+def _trial_point(trial) -> str | None:
+    fixed = trial.system_attrs.get("fixed_params")
+    if fixed is not None:
+        return point_key(fixed)
+    return point_key(trial.params) if trial.params else None
+
+
+def is_lost(trial) -> bool:
+    """A FAIL trial that is not a result: its worker died, or it gave way to a duplicate."""
+    from optuna.trial import TrialState
+
+    return trial.state == TrialState.FAIL and (
+        "failure" not in trial.user_attrs or "duplicate_of" in trial.user_attrs)
+
+
+def trials_by_point(study) -> dict[str, list]:
+    out: dict[str, list] = {}
+    for trial in study.get_trials(deepcopy=False):
+        key = _trial_point(trial)
+        if key is not None:
+            out.setdefault(key, []).append(trial)
+    return out
+
+
+def _point_pending_or_done(trials) -> bool:
+    from optuna.trial import TrialState
+
+    for t in trials:
+        if t.state in (TrialState.COMPLETE, TrialState.RUNNING, TrialState.WAITING):
+            return True
+        if t.state == TrialState.FAIL and not is_lost(t):
+            return True
+    return False
+
+
+def enqueue_missing(study, spec: SweepSpec) -> int:
+    """Enqueue every grid point that has no trial that is waiting, running, complete or failed as
+    a result. Idempotent; call it under :func:`_file_lock` for SQLite. Returns how many."""
+    by_point = trials_by_point(study)
+    n = 0
+    for params in spec.points():
+        if not _point_pending_or_done(by_point.get(point_key(params), [])):
+            study.enqueue_trial(params, skip_if_exists=False)
+            n += 1
+    return n
+
+
+def _fail_stale(study, grace_period: float) -> None:
+    """Fail RUNNING trials of dead workers (heartbeat older than the grace period, or never
+    recorded and started longer ago than the grace period)."""
+    import datetime
+
+    import optuna
+    from optuna.trial import TrialState
+
+    optuna.storages.fail_stale_trials(study)
+    storage = study._storage
+    now = datetime.datetime.now()
+    for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
+        if t.datetime_start is None or (now - t.datetime_start).total_seconds() < grace_period:
+            continue
+        with contextlib.suppress(Exception):
+            if not _has_heartbeat(storage, t._trial_id):
+                storage.set_trial_state_values(t._trial_id, state=TrialState.FAIL)
+
+
+def _has_heartbeat(storage, trial_id: int) -> bool:
+    from optuna.storages._rdb import models
+    from optuna.storages._rdb.storage import _create_scoped_session
+
+    with _create_scoped_session(storage.scoped_session) as session:
+        return models.TrialHeartbeatModel.where_trial_id(trial_id, session) is not None
+
+
+def _claim(study) -> int | None:
+    """Move one WAITING trial to RUNNING; the storage lets only one worker succeed per trial."""
+    from optuna.trial import TrialState
+
+    storage = study._storage
+    for t in study.get_trials(deepcopy=False, states=(TrialState.WAITING,)):
+        with contextlib.suppress(Exception):  # UpdateFinishedTrialError: another worker won
+            if storage.set_trial_state_values(t._trial_id, state=TrialState.RUNNING):
+                return t._trial_id
+    return None
+
+
+def _duplicate_of(study, trial_id: int) -> int | None:
+    """Number of another trial that completed this point, or claimed it earlier."""
+    from optuna.trial import TrialState
+
+    me = study._storage.get_trial(trial_id)
+    key = _trial_point(me)
+    for t in trials_by_point(study).get(key, []):
+        if t._trial_id == trial_id:
+            continue
+        if t.state == TrialState.COMPLETE or (t.state == TrialState.FAIL and not is_lost(t)):
+            return t.number
+        if t.state == TrialState.RUNNING and (t.datetime_start, t.number) < (me.datetime_start,
+                                                                             me.number):
+            return t.number
+    return None
+
+
+class _Heartbeat:
+    """Background thread recording a trial's heartbeat every ``interval`` seconds."""
+
+    def __init__(self, storage, trial_id: int, interval: float):
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, args=(storage, trial_id, interval),
+                                        daemon=True)
+
+    def _run(self, storage, trial_id, interval):
+        while not self._stop.wait(interval):
+            with contextlib.suppress(Exception):  # a busy database: try again next beat
+                storage.record_heartbeat(trial_id)
+
+    def __enter__(self):
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        self._thread.join()
+
+
+def _jsonable(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    return value
+
+
+def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable) -> str:
+    """Evaluate a claimed trial and tell the study. Returns "completed" | "failed" | "duplicate"."""
+    import optuna
+    from optuna.trial import TrialState
+
+    trial = optuna.trial.Trial(study, trial_id)
+    dup = _duplicate_of(study, trial_id)
+    if dup is not None:
+        trial.set_user_attr("duplicate_of", dup)
+        study.tell(trial, state=TrialState.FAIL)
+        return "duplicate"
+    params = {k: trial.suggest_categorical(k, list(v)) for k, v in spec.grid.items()}
+    trial.set_user_attr("worker_pid", os.getpid())
+    with _Heartbeat(study._storage, trial_id, spec.heartbeat_interval):
+        try:
+            result = evaluator(params, dict(spec.fixed), dict(spec.settings))
+        except Exception as exc:  # noqa: BLE001 - any failure is a failed trial, never a crash
+            result = Evaluation(ok=False, message=f"{type(exc).__name__}: {exc}",
+                                attrs={"traceback": traceback.format_exc(limit=8)})
+    for key, value in result.attrs.items():
+        trial.set_user_attr(key, _jsonable(value))
+    values = [float(v) for v in result.values]
+    if result.ok and len(values) == len(spec.directions) and all(map(math.isfinite, values)):
+        study.tell(trial, values)
+        return "completed"
+    reason = result.message or ("evaluator returned no finite values" if result.ok else "failed")
+    trial.set_user_attr("failure", reason)
+    study.tell(trial, state=TrialState.FAIL)
+    return "failed"
+
+
+# -- workers ------------------------------------------------------------------------------------
+
+
+def run_worker(spec: SweepSpec, *, progress: bool = False, max_trials: int | None = None,
+               poll_s: float = 1.0) -> dict[str, int]:
+    """Claim and evaluate grid points until none is waiting or running. Returns counts.
+
+    ``max_trials`` stops after that many evaluations (for tests). While other workers still run
+    trials, the worker waits (``poll_s``) so that it can take over points of workers that die.
+    """
+    from optuna.trial import TrialState
+
+    study = open_study(spec)
+    evaluator = load_callable(spec.evaluator)
+    lock_path = _sqlite_path(spec.storage_url)
+    counts = {"completed": 0, "failed": 0, "duplicate": 0}
+    bar = _progress_bar(study, spec, f"{spec.name} [pid {os.getpid()}]") if progress else None
+    try:
+        while max_trials is None or counts["completed"] + counts["failed"] < max_trials:
+            with _file_lock(lock_path):
+                _fail_stale(study, spec.grace_period)
+                enqueue_missing(study, spec)
+                trial_id = _claim(study)
+                if trial_id is not None:
+                    study._storage.record_heartbeat(trial_id)
+            if trial_id is None:
+                if study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
+                    time.sleep(poll_s)
+                    if bar is not None:
+                        _update_bar(bar, study, spec)
+                    continue
+                break
+            counts[evaluate_trial(study, trial_id, spec, evaluator)] += 1
+            if bar is not None:
+                _update_bar(bar, study, spec)
+    finally:
+        if bar is not None:
+            bar.close()
+    return counts
+
+
+def _worker_main(spec_dict: dict[str, Any]) -> None:
+    run_worker(SweepSpec(**spec_dict))
+
+
+def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True) -> list[dict]:
+    """Run (or resume) a sweep with ``workers`` processes and return :func:`collect` rows."""
+    if not isinstance(workers, int) or workers < 1:
+        raise StudyError("workers", f"must be a positive integer, got {workers!r}")
+    Path(spec.out_dir).mkdir(parents=True, exist_ok=True)
+    study = open_study(spec)
+    with _file_lock(_sqlite_path(spec.storage_url)):
+        enqueue_missing(study, spec)
+    if workers == 1:
+        run_worker(spec, progress=progress)
+    else:
+        import multiprocessing as mp
+
+        ctx = mp.get_context("spawn")
+        procs = [ctx.Process(target=_worker_main, args=(spec.to_dict(),), daemon=False)
+                 for _ in range(workers)]
+        for p in procs:
+            p.start()
+        bar = _progress_bar(study, spec, f"{spec.name} ({workers} workers)") if progress else None
+        try:
+            while any(p.is_alive() for p in procs):
+                time.sleep(1.0)
+                if bar is not None:
+                    _update_bar(bar, study, spec)
+        finally:
+            for p in procs:
+                p.join()
+            if bar is not None:
+                _update_bar(bar, study, spec)
+                bar.close()
+        bad = [p.exitcode for p in procs if p.exitcode != 0]
+        if bad:
+            raise RuntimeError(f"{len(bad)} sweep worker(s) exited with codes {bad}; "
+                               "run the sweep again to resume")
+    return collect(study, spec)
+
+
+def _progress_bar(study, spec, desc):
+    from tqdm.auto import tqdm
+
+    bar = tqdm(total=len(spec.points()), desc=desc, unit="pt", dynamic_ncols=True)
+    _update_bar(bar, study, spec)
+    return bar
+
+
+def _update_bar(bar, study, spec) -> None:
+    status = point_status(study, spec)
+    done = sum(1 for s, _ in status.values() if s in ("completed", "failed"))
+    bar.n = done
+    failed = sum(1 for s, _ in status.values() if s == "failed")
+    bar.set_postfix(failed=failed, refresh=False)
+    bar.refresh()
+
+
+# -- results ------------------------------------------------------------------------------------
+
+
+def point_status(study, spec: SweepSpec) -> dict[str, tuple[str, Any]]:
+    """For each grid point: (status, trial) with status completed | failed | running | waiting |
+    missing. A completed trial wins over anything else; lost/duplicate trials are ignored."""
+    from optuna.trial import TrialState
+
+    by_point = trials_by_point(study)
+    out = {}
+    rank = {TrialState.COMPLETE: 0, TrialState.FAIL: 1, TrialState.RUNNING: 2,
+            TrialState.WAITING: 3}
+    names = {TrialState.COMPLETE: "completed", TrialState.FAIL: "failed",
+             TrialState.RUNNING: "running", TrialState.WAITING: "waiting"}
+    for params in spec.points():
+        key = point_key(params)
+        trials = [t for t in by_point.get(key, []) if t.state in rank and not is_lost(t)]
+        if not trials:
+            out[key] = ("missing", None)
+            continue
+        best = min(trials, key=lambda t: (rank[t.state], t.number))
+        out[key] = (names[best.state], best)
+    return out
+
+
+def collect(study, spec: SweepSpec) -> list[dict[str, Any]]:
+    """Table of a sweep: one row per (grid point, curve row), every grid point present.
+
+    Columns: study, material, the grid and fixed parameters, trial, trial_status, reason,
+    converged, limit_pressure_kpa, the ActuatorCurve row columns (status -> row_status) and any
+    scalar metric the evaluator stored. A point without curve rows gets one row with empty
+    curve columns, so failed and missing points are never dropped."""
+    status = point_status(study, spec)
+    rows = []
+    for params in spec.points():
+        state, trial = status[point_key(params)]
+        attrs = dict(trial.user_attrs) if trial is not None else {}
+        base = {"study": spec.name, "material": spec.settings.get("material", "")}
+        base |= {k: v for k, v in spec.fixed.items()} | dict(params)
+        base |= {"trial": trial.number if trial is not None else "", "trial_status": state,
+                 "reason": attrs.get("failure", "") if state == "failed" else "",
+                 "converged": attrs.get("converged", ""),
+                 "limit_pressure_kpa": _blank(attrs.get("limit_pressure_kpa"))}
+        scalars = {k: v for k, v in attrs.items() if k in SCALAR_METRICS}
+        curve_rows = attrs.get("rows") or [None]
+        for row in curve_rows:
+            out = dict(base)
+            for col in CURVE_COLUMNS:
+                value = row.get(col, "") if row else ""
+                out["row_status" if col == "status" else col] = _blank(value)
+            out |= {k: _blank(v) for k, v in scalars.items()}
+            rows.append(out)
+    return rows
+
+
+#: Scalar user attributes copied to every CSV row of a point.
+SCALAR_METRICS = ("wall_s", "n_dofs", "message", "worker_pid")
+
+
+def _blank(value):
+    return "" if value is None else value
+
+
+def write_csv(rows: Sequence[Mapping[str, Any]], path: str | Path) -> Path:
+    """Write dict rows to CSV (union of the keys, first-seen order)."""
+    import csv
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    columns: list[str] = []
+    for row in rows:
+        columns += [k for k in row if k not in columns]
+    with open(path, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(rows)
+    return path
+
+
+def read_csv(path: str | Path) -> list[dict[str, str]]:
+    import csv
+
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+# -- the ePSA evaluator -------------------------------------------------------------------------
+
+
+def curve_to_attrs(curve) -> dict[str, Any]:
+    """JSON-able user attributes of an ActuatorCurve (duck-typed on the contract's fields)."""
+    rows = []
+    for row in curve.rows:
+        rows.append({col: _jsonable(getattr(row, col, None)) for col in CURVE_COLUMNS})
+    return {"rows": rows, "converged": bool(curve.converged),
+            "limit_pressure_kpa": _jsonable(curve.limit_pressure_kpa),
+            "message": str(getattr(curve, "message", "")),
+            "wall_s": _jsonable(getattr(curve, "wall_s", None)),
+            "n_dofs": getattr(curve, "n_dofs", None),
+            "material": getattr(curve, "material", None)}
+
+
+def response_at(rows: Sequence[Mapping[str, Any]], pressure_kpa: float | None = None
+                ) -> Mapping[str, Any] | None:
+    """The computed row at ``pressure_kpa`` (default: the highest computed pressure)."""
+    good = [r for r in rows if r.get("status") in OK_ROW_STATUSES]
+    if not good:
+        return None
+    if pressure_kpa is None:
+        return max(good, key=lambda r: r["pressure_kpa"])
+    for r in good:
+        if abs(float(r["pressure_kpa"]) - pressure_kpa) < 1e-9:
+            return r
+    return None
+
+
+def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
+                  settings: Mapping[str, Any]) -> Evaluation:
+    """Evaluate one ePSA design. ``settings``: material, pressures_kpa, quick, mesh_size,
+    simulate ("module:function", default ``studies.actuator:simulate_epsa``), objectives
+    ("sweep": extension at the highest computed pressure; "pareto": extension and radial
+    expansion at the highest requested pressure, plus the fiber length of both helices).
+
+    A curve with ``converged = False`` fails the trial (its rows are kept). In "pareto" mode a
+    design that does not reach the highest pressure fails too: it does not meet the requirement.
+    """
+    from geometry.design import EPSADesign
+
+    design = EPSADesign(**{**fixed, **params})
+    simulate = load_callable(settings.get("simulate", EPSA_SIMULATOR))
+    pressures = tuple(float(p) for p in settings.get("pressures_kpa", PAPER_PRESSURES_KPA))
+    kwargs = {"material": settings.get("material", "ecoflex-00-50"), "pressures_kpa": pressures,
+              "mesh_size": settings.get("mesh_size"), "quick": bool(settings.get("quick", False))}
+    curve = simulate(design, **kwargs)
+    attrs = curve_to_attrs(curve)
+    attrs |= {"design": design.to_dict(), "mass_g": design_mass_g(design, kwargs["material"]),
+              "fiber_length_mm": fiber_length_mm(design)}
+    top = response_at(attrs["rows"])
+    if top is not None:
+        attrs["extension_mm"] = top["length_mm"] - design.length
+        attrs["radial_expansion_mm"] = top["outer_radius_mm"] - design.outer_radius
+        attrs["top_pressure_kpa"] = top["pressure_kpa"]
+    if not attrs["converged"]:
+        return Evaluation(ok=False, attrs=attrs,
+                          message=f"diverged: {attrs['message'] or 'no reason given'}")
+    if top is None:
+        return Evaluation(ok=False, attrs=attrs, message="no converged pressure step")
+    if settings.get("objectives", "sweep") == "pareto":
+        target = max(pressures)
+        at = response_at(attrs["rows"], target)
+        if at is None or (attrs["limit_pressure_kpa"] is not None
+                          and attrs["limit_pressure_kpa"] < target):
+            return Evaluation(ok=False, attrs=attrs, message=(
+                f"does not reach {target:g} kPa (limit pressure "
+                f"{attrs['limit_pressure_kpa']} kPa)"))
+        values = (at["length_mm"] - design.length, at["outer_radius_mm"] - design.outer_radius,
+                  attrs["fiber_length_mm"])
+        return Evaluation(ok=True, values=values, attrs=attrs)
+    return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=attrs)
+
+
+def fiber_length_mm(design) -> float:
+    """Kevlar thread of the double helix (both helices; 0 without fibers)."""
+    return 2.0 * design.helix_length if design.fiber_turns > 0 else 0.0
+
+
+def design_mass_g(design, material: str) -> float | None:
+    """Silicone body plus Kevlar thread (g); None if the material is unknown to fem.materials."""
+    try:
+        from fem.materials import get_material
+
+        rho = get_material(material).density
+        kevlar = get_material("kevlar").density
+    except Exception:  # noqa: BLE001 - a fake material in tests
+        return None
+    thread = fiber_length_mm(design) * math.pi * design.fiber_diameter**2 / 4
+    return (rho * design.body_volume + kevlar * thread) * 1e6  # t -> g
