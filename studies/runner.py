@@ -540,6 +540,9 @@ def collect(study, spec: SweepSpec) -> list[dict[str, Any]]:
         attrs = dict(trial.user_attrs) if trial is not None else {}
         base = {"study": spec.name, "material": spec.settings.get("material", "")}
         base |= {k: v for k, v in spec.fixed.items()} | dict(params)
+        for key in DESIGN_COLUMNS:  # the undeformed reference of the curve
+            if key not in base and isinstance(attrs.get("design"), dict):
+                base[key] = attrs["design"].get(key, "")
         base |= {"trial": trial.number if trial is not None else "", "trial_status": state,
                  "reason": attrs.get("failure", "") if state == "failed" else "",
                  "converged": attrs.get("converged", ""),
@@ -556,6 +559,8 @@ def collect(study, spec: SweepSpec) -> list[dict[str, Any]]:
     return rows
 
 
+#: Design fields copied from ``user_attrs["design"]`` to every CSV row.
+DESIGN_COLUMNS = ("length", "outer_radius")
 #: Scalar user attributes copied to every CSV row of a point.
 SCALAR_METRICS = ("wall_s", "n_dofs", "message", "worker_pid")
 
@@ -585,6 +590,179 @@ def read_csv(path: str | Path) -> list[dict[str, str]]:
 
     with open(path, newline="") as handle:
         return list(csv.DictReader(handle))
+
+
+# -- optimisation -------------------------------------------------------------------------------
+
+#: Samplers of :func:`run_search`.
+SAMPLERS = ("nsga2", "tpe")
+
+
+@dataclass(frozen=True)
+class SearchSpec:
+    """An optimisation: the same storage, evaluator and failure handling as a sweep, but optuna's
+    TPE or NSGA-II sampler proposes the points. ``space``: param -> ("float"|"int", low, high).
+    ``initial`` points (e.g. the paper's Table 1 design) are enqueued once and evaluated first.
+    ``n_trials`` is the study's total budget (finished trials, failed ones included), so a
+    restarted search only tops up what is missing."""
+
+    name: str
+    space: Mapping[str, tuple[str, float, float]]
+    out_dir: str
+    n_trials: int
+    directions: tuple[str, ...]
+    sampler: str = "nsga2"
+    seed: int | None = 0
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+    evaluator: str = EPSA_EVALUATOR
+    settings: Mapping[str, Any] = field(default_factory=dict)
+    storage: str | None = None
+    initial: tuple[Mapping[str, Any], ...] = ()
+    heartbeat_interval: int = DEFAULT_HEARTBEAT_S
+    grace_period: int = DEFAULT_GRACE_S
+
+    def __post_init__(self):
+        if self.sampler not in SAMPLERS:
+            raise StudyError("sampler", f"unknown sampler {self.sampler!r}; valid: "
+                                        f"{', '.join(SAMPLERS)}")
+        if not isinstance(self.n_trials, int) or self.n_trials < 1:
+            raise StudyError("trials", f"must be a positive integer, got {self.n_trials!r}")
+        for key, (kind, low, high) in self.space.items():
+            if kind not in ("float", "int") or not low < high:
+                raise StudyError(f"space.{key}", f"bad range {(kind, low, high)!r}")
+        object.__setattr__(self, "space", {k: tuple(v) for k, v in self.space.items()})
+        object.__setattr__(self, "fixed", dict(self.fixed))
+        object.__setattr__(self, "settings", dict(self.settings))
+        object.__setattr__(self, "initial", tuple(dict(p) for p in self.initial))
+        object.__setattr__(self, "directions", tuple(self.directions))
+        object.__setattr__(self, "out_dir", str(self.out_dir))
+
+    storage_url = SweepSpec.storage_url
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+
+class _EvaluationFailed(Exception):
+    """Raised inside an optuna objective so that ``optimize(catch=...)`` records a FAIL trial."""
+
+
+def _make_sampler(spec: SearchSpec, n_workers: int = 1):
+    import optuna
+
+    if spec.sampler == "tpe":
+        return optuna.samplers.TPESampler(seed=spec.seed, multivariate=True)
+    population = max(4, min(20, spec.n_trials // 4))
+    return optuna.samplers.NSGAIISampler(seed=spec.seed, population_size=population)
+
+
+def open_search(spec: SearchSpec):
+    import optuna
+
+    storage = make_storage(spec)
+    with _file_lock(_sqlite_path(spec.storage_url)):
+        study = optuna.create_study(study_name=spec.name, storage=storage,
+                                    sampler=_make_sampler(spec),
+                                    directions=list(spec.directions), load_if_exists=True)
+        if "spec" not in study.user_attrs:
+            study.set_user_attr("spec", spec.to_dict())
+            for params in spec.initial:
+                study.enqueue_trial(dict(params), user_attrs={"initial": True})
+    return study
+
+
+def _finished_results(study) -> int:
+    from optuna.trial import TrialState
+
+    return sum(1 for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,
+                                                                    TrialState.FAIL))
+               if not is_lost(t))
+
+
+def search_worker(spec: SearchSpec, *, progress: bool = False) -> None:
+    """Run trials until the study holds ``spec.n_trials`` finished (non-lost) trials."""
+    import optuna
+
+    study = open_search(spec)
+    evaluator = load_callable(spec.evaluator)
+
+    def objective(trial):
+        params = {}
+        for key, (kind, low, high) in spec.space.items():
+            params[key] = (trial.suggest_int(key, int(low), int(high)) if kind == "int"
+                           else trial.suggest_float(key, float(low), float(high)))
+        trial.set_user_attr("worker_pid", os.getpid())
+        try:
+            result = evaluator(params, dict(spec.fixed), dict(spec.settings))
+        except Exception as exc:  # noqa: BLE001
+            result = Evaluation(ok=False, message=f"{type(exc).__name__}: {exc}",
+                                attrs={"traceback": traceback.format_exc(limit=8)})
+        for key, value in result.attrs.items():
+            trial.set_user_attr(key, _jsonable(value))
+        values = [float(v) for v in result.values]
+        if result.ok and len(values) == len(spec.directions) and all(map(math.isfinite, values)):
+            return values
+        trial.set_user_attr("failure", result.message or "failed")
+        raise _EvaluationFailed(result.message)
+
+    def stop_when_done(study, _trial):
+        if _finished_results(study) >= spec.n_trials:
+            study.stop()
+
+    remaining = spec.n_trials - _finished_results(study)
+    if remaining > 0:
+        study.optimize(objective, n_trials=remaining, catch=(_EvaluationFailed, Exception),
+                       callbacks=[stop_when_done], show_progress_bar=progress)
+
+
+def _search_main(spec_dict: dict[str, Any]) -> None:
+    search_worker(SearchSpec(**spec_dict))
+
+
+def run_search(spec: SearchSpec, *, workers: int = 1, progress: bool = True) -> list[dict]:
+    """Run (or resume) an optimisation with ``workers`` processes; returns :func:`collect_search`."""
+    if not isinstance(workers, int) or workers < 1:
+        raise StudyError("workers", f"must be a positive integer, got {workers!r}")
+    Path(spec.out_dir).mkdir(parents=True, exist_ok=True)
+    study = open_search(spec)
+    if workers == 1:
+        search_worker(spec, progress=progress)
+    else:
+        import multiprocessing as mp
+
+        ctx = mp.get_context("spawn")
+        procs = [ctx.Process(target=_search_main, args=(spec.to_dict(),)) for _ in range(workers)]
+        for p in procs:
+            p.start()
+        for p in procs:
+            p.join()
+    return collect_search(study, spec)
+
+
+def collect_search(study, spec: SearchSpec) -> list[dict[str, Any]]:
+    """One row per (non-lost) trial: params, status, reason, objectives, metrics, pareto flag."""
+    from optuna.trial import TrialState
+
+    pareto = {t.number for t in study.best_trials} if any(
+        t.state == TrialState.COMPLETE for t in study.get_trials(deepcopy=False)) else set()
+    names = spec.settings.get("objective_names") or [f"value_{i}" for i in
+                                                     range(len(spec.directions))]
+    rows = []
+    for t in study.get_trials(deepcopy=False):
+        if is_lost(t) or t.state not in (TrialState.COMPLETE, TrialState.FAIL):
+            continue
+        attrs = t.user_attrs
+        row = {"trial": t.number} | dict(t.params)
+        row |= {"trial_status": "completed" if t.state == TrialState.COMPLETE else "failed",
+                "reason": attrs.get("failure", ""), "initial": bool(attrs.get("initial", False))}
+        for i, name in enumerate(names):
+            row[name] = t.values[i] if t.values else ""
+        for key in ("extension_mm", "radial_expansion_mm", "top_pressure_kpa",
+                    "limit_pressure_kpa", "fiber_length_mm", "mass_g", "wall_s"):
+            row[key] = _blank(attrs.get(key))
+        row["pareto"] = t.number in pareto
+        rows.append(row)
+    return rows
 
 
 # -- the ePSA evaluator -------------------------------------------------------------------------
