@@ -80,3 +80,14 @@ def raising_simulate(design, **kwargs):
     if design.chamber_radius == 4.0:
         raise DesignError("chamber_radius", "made-up invalid design for the test")
     return fake_simulate(design, **kwargs)
+
+
+def paper_like_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 80, 100),
+                        mesh_size=None, quick=False, progress=None):
+    """Mimics the paper's Fig. 8-9 findings: r = 5, 6 reach a limit point at 80 kPa, the lengths
+    of r = 2, 4 fluctuate; fibers stiffen the radial response (N = 20, 25, 50 differ little)."""
+    r = design.chamber_radius
+    if r in (5.0, 6.0):
+        return analytic_curve(design, pressures_kpa, material=material, limit_kpa=80.0)
+    wobble = 1.5 if (r in (2.0, 4.0) and design.fiber_turns == 0) else 0.0
+    return analytic_curve(design, pressures_kpa, material=material, wobble=wobble)
