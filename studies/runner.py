@@ -196,11 +196,25 @@ def make_storage(spec: SweepSpec):
                 con.execute("PRAGMA journal_mode=WAL")
             finally:
                 con.close()
-        engine_kwargs = {"connect_args": {"timeout": SQLITE_TIMEOUT_S}}
+        engine_kwargs = {"creator": _sqlite_creator(str(db))}
     with _file_lock(db):  # table creation by two processes at once races on SQLite
         return optuna.storages.RDBStorage(url, engine_kwargs=engine_kwargs,
                                           heartbeat_interval=spec.heartbeat_interval,
                                           grace_period=spec.grace_period)
+
+
+class _sqlite_creator:
+    """Connection factory: busy timeout, and ``synchronous = NORMAL``, which in WAL mode keeps
+    the database consistent on a crash (a power cut may lose the last commits, which a resumed
+    sweep recomputes) and makes each commit several times cheaper than the default FULL."""
+
+    def __init__(self, path: str):
+        self.path = path
+
+    def __call__(self):
+        con = sqlite3.connect(self.path, timeout=SQLITE_TIMEOUT_S, check_same_thread=False)
+        con.execute("PRAGMA synchronous=NORMAL")
+        return con
 
 
 @contextlib.contextmanager
@@ -537,7 +551,7 @@ def collect(study, spec: SweepSpec) -> list[dict[str, Any]]:
     rows = []
     for params in spec.points():
         state, trial = status[point_key(params)]
-        attrs = dict(trial.user_attrs) if trial is not None else {}
+        attrs = flat_attrs(trial)
         base = {"study": spec.name, "material": spec.settings.get("material", "")}
         base |= {k: v for k, v in spec.fixed.items()} | dict(params)
         for key in DESIGN_COLUMNS:  # the undeformed reference of the curve
@@ -563,6 +577,13 @@ def collect(study, spec: SweepSpec) -> list[dict[str, Any]]:
 DESIGN_COLUMNS = ("length", "outer_radius")
 #: Scalar user attributes copied to every CSV row of a point.
 SCALAR_METRICS = ("wall_s", "n_dofs", "message", "worker_pid")
+
+
+def flat_attrs(trial) -> dict[str, Any]:
+    """A trial's user attributes with the ``metrics`` dict merged in (one level)."""
+    attrs = dict(trial.user_attrs) if trial is not None else {}
+    metrics = attrs.get("metrics")
+    return {**metrics, **attrs} if isinstance(metrics, dict) else attrs
 
 
 def _blank(value):
@@ -751,7 +772,7 @@ def collect_search(study, spec: SearchSpec) -> list[dict[str, Any]]:
     for t in study.get_trials(deepcopy=False):
         if is_lost(t) or t.state not in (TrialState.COMPLETE, TrialState.FAIL):
             continue
-        attrs = t.user_attrs
+        attrs = flat_attrs(t)
         row = {"trial": t.number} | dict(t.params)
         row |= {"trial_status": "completed" if t.state == TrialState.COMPLETE else "failed",
                 "reason": attrs.get("failure", ""), "initial": bool(attrs.get("initial", False))}
@@ -795,6 +816,12 @@ def response_at(rows: Sequence[Mapping[str, Any]], pressure_kpa: float | None = 
     return None
 
 
+def _packed(attrs: dict[str, Any]) -> dict[str, Any]:
+    """Few user attributes (each is one database commit): rows, design, metrics (scalars)."""
+    return {"rows": attrs["rows"], "design": attrs["design"],
+            "metrics": {k: v for k, v in attrs.items() if k not in ("rows", "design")}}
+
+
 def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
                   settings: Mapping[str, Any]) -> Evaluation:
     """Evaluate one ePSA design. ``settings``: material, pressures_kpa, quick, mesh_size,
@@ -822,22 +849,22 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
         attrs["radial_expansion_mm"] = top["outer_radius_mm"] - design.outer_radius
         attrs["top_pressure_kpa"] = top["pressure_kpa"]
     if not attrs["converged"]:
-        return Evaluation(ok=False, attrs=attrs,
+        return Evaluation(ok=False, attrs=_packed(attrs),
                           message=f"diverged: {attrs['message'] or 'no reason given'}")
     if top is None:
-        return Evaluation(ok=False, attrs=attrs, message="no converged pressure step")
+        return Evaluation(ok=False, attrs=_packed(attrs), message="no converged pressure step")
     if settings.get("objectives", "sweep") == "pareto":
         target = max(pressures)
         at = response_at(attrs["rows"], target)
         if at is None or (attrs["limit_pressure_kpa"] is not None
                           and attrs["limit_pressure_kpa"] < target):
-            return Evaluation(ok=False, attrs=attrs, message=(
+            return Evaluation(ok=False, attrs=_packed(attrs), message=(
                 f"does not reach {target:g} kPa (limit pressure "
                 f"{attrs['limit_pressure_kpa']} kPa)"))
         values = (at["length_mm"] - design.length, at["outer_radius_mm"] - design.outer_radius,
                   attrs["fiber_length_mm"])
-        return Evaluation(ok=True, values=values, attrs=attrs)
-    return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=attrs)
+        return Evaluation(ok=True, values=values, attrs=_packed(attrs))
+    return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=_packed(attrs))
 
 
 def fiber_length_mm(design) -> float:

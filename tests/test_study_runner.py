@@ -39,7 +39,7 @@ def test_sweep_completes_every_point_once(tmp_path, monkeypatch):
     assert {r["trial_status"] for r in rows} == {"completed"}
     assert len(rows) == 5 * 5  # one row per (design, pressure)
     trial = study.get_trials(states=(TrialState.COMPLETE,))[0]
-    assert len(trial.user_attrs["rows"]) == 5 and "extension_mm" in trial.user_attrs
+    assert len(trial.user_attrs["rows"]) == 5 and "extension_mm" in trial.user_attrs["metrics"]
     # running again computes nothing
     runner.run_sweep(spec, progress=False)
     assert len((tmp_path / "log").read_text().splitlines()) == 5
