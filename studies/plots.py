@@ -24,8 +24,9 @@ def plot_curves(rows: Sequence[Mapping[str, Any]], param: str, path: str | Path,
                 title: str = "", label: str | None = None, unit: str = "") -> Path:
     """Length and outer radius against pressure, one line per value of ``param``.
 
-    The undeformed state (0 kPa) starts every line. A limit (burst) pressure is marked with a star
-    and its value; a diverged evaluation ends in a cross and is dashed; a missing or failed point
+    The undeformed state (0 kPa) starts every line; lines follow the solution path, so states past
+    a limit point (volume control, falling pressure) bend back. A limit (burst) pressure is marked
+    with a star at the limit state and its value; a diverged evaluation ends in a cross and is dashed; a missing or failed point
     without curve data is listed in the legend as such."""
     plt = _pyplot()
     curves = design_curves(rows, param)
@@ -34,25 +35,27 @@ def plot_curves(rows: Sequence[Mapping[str, Any]], param: str, path: str | Path,
     for i, (value, c) in enumerate(sorted(curves.items())):
         color = f"C{i % 10}"
         name = f"{label} = {value:g}{unit}"
-        if not c.pressures:
+        if not c.path:
             axes[0].plot([], [], color=color, label=f"{name}: {c.trial_status}"
                          + (f" ({_short(c.reason)})" if c.reason else ""))
             continue
-        p = [0.0] + c.pressures
+        p = [0.0] + [q for q, *_ in c.path]
         style = "--" if c.trial_status == "failed" else "-"
         suffix = ""
         if c.limit_pressure is not None:
-            suffix = f", limit {c.limit_pressure:g} kPa"
+            suffix = f", limit {c.limit_pressure:.3g} kPa"
         elif c.trial_status == "failed":
             suffix = ", diverged"
-        for ax, ys, y0 in ((axes[0], c.lengths, c.length0), (axes[1], c.radii, c.radius0)):
+        lengths, radii = [x for _, x, _, _ in c.path], [y for _, _, y, _ in c.path]
+        for ax, ys, y0 in ((axes[0], lengths, c.length0), (axes[1], radii, c.radius0)):
             y = [y0] + ys
             ax.plot(p, y, style, marker="o", ms=3, color=color,
                     label=name + suffix if ax is axes[0] else None)
             if c.limit_pressure is not None:
-                ax.plot([p[-1]], [y[-1]], marker="*", ms=14, color=color, mec="k")
-                ax.annotate(f"{c.limit_pressure:g} kPa", (p[-1], y[-1]), textcoords="offset points",
-                            xytext=(4, 4), fontsize=7, color=color)
+                k = max(range(len(p)), key=lambda j: p[j])  # the state at the limit pressure
+                ax.plot([p[k]], [y[k]], marker="*", ms=14, color=color, mec="k")
+                ax.annotate(f"{c.limit_pressure:.3g} kPa", (p[k], y[k]),
+                            textcoords="offset points", xytext=(4, 4), fontsize=7, color=color)
             elif c.trial_status == "failed":
                 ax.plot([p[-1]], [y[-1]], marker="x", ms=10, mew=2, color=color)
     axes[0].set_ylabel("ePSA length (mm)")

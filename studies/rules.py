@@ -43,7 +43,13 @@ FIBER_STUDY_CHAMBER_RADIUS = 3.0
 
 @dataclass(frozen=True)
 class DesignCurve:
-    """One design of a sweep, parsed from the CSV rows."""
+    """One design of a sweep, parsed from the CSV rows.
+
+    ``pressures/lengths/radii``: the pressure-controlled equilibria (row status "converged"), in
+    increasing pressure; the rules use these. ``path``: every computed state in solution order,
+    including volume-controlled states past a limit point (pressure falls there), for plots.
+    ``length0/radius0``: the evaluator's 0 kPa "reference" row if present (the FE's own measure
+    of the undeformed actuator), else the design's length and outer radius."""
 
     value: float
     trial_status: str                   #: completed | failed | running | waiting | missing
@@ -51,9 +57,10 @@ class DesignCurve:
     limit_pressure: float | None
     length0: float
     radius0: float
-    pressures: list[float] = field(default_factory=list)   #: computed equilibria only
+    pressures: list[float] = field(default_factory=list)
     lengths: list[float] = field(default_factory=list)
     radii: list[float] = field(default_factory=list)
+    path: list[tuple[float, float, float, str]] = field(default_factory=list)
 
     def at(self, pressure: float) -> tuple[float, float] | None:
         for p, length, radius in zip(self.pressures, self.lengths, self.radii):
@@ -69,7 +76,7 @@ class DesignCurve:
     @property
     def reached(self) -> float:
         """Highest computed pressure (kPa), 0 if none."""
-        return max(self.pressures, default=0.0)
+        return max([p for p, *_ in self.path], default=0.0)
 
 
 @dataclass(frozen=True)
@@ -98,7 +105,7 @@ def _f(value) -> float | None:
 
 
 def design_curves(rows: Sequence[Mapping[str, Any]], param: str) -> dict[float, DesignCurve]:
-    """Group curve rows by the value of ``param``; keep computed equilibria in pressure order."""
+    """Group curve rows by the value of ``param`` (row order = the solution path)."""
     grouped: dict[float, list[Mapping[str, Any]]] = {}
     for row in rows:
         value = _f(row.get(param))
@@ -108,17 +115,25 @@ def design_curves(rows: Sequence[Mapping[str, Any]], param: str) -> dict[float, 
     out = {}
     for value, group in grouped.items():
         first = group[0]
-        points = sorted((_f(r["pressure_kpa"]), _f(r["length_mm"]), _f(r["outer_radius_mm"]))
-                        for r in group if r.get("row_status") in ("converged", "volume-control")
-                        and _f(r.get("pressure_kpa")) is not None and _f(r.get("length_mm"))
-                        is not None and _f(r.get("outer_radius_mm")) is not None)
+        length0, radius0 = _f(first.get("length")) or 100.0, _f(first.get("outer_radius")) or 9.0
+        path = []
+        for r in group:
+            p, length, radius = (_f(r.get(k)) for k in ("pressure_kpa", "length_mm",
+                                                         "outer_radius_mm"))
+            status = r.get("row_status")
+            if None in (p, length, radius):
+                continue
+            if status == "reference":
+                length0, radius0 = length, radius
+            elif status in ("converged", "volume-control"):
+                path.append((p, length, radius, status))
+        controlled = sorted((p, x, y) for p, x, y, st in path if st == "converged")
         out[value] = DesignCurve(
             value=value, trial_status=str(first.get("trial_status", "")),
             reason=str(first.get("reason", "") or ""),
-            limit_pressure=_f(first.get("limit_pressure_kpa")),
-            length0=_f(first.get("length")) or 100.0, radius0=_f(first.get("outer_radius")) or 9.0,
-            pressures=[p for p, _, _ in points], lengths=[x for _, x, _ in points],
-            radii=[y for _, _, y in points])
+            limit_pressure=_f(first.get("limit_pressure_kpa")), length0=length0, radius0=radius0,
+            pressures=[p for p, _, _ in controlled], lengths=[x for _, x, _ in controlled],
+            radii=[y for _, _, y in controlled], path=path)
     return out
 
 

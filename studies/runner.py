@@ -62,8 +62,6 @@ EPSA_EVALUATOR = "studies.runner:evaluate_epsa"
 EPSA_SIMULATOR = "studies.actuator:simulate_epsa"
 #: Pressures of the paper's ePSA studies (kPa), Section V-A.
 PAPER_PRESSURES_KPA = (20.0, 40.0, 60.0, 80.0, 100.0)
-#: Row statuses of a curve that count as a computed equilibrium.
-OK_ROW_STATUSES = ("converged", "volume-control")
 #: Columns of an ActuatorCurve row, in CSV order.
 CURVE_COLUMNS = ("pressure_kpa", "length_mm", "outer_radius_mm", "chamber_volume_mm3",
                  "max_principal_stretch", "max_fiber_tension_n", "status")
@@ -576,7 +574,7 @@ def collect(study, spec: SweepSpec) -> list[dict[str, Any]]:
 #: Design fields copied from ``user_attrs["design"]`` to every CSV row.
 DESIGN_COLUMNS = ("length", "outer_radius")
 #: Scalar user attributes copied to every CSV row of a point.
-SCALAR_METRICS = ("wall_s", "n_dofs", "message", "worker_pid")
+SCALAR_METRICS = ("wall_s", "n_dofs", "message", "worker_pid", "vtu")
 
 
 def flat_attrs(trial) -> dict[str, Any]:
@@ -804,8 +802,9 @@ def curve_to_attrs(curve) -> dict[str, Any]:
 
 def response_at(rows: Sequence[Mapping[str, Any]], pressure_kpa: float | None = None
                 ) -> Mapping[str, Any] | None:
-    """The computed row at ``pressure_kpa`` (default: the highest computed pressure)."""
-    good = [r for r in rows if r.get("status") in OK_ROW_STATUSES]
+    """The pressure-controlled ("converged") row at ``pressure_kpa`` (default: the highest
+    such pressure). Volume-controlled states past a limit point are not used."""
+    good = [r for r in rows if r.get("status") == "converged"]
     if not good:
         return None
     if pressure_kpa is None:
@@ -839,14 +838,27 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
     pressures = tuple(float(p) for p in settings.get("pressures_kpa", PAPER_PRESSURES_KPA))
     kwargs = {"material": settings.get("material", "ecoflex-00-50"), "pressures_kpa": pressures,
               "mesh_size": settings.get("mesh_size"), "quick": bool(settings.get("quick", False))}
-    curve = simulate(design, **kwargs)
+    vtu_path = None
+    if settings.get("vtu_dir") and "keep_model" in _parameters(simulate):
+        kwargs["keep_model"] = True
+        tag = "_".join(f"{k}-{v:g}" if isinstance(v, (int, float)) else f"{k}-{v}"
+                       for k, v in sorted(params.items()))
+        vtu_path = Path(settings["vtu_dir"]) / f"{tag}.vtu"
+    solved = simulate(design, **kwargs)
+    curve = getattr(solved, "curve", solved)
     attrs = curve_to_attrs(curve)
+    if vtu_path is not None:
+        attrs["vtu"] = _write_shape(solved, vtu_path)
     attrs |= {"design": design.to_dict(), "mass_g": design_mass_g(design, kwargs["material"]),
               "fiber_length_mm": fiber_length_mm(design)}
+    length0, radius0 = design.length, design.outer_radius
+    for row in attrs["rows"]:  # the FE's own undeformed measure (may include the seal head)
+        if row.get("status") == "reference" and row.get("length_mm") is not None:
+            length0, radius0 = row["length_mm"], row["outer_radius_mm"]
     top = response_at(attrs["rows"])
     if top is not None:
-        attrs["extension_mm"] = top["length_mm"] - design.length
-        attrs["radial_expansion_mm"] = top["outer_radius_mm"] - design.outer_radius
+        attrs["extension_mm"] = top["length_mm"] - length0
+        attrs["radial_expansion_mm"] = top["outer_radius_mm"] - radius0
         attrs["top_pressure_kpa"] = top["pressure_kpa"]
     if not attrs["converged"]:
         return Evaluation(ok=False, attrs=_packed(attrs),
@@ -861,10 +873,35 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
             return Evaluation(ok=False, attrs=_packed(attrs), message=(
                 f"does not reach {target:g} kPa (limit pressure "
                 f"{attrs['limit_pressure_kpa']} kPa)"))
-        values = (at["length_mm"] - design.length, at["outer_radius_mm"] - design.outer_radius,
+        values = (at["length_mm"] - length0, at["outer_radius_mm"] - radius0,
                   attrs["fiber_length_mm"])
         return Evaluation(ok=True, values=values, attrs=_packed(attrs))
     return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=_packed(attrs))
+
+
+def _parameters(fn) -> set[str]:
+    import inspect
+
+    try:
+        return set(inspect.signature(fn).parameters)
+    except (TypeError, ValueError):
+        return set()
+
+
+def _write_shape(solved, path: Path) -> str:
+    """VTU of the last computed state of a ``Solved`` (curve, model, path); "" if unavailable.
+    A shape that cannot be written never fails the evaluation."""
+    try:
+        steps = solved.path.steps
+        if not steps:
+            return ""
+        from fem.vtu import write_state
+
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_state(path, solved.model, steps[-1].x)
+        return str(path)
+    except Exception as exc:  # noqa: BLE001
+        return f"not written: {type(exc).__name__}: {exc}"
 
 
 def fiber_length_mm(design) -> float:

@@ -45,7 +45,9 @@ def _log(design):
 def analytic_curve(design, pressures_kpa, *, material="fake", limit_kpa=None, wobble=0.0,
                    stiff=1.0):
     """A smooth made-up response: extension grows with chamber radius, fibers cut radial growth."""
-    rows = []
+    seal = 3.0  # like the FE evaluator, the measured length includes the seal head
+    rows = [CurveRow(0.0, design.length + seal, design.outer_radius, 1000.0, 1.0, 0.0,
+                     "reference")]
     n = design.fiber_turns
     for i, p in enumerate(pressures_kpa):
         if limit_kpa is not None and p > limit_kpa:
@@ -55,7 +57,7 @@ def analytic_curve(design, pressures_kpa, *, material="fake", limit_kpa=None, wo
         a = design.chamber_radius / 3.0
         ext = 0.2 * p * a / stiff * (1 + 0.5 * n / (n + 10)) + wobble * (-1) ** i * p / 20
         rad = 0.02 * p * a**2 / stiff / (1 + n / 5)
-        rows.append(CurveRow(p, design.length + ext, design.outer_radius + rad, 1000.0 + p,
+        rows.append(CurveRow(p, design.length + seal + ext, design.outer_radius + rad, 1000.0 + p,
                              1.0 + p / 200, 0.1 * n * p / 100, "converged"))
     return ActuatorCurve(rows=tuple(rows), converged=True, limit_pressure_kpa=limit_kpa,
                          material=material)

@@ -37,9 +37,12 @@ def test_sweep_completes_every_point_once(tmp_path, monkeypatch):
     study, counts = _complete_counts(spec)
     assert sorted(counts.values()) == [1] * 5
     assert {r["trial_status"] for r in rows} == {"completed"}
-    assert len(rows) == 5 * 5  # one row per (design, pressure)
+    assert len(rows) == 5 * 6  # one row per (design, pressure), 0 kPa reference included
     trial = study.get_trials(states=(TrialState.COMPLETE,))[0]
-    assert len(trial.user_attrs["rows"]) == 5 and "extension_mm" in trial.user_attrs["metrics"]
+    assert len(trial.user_attrs["rows"]) == 6 and "extension_mm" in trial.user_attrs["metrics"]
+    # extension is measured from the 0 kPa reference row (here 103 mm, seal head included)
+    assert trial.user_attrs["metrics"]["extension_mm"] == pytest.approx(
+        trial.user_attrs["rows"][-1]["length_mm"] - trial.user_attrs["rows"][0]["length_mm"])
     # running again computes nothing
     runner.run_sweep(spec, progress=False)
     assert len((tmp_path / "log").read_text().splitlines()) == 5
@@ -56,7 +59,7 @@ def test_failed_and_invalid_designs_do_not_stop_the_sweep(tmp_path, monkeypatch)
     assert "DesignError" in by_r[4.0][0]["reason"] and "chamber_radius" in by_r[4.0][0]["reason"]
     assert {r["trial_status"] for r in by_r[5.0]} == {"failed"}
     assert "Newton diverged at 60 kPa" in by_r[5.0][0]["reason"]
-    assert len(by_r[5.0]) == 2  # the partial curve (20, 40 kPa) is kept
+    assert len(by_r[5.0]) == 3  # the partial curve (0, 20, 40 kPa) is kept
     assert {r["trial_status"] for r in by_r[6.0]} == {"completed"}  # a limit point is a result
     assert by_r[6.0][0]["limit_pressure_kpa"] == 80.0
     for radius in (2.0, 3.0):
@@ -106,7 +109,7 @@ def test_killed_worker_resumes_without_loss_or_duplicates(tmp_path, monkeypatch)
     rows = runner.run_sweep(spec, progress=False)
     _, counts = _complete_counts(spec)
     assert len(counts) == 10 and set(counts.values()) == {1}
-    assert {r["trial_status"] for r in rows} == {"completed"} and len(rows) == 50
+    assert {r["trial_status"] for r in rows} == {"completed"} and len(rows) == 60
     # the resumed run computed exactly the points that were not complete at the kill
     lines = log.read_text().splitlines()
     assert len(lines) - n_logged == 10 - len(done_before)
@@ -135,7 +138,7 @@ def test_collect_lists_missing_points(tmp_path):
     assert [r["trial_status"] for r in rows] == ["missing"] * 5
     runner.run_worker(spec, max_trials=2)
     rows = runner.collect(study, spec)
-    assert Counter(r["trial_status"] for r in rows) == {"completed": 10, "waiting": 3}
+    assert Counter(r["trial_status"] for r in rows) == {"completed": 12, "waiting": 3}
 
 
 def test_spec_validation(tmp_path):

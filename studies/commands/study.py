@@ -14,7 +14,8 @@ reported as ``mass_g``). The Table 1 design (r = 3, N = 20) is evaluated first a
 
 Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick): curves.csv (every grid point and
 pressure, with trial and row status and the failure reason), summary.csv (one row per design),
-NAME.png, spec.json and, without --storage, the SQLite study study.db. Running the same command
+NAME.png, vtu/ (the last computed shape of each design, when the evaluator can return its model),
+spec.json and, without --storage, the SQLite study study.db. Running the same command
 again resumes: only missing points are computed. --storage postgresql://... lets workers on several
 machines share one study (start the same command on each).
 """
@@ -123,7 +124,8 @@ def _run_sweep(args) -> int:
 
     folder = study_folder(args.out, args.name, args.material, args.quick)
     folder.mkdir(parents=True, exist_ok=True)
-    spec = sweep_spec(args.name, folder, _settings(args), args.storage)
+    spec = sweep_spec(args.name, folder, _settings(args) | {"vtu_dir": str(folder / "vtu")},
+                      args.storage)
     (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
     rows = runner.run_sweep(spec, workers=args.workers, progress=not args.no_progress)
     return write_sweep_outputs(args.name, spec, rows, folder)
