@@ -104,6 +104,11 @@ def plot_pareto(rows: Sequence[Mapping[str, Any]], path: str | Path, *, title: s
         c = [_num(r.get("fiber_length_mm")) or 0.0 for r in done]
         sc = ax.scatter(x, y, c=c, cmap="viridis", s=22, zorder=2)
         fig.colorbar(sc, ax=ax, label="fiber length, both helices (mm)")
+        front2 = [(a, b) for a, b in zip(x, y)  # non-dominated in this plane only
+                  if not any(a2 <= a and b2 >= b and (a2, b2) != (a, b) for a2, b2 in zip(x, y))]
+        if len(front2) > 1:
+            ax.step(*zip(*sorted(front2)), where="post", color="0.4", lw=1, zorder=1,
+                    label="front of extension vs radial expansion")
         front = sorted((a, b) for a, b, r in zip(x, y, done) if _flag(r.get("pareto")))
         if front:
             ax.scatter(*zip(*front), facecolors="none", edgecolors="r", s=70, zorder=3,

@@ -175,15 +175,24 @@ CHAMBER_RADIUS_RULE = (
     f"with the smallest radial expansion at {TARGET_PRESSURE_KPA:g} kPa")
 
 
-def select_chamber_radius(rows: Sequence[Mapping[str, Any]]) -> Selection:
+def select_chamber_radius(rows: Sequence[Mapping[str, Any]], mu: float | None = None
+                          ) -> Selection:
     """Paper: r = 5, 6 cannot withstand > 80 kPa; r = 2, 4 fluctuate; r = 3 has a small radial
-    expansion -> 3 mm. Rows: the chamber-radius study (no fibers)."""
+    expansion -> 3 mm. Rows: the chamber-radius study (no fibers).
+
+    ``mu`` (MPa), the shear modulus the study ran with, only adds evidence: without fibers the
+    body is a nearly incompressible Neo-Hookean solid with a fixed K/mu, so its limit pressure
+    is proportional to mu, and a radius with a limit point p_lim withstands the target pressure
+    for mu >= mu * target / p_lim."""
     curves = design_curves(rows, "chamber_radius")
     evidence, candidates = [], []
     for r, c in sorted(curves.items()):
         if not c.withstands:
             if c.trial_status == "completed" and c.limit_pressure is not None:
-                why = f"limit point at {c.limit_pressure:g} kPa"
+                why = f"limit point at {c.limit_pressure:.3g} kPa"
+                if mu is not None and c.limit_pressure > 0:
+                    why += (f" (would withstand {TARGET_PRESSURE_KPA:g} kPa for mu >= "
+                            f"{mu * TARGET_PRESSURE_KPA / c.limit_pressure:.3g} MPa)")
             elif c.trial_status == "failed":
                 why = f"diverged/failed after {c.reached:g} kPa ({c.reason})"
             elif c.trial_status != "completed":

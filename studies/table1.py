@@ -87,6 +87,8 @@ def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
                                          f"no {STUDY_DIRS[param]} study for this material "
                                          f"(run `softcrawl study {STUDY_DIRS[param]} --material "
                                          f"{run.material}`)")
+        elif param == "chamber_radius":
+            out[param] = select(read_csv(src), mu=_mu(run.material))
         else:
             out[param] = select(read_csv(src))
     for param, why in PENDING.items():
@@ -120,6 +122,15 @@ def _why_not(sel: rules.Selection, paper: float) -> str:
         if line.startswith(f"{key} = {paper:g}:"):
             return line
     return f"no result for {key} = {paper:g}"
+
+
+def _mu(material: str) -> float | None:
+    try:
+        from fem.materials import get_material
+
+        return float(get_material(material).mu)
+    except Exception:  # noqa: BLE001 - a material unknown to fem.materials
+        return None
 
 
 def _material_label(material: str) -> str:

@@ -41,6 +41,8 @@ def test_chamber_radius_rule_reproduces_the_paper_reasoning():
     assert sel.value == 3.0 and sel.status == "selected"
     text = "\n".join(sel.evidence)
     assert "r = 5: does not withstand: limit point at 80 kPa" in text
+    sel = rules.select_chamber_radius(paper_like_chamber_rows(), mu=0.03)
+    assert "would withstand 100 kPa for mu >= 0.0375 MPa" in "\n".join(sel.evidence)
     assert "r = 6: does not withstand: diverged" in text
     assert "r = 2: withstands; fluctuating" in text and "r = 4: withstands; fluctuating" in text
 
