@@ -240,9 +240,36 @@ def open_study(spec: SweepSpec):
     with _file_lock(_sqlite_path(spec.storage_url)):
         study = optuna.create_study(study_name=spec.name, storage=storage, sampler=sampler,
                                     directions=list(spec.directions), load_if_exists=True)
-    if "spec" not in study.user_attrs:
+    stored = study.user_attrs.get("spec")
+    if stored is None:
         study.set_user_attr("spec", spec.to_dict())
+    else:
+        _check_same_study(stored, spec.to_dict())
     return study
+
+
+#: Spec fields that may differ between runs of one study (per-machine paths, worker tuning).
+_LOCAL_FIELDS = ("out_dir", "storage", "heartbeat_interval", "grace_period")
+_LOCAL_SETTINGS = ("vtu_dir",)
+
+
+def _check_same_study(stored: Mapping[str, Any], new: Mapping[str, Any]) -> None:
+    """Refuse to resume a study with different grid, evaluator or settings: its points would
+    mix two different computations."""
+    def core(d):
+        d = json.loads(json.dumps(_jsonable(dict(d))))
+        for key in _LOCAL_FIELDS:
+            d.pop(key, None)
+        d["settings"] = {k: v for k, v in d.get("settings", {}).items()
+                         if k not in _LOCAL_SETTINGS}
+        return d
+
+    a, b = core(stored), core(new)
+    if a != b:
+        diff = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+        raise StudyError("storage", f"study {new.get('name')!r} exists with different "
+                                    f"{', '.join(diff)}; use another --out/--storage or the "
+                                    "same options")
 
 
 # -- trial bookkeeping --------------------------------------------------------------------------
@@ -683,7 +710,10 @@ def open_search(spec: SearchSpec):
         study = optuna.create_study(study_name=spec.name, storage=storage,
                                     sampler=_make_sampler(spec),
                                     directions=list(spec.directions), load_if_exists=True)
-        if "spec" not in study.user_attrs:
+        stored = study.user_attrs.get("spec")
+        if stored is not None:
+            _check_same_study({**stored, "n_trials": 0}, {**spec.to_dict(), "n_trials": 0})
+        else:
             study.set_user_attr("spec", spec.to_dict())
             for params in spec.initial:
                 study.enqueue_trial(dict(params), user_attrs={"initial": True})

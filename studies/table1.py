@@ -2,7 +2,8 @@
 
 Reads RESULTS/chamber-radius/<material>/curves.csv and RESULTS/fiber-turns/<material>/curves.csv
 (as written by ``softcrawl study``; a folder ``<material>-quick`` holds a --quick run and is used
-only when the full run of that material is absent) and writes RESULTS/table1.md: for every material
+only when the full run of that material is absent; --mesh-size runs, ``<material>-h<size>``, are
+not used) and writes RESULTS/table1.md: for every material
 one table with a row per Table 1 parameter (paper value, our value, rule, material, agreement and
 why), the evidence of each rule, and a last section saying which selections depend on the material.
 
@@ -11,6 +12,7 @@ selected values follow.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
@@ -55,6 +57,8 @@ def find_materials(results: str | Path) -> list[str]:
     for sub in STUDY_DIRS.values():
         for curves in sorted(Path(results).glob(f"{sub}/*/curves.csv")):
             name = curves.parent.name
+            if re.search(r"-h[0-9.]+$", name):  # a --mesh-size run: not used by table1
+                continue
             names.add(name[: -len(QUICK_SUFFIX)] if name.endswith(QUICK_SUFFIX) else name)
     return sorted(names)
 

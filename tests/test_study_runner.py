@@ -147,3 +147,13 @@ def test_spec_validation(tmp_path):
     assert err.value.parameter == "grid.chamber_radius"
     with pytest.raises(ValueError):
         runner.run_sweep(_spec(tmp_path), workers=0)
+
+
+def test_resume_refuses_different_settings(tmp_path):
+    spec = _spec(tmp_path)
+    runner.open_study(spec)
+    other = SweepSpec(**{**spec.to_dict(), "settings": {**spec.settings, "quick": True}})
+    with pytest.raises(ValueError) as err:
+        runner.open_study(other)
+    assert err.value.parameter == "storage" and "settings" in str(err.value)
+    runner.open_study(SweepSpec(**{**spec.to_dict(), "heartbeat_interval": 2}))  # local: fine

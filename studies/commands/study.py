@@ -12,7 +12,7 @@ expansion, minimise the Kevlar thread length of the double helix (the fabricatio
 done by hand, turn by turn, so thread length ~ winding work; the body mass depends on r only and is
 reported as ``mass_g``). The Table 1 design (r = 3, N = 20) is evaluated first and marked.
 
-Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick): curves.csv (every grid point and
+Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick, -hSIZE with --mesh-size): curves.csv (every grid point and
 pressure, with trial and row status and the failure reason), summary.csv (one row per design),
 NAME.png, vtu/ (the last computed shape of each design, when the evaluator can return its model),
 spec.json and, without --storage, the SQLite study study.db. Running the same command
@@ -68,10 +68,15 @@ def register(subparsers) -> None:
     parser.set_defaults(func=run)
 
 
-def study_folder(out, name: str, material: str, quick: bool):
+def run_tag(material: str, quick: bool, mesh_size: float | None = None) -> str:
+    """Folder and study-name suffix of a run: MATERIAL[-quick][-hSIZE]."""
+    return material + ("-quick" if quick else "") + (f"-h{mesh_size:g}" if mesh_size else "")
+
+
+def study_folder(out, name: str, material: str, quick: bool, mesh_size: float | None = None):
     from pathlib import Path
 
-    return Path(out) / name / (material + ("-quick" if quick else ""))
+    return Path(out) / name / run_tag(material, quick, mesh_size)
 
 
 def _settings(args) -> dict:
@@ -112,7 +117,8 @@ def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
     from studies.runner import SweepSpec
 
     grid, fixed = GRIDS[name]
-    tag = settings.get("material", "") + ("-quick" if settings.get("quick") else "")
+    tag = run_tag(settings.get("material", ""), settings.get("quick", False),
+                  settings.get("mesh_size"))
     return SweepSpec(name=f"{name}-{tag}", grid=grid, fixed=fixed, out_dir=str(out_dir),
                      settings=settings, storage=storage)
 
@@ -122,7 +128,7 @@ def _run_sweep(args) -> int:
 
     from studies import plots, runner
 
-    folder = study_folder(args.out, args.name, args.material, args.quick)
+    folder = study_folder(args.out, args.name, args.material, args.quick, args.mesh_size)
     folder.mkdir(parents=True, exist_ok=True)
     spec = sweep_spec(args.name, folder, _settings(args) | {"vtu_dir": str(folder / "vtu")},
                       args.storage)
@@ -170,11 +176,11 @@ def _run_optimise(args) -> int:
 
     from studies import plots, runner
 
-    folder = study_folder(args.out, args.name, args.material, args.quick)
+    folder = study_folder(args.out, args.name, args.material, args.quick, args.mesh_size)
     folder.mkdir(parents=True, exist_ok=True)
     settings = _settings(args) | {"objectives": "pareto", "objective_names": list(OBJECTIVES)}
     trials = args.trials or (QUICK_TRIALS if args.quick else DEFAULT_TRIALS)
-    tag = args.material + ("-quick" if args.quick else "")
+    tag = run_tag(args.material, args.quick, args.mesh_size)
     spec = runner.SearchSpec(name=f"{args.name}-{tag}", space=SPACE, out_dir=str(folder),
                              n_trials=trials, directions=DIRECTIONS, sampler=args.sampler,
                              seed=args.seed, fixed={}, settings=settings, storage=args.storage,
