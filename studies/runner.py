@@ -429,6 +429,7 @@ def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable) -
         except Exception as exc:  # noqa: BLE001 - any failure is a failed trial, never a crash
             result = Evaluation(ok=False, message=f"{type(exc).__name__}: {exc}",
                                 attrs={"traceback": traceback.format_exc(limit=8)})
+
     for key, value in result.attrs.items():
         trial.set_user_attr(key, _jsonable(value))
     values = [float(v) for v in result.values]
@@ -451,6 +452,31 @@ def run_worker(spec: SweepSpec, *, progress: bool = False, max_trials: int | Non
     ``max_trials`` stops after that many evaluations (for tests). While other workers still run
     trials, the worker waits (``poll_s``) so that it can take over points of workers that die.
     """
+    with _sigterm_as_exit():
+        return _run_worker(spec, progress=progress, max_trials=max_trials, poll_s=poll_s)
+
+
+@contextlib.contextmanager
+def _sigterm_as_exit() -> Iterator[None]:
+    """SIGTERM raises SystemExit (so a running trial is handed back) while a worker runs."""
+    import signal
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise SystemExit(128 + signum)
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _run_worker(spec: SweepSpec, *, progress: bool, max_trials: int | None,
+                poll_s: float) -> dict[str, int]:
     from optuna.trial import TrialState
 
     study = open_study(spec)
@@ -473,7 +499,12 @@ def run_worker(spec: SweepSpec, *, progress: bool = False, max_trials: int | Non
                         _update_bar(bar, study, spec)
                     continue
                 break
-            counts[evaluate_trial(study, trial_id, spec, evaluator)] += 1
+            try:
+                counts[evaluate_trial(study, trial_id, spec, evaluator)] += 1
+            except BaseException:  # Ctrl-C, SIGTERM: give the point back at once (lost trial)
+                with contextlib.suppress(Exception):
+                    study._storage.set_trial_state_values(trial_id, state=TrialState.FAIL)
+                raise
             if bar is not None:
                 _update_bar(bar, study, spec)
     finally:

@@ -157,3 +157,23 @@ def test_resume_refuses_different_settings(tmp_path):
         runner.open_study(other)
     assert err.value.parameter == "storage" and "settings" in str(err.value)
     runner.open_study(SweepSpec(**{**spec.to_dict(), "heartbeat_interval": 2}))  # local: fine
+
+
+def test_terminated_worker_hands_its_point_back_at_once(tmp_path, monkeypatch):
+    monkeypatch.setenv("SOFTCRAWL_FAKE_SLEEP", "1.0")
+    spec = _spec(tmp_path, radii=(2.0, 3.0, 4.0), grace_period=600)  # staleness would take 10 min
+    study = runner.open_study(spec)
+    proc = mp.get_context("spawn").Process(target=_worker, args=(spec.to_dict(),))
+    proc.start()
+    deadline = time.time() + 60
+    while time.time() < deadline and not study.get_trials(states=(TrialState.RUNNING,)):
+        time.sleep(0.05)
+    os.kill(proc.pid, signal.SIGTERM)
+    proc.join()
+    assert not study.get_trials(states=(TrialState.RUNNING,))
+    monkeypatch.setenv("SOFTCRAWL_FAKE_SLEEP", "0")
+    t0 = time.time()
+    rows = runner.run_sweep(spec, progress=False)
+    assert time.time() - t0 < 30 and {r["trial_status"] for r in rows} == {"completed"}
+    _, counts = _complete_counts(spec)
+    assert len(counts) == 3 and set(counts.values()) == {1}
