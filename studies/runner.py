@@ -724,22 +724,30 @@ class _EvaluationFailed(Exception):
     """Raised inside an optuna objective so that ``optimize(catch=...)`` records a FAIL trial."""
 
 
-def _make_sampler(spec: SearchSpec, n_workers: int = 1):
+def _make_sampler(spec: SearchSpec, seed: int | None):
     import optuna
 
     if spec.sampler == "tpe":
-        return optuna.samplers.TPESampler(seed=spec.seed, multivariate=True)
+        return optuna.samplers.TPESampler(seed=seed, multivariate=True)
     population = max(4, min(20, spec.n_trials // 4))
-    return optuna.samplers.NSGAIISampler(seed=spec.seed, population_size=population)
+    return optuna.samplers.NSGAIISampler(seed=seed, population_size=population)
 
 
-def open_search(spec: SearchSpec):
+def open_search(spec: SearchSpec, worker: int = 0):
+    """Create or load the study. Each worker (and each resumption) seeds its sampler
+    differently: with one seed, parallel workers would propose the same random points."""
     import optuna
 
     storage = make_storage(spec)
+    seed = None
     with _file_lock(_sqlite_path(spec.storage_url)):
+        if spec.seed is not None:
+            with contextlib.suppress(KeyError):
+                done = optuna.load_study(study_name=spec.name, storage=storage)
+                seed = spec.seed + 1000 * worker + len(done.get_trials(deepcopy=False))
+            seed = spec.seed + 1000 * worker if seed is None else seed
         study = optuna.create_study(study_name=spec.name, storage=storage,
-                                    sampler=_make_sampler(spec),
+                                    sampler=_make_sampler(spec, seed),
                                     directions=list(spec.directions), load_if_exists=True)
         stored = study.user_attrs.get("spec")
         if stored is not None:
@@ -759,11 +767,10 @@ def _finished_results(study) -> int:
                if not is_lost(t))
 
 
-def search_worker(spec: SearchSpec, *, progress: bool = False) -> None:
-    """Run trials until the study holds ``spec.n_trials`` finished (non-lost) trials."""
-    import optuna
-
-    study = open_search(spec)
+def search_worker(spec: SearchSpec, *, progress: bool = False, worker: int = 0) -> None:
+    """Run trials until the study holds ``spec.n_trials`` finished (non-lost) trials. With
+    several workers the total may exceed the budget by the trials in flight at the end."""
+    study = open_search(spec, worker)
     evaluator = load_callable(spec.evaluator)
 
     def objective(trial):
@@ -772,11 +779,19 @@ def search_worker(spec: SearchSpec, *, progress: bool = False) -> None:
             params[key] = (trial.suggest_int(key, int(low), int(high)) if kind == "int"
                            else trial.suggest_float(key, float(low), float(high)))
         trial.set_user_attr("worker_pid", os.getpid())
-        try:
-            result = evaluator(params, dict(spec.fixed), dict(spec.settings))
-        except Exception as exc:  # noqa: BLE001
-            result = Evaluation(ok=False, message=f"{type(exc).__name__}: {exc}",
-                                attrs={"traceback": traceback.format_exc(limit=8)})
+        twin = _twin(study, params, trial.number)
+        if twin is not None:  # NSGA-II crossover repeats points: reuse, do not recompute
+            result = Evaluation(ok=twin.state.name == "COMPLETE", values=tuple(twin.values or ()),
+                                attrs={k: v for k, v in twin.user_attrs.items()
+                                       if k not in ("initial", "failure", "worker_pid")}
+                                | {"copied_from": twin.number},
+                                message=twin.user_attrs.get("failure", ""))
+        else:
+            try:
+                result = evaluator(params, dict(spec.fixed), dict(spec.settings))
+            except Exception as exc:  # noqa: BLE001
+                result = Evaluation(ok=False, message=f"{type(exc).__name__}: {exc}",
+                                    attrs={"traceback": traceback.format_exc(limit=8)})
         for key, value in result.attrs.items():
             trial.set_user_attr(key, _jsonable(value))
         values = [float(v) for v in result.values]
@@ -795,8 +810,20 @@ def search_worker(spec: SearchSpec, *, progress: bool = False) -> None:
                        callbacks=[stop_when_done], show_progress_bar=progress)
 
 
-def _search_main(spec_dict: dict[str, Any]) -> None:
-    search_worker(SearchSpec(**spec_dict))
+def _twin(study, params: Mapping[str, Any], number: int):
+    """A finished, non-lost earlier trial with the same parameters, if any."""
+    from optuna.trial import TrialState
+
+    key = point_key(params)
+    for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE, TrialState.FAIL)):
+        if t.number != number and not is_lost(t) and point_key(t.params) == key:
+            return t
+    return None
+
+
+def _search_main(spec_dict: dict[str, Any], worker: int) -> None:
+    with _sigterm_as_exit():
+        search_worker(SearchSpec(**spec_dict), worker=worker)
 
 
 def run_search(spec: SearchSpec, *, workers: int = 1, progress: bool = True) -> list[dict]:
@@ -811,7 +838,8 @@ def run_search(spec: SearchSpec, *, workers: int = 1, progress: bool = True) -> 
         import multiprocessing as mp
 
         ctx = mp.get_context("spawn")
-        procs = [ctx.Process(target=_search_main, args=(spec.to_dict(),)) for _ in range(workers)]
+        procs = [ctx.Process(target=_search_main, args=(spec.to_dict(), i))
+                 for i in range(workers)]
         for p in procs:
             p.start()
         for p in procs:
@@ -838,7 +866,7 @@ def collect_search(study, spec: SearchSpec) -> list[dict[str, Any]]:
         for i, name in enumerate(names):
             row[name] = t.values[i] if t.values else ""
         for key in ("extension_mm", "radial_expansion_mm", "top_pressure_kpa",
-                    "limit_pressure_kpa", "fiber_length_mm", "mass_g", "wall_s"):
+                    "limit_pressure_kpa", "fiber_length_mm", "mass_g", "wall_s", "copied_from"):
             row[key] = _blank(attrs.get(key))
         row["pareto"] = t.number in pareto
         rows.append(row)
