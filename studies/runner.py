@@ -290,9 +290,9 @@ def is_lost(trial) -> bool:
         "failure" not in trial.user_attrs or "duplicate_of" in trial.user_attrs)
 
 
-def trials_by_point(study) -> dict[str, list]:
+def trials_by_point(study, trials=None) -> dict[str, list]:
     out: dict[str, list] = {}
-    for trial in study.get_trials(deepcopy=False):
+    for trial in study.get_trials(deepcopy=False) if trials is None else trials:
         key = _trial_point(trial)
         if key is not None:
             out.setdefault(key, []).append(trial)
@@ -310,10 +310,11 @@ def _point_pending_or_done(trials) -> bool:
     return False
 
 
-def enqueue_missing(study, spec: SweepSpec) -> int:
+def enqueue_missing(study, spec: SweepSpec, trials=None) -> int:
     """Enqueue every grid point that has no trial that is waiting, running, complete or failed as
-    a result. Idempotent; call it under :func:`_file_lock` for SQLite. Returns how many."""
-    by_point = trials_by_point(study)
+    a result. Idempotent; call it under :func:`_file_lock` for SQLite. Returns how many.
+    ``trials``: a current snapshot of the study's trials (fetched if None)."""
+    by_point = trials_by_point(study, trials)
     n = 0
     for params in spec.points():
         if not _point_pending_or_done(by_point.get(point_key(params), [])):
@@ -322,23 +323,26 @@ def enqueue_missing(study, spec: SweepSpec) -> int:
     return n
 
 
-def _fail_stale(study, grace_period: float) -> None:
+def _fail_stale(study, grace_period: float, trials) -> bool:
     """Fail RUNNING trials of dead workers (heartbeat older than the grace period, or never
-    recorded and started longer ago than the grace period)."""
+    recorded and started longer ago than the grace period). ``trials``: a snapshot taken after
+    ``fail_stale_trials``. Returns whether it failed any trial (the snapshot is then stale)."""
     import datetime
 
     import optuna
     from optuna.trial import TrialState
 
-    optuna.storages.fail_stale_trials(study)
     storage = study._storage
     now = datetime.datetime.now()
-    for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
-        if t.datetime_start is None or (now - t.datetime_start).total_seconds() < grace_period:
+    changed = False
+    for t in trials:
+        if t.state != TrialState.RUNNING or t.datetime_start is None or (
+                now - t.datetime_start).total_seconds() < grace_period:
             continue
         with contextlib.suppress(Exception):
             if not _has_heartbeat(storage, t._trial_id):
-                storage.set_trial_state_values(t._trial_id, state=TrialState.FAIL)
+                changed |= storage.set_trial_state_values(t._trial_id, state=TrialState.FAIL)
+    return changed
 
 
 def _has_heartbeat(storage, trial_id: int) -> bool:
@@ -349,25 +353,28 @@ def _has_heartbeat(storage, trial_id: int) -> bool:
         return models.TrialHeartbeatModel.where_trial_id(trial_id, session) is not None
 
 
-def _claim(study) -> int | None:
+def _claim(study, trials) -> int | None:
     """Move one WAITING trial to RUNNING; the storage lets only one worker succeed per trial."""
     from optuna.trial import TrialState
 
     storage = study._storage
-    for t in study.get_trials(deepcopy=False, states=(TrialState.WAITING,)):
+    for t in trials:
+        if t.state != TrialState.WAITING:
+            continue
         with contextlib.suppress(Exception):  # UpdateFinishedTrialError: another worker won
             if storage.set_trial_state_values(t._trial_id, state=TrialState.RUNNING):
                 return t._trial_id
     return None
 
 
-def _duplicate_of(study, trial_id: int) -> int | None:
-    """Number of another trial that completed this point, or claimed it earlier."""
+def _duplicate_of(study, trial_id: int, trials=None) -> int | None:
+    """Number of another trial that completed this point, or claimed it earlier. ``trials``: a
+    snapshot taken under the claim lock (exact for SQLite); None fetches a fresh one."""
     from optuna.trial import TrialState
 
     me = study._storage.get_trial(trial_id)
     key = _trial_point(me)
-    for t in trials_by_point(study).get(key, []):
+    for t in trials_by_point(study, trials).get(key, []):
         if t._trial_id == trial_id:
             continue
         if t.state == TrialState.COMPLETE or (t.state == TrialState.FAIL and not is_lost(t)):
@@ -410,13 +417,15 @@ def _jsonable(value):
     return value
 
 
-def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable) -> str:
-    """Evaluate a claimed trial and tell the study. Returns "completed" | "failed" | "duplicate"."""
+def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable,
+                   trials=None) -> str:
+    """Evaluate a claimed trial and tell the study. Returns "completed" | "failed" | "duplicate".
+    ``trials``: the snapshot the claim was made from, if it was taken under the SQLite lock."""
     import optuna
     from optuna.trial import TrialState
 
     trial = optuna.trial.Trial(study, trial_id)
-    dup = _duplicate_of(study, trial_id)
+    dup = _duplicate_of(study, trial_id, trials)
     if dup is not None:
         trial.set_user_attr("duplicate_of", dup)
         study.tell(trial, state=TrialState.FAIL)
@@ -477,6 +486,7 @@ def _sigterm_as_exit() -> Iterator[None]:
 
 def _run_worker(spec: SweepSpec, *, progress: bool, max_trials: int | None,
                 poll_s: float) -> dict[str, int]:
+    import optuna
     from optuna.trial import TrialState
 
     study = open_study(spec)
@@ -487,20 +497,25 @@ def _run_worker(spec: SweepSpec, *, progress: bool, max_trials: int | None,
     try:
         while max_trials is None or counts["completed"] + counts["failed"] < max_trials:
             with _file_lock(lock_path):
-                _fail_stale(study, spec.grace_period)
-                enqueue_missing(study, spec)
-                trial_id = _claim(study)
+                optuna.storages.fail_stale_trials(study)
+                trials = study.get_trials(deepcopy=False)
+                if _fail_stale(study, spec.grace_period, trials):
+                    trials = study.get_trials(deepcopy=False)
+                if enqueue_missing(study, spec, trials):
+                    trials = study.get_trials(deepcopy=False)
+                trial_id = _claim(study, trials)
                 if trial_id is not None:
                     study._storage.record_heartbeat(trial_id)
             if trial_id is None:
-                if study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
+                if any(t.state == TrialState.RUNNING for t in trials):
                     time.sleep(poll_s)
                     if bar is not None:
                         _update_bar(bar, study, spec)
                     continue
                 break
             try:
-                counts[evaluate_trial(study, trial_id, spec, evaluator)] += 1
+                counts[evaluate_trial(study, trial_id, spec, evaluator,
+                                      trials if lock_path is not None else None)] += 1
             except BaseException:  # Ctrl-C, SIGTERM: give the point back at once (lost trial)
                 with contextlib.suppress(Exception):
                     study._storage.set_trial_state_values(trial_id, state=TrialState.FAIL)
