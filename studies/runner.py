@@ -960,6 +960,11 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
         if row.get("status") == "reference" and row.get("length_mm") is not None:
             length0, radius0 = row["length_mm"], row["outer_radius_mm"]
     top = response_at(attrs["rows"])
+    if top is None and attrs["converged"] and attrs["limit_pressure_kpa"] is not None:
+        # a limit point below the first target pressure: the result is the path up to it
+        path = [r for r in attrs["rows"] if r.get("status") in ("converged", "volume-control")
+                and r.get("length_mm") is not None]
+        top = max(path, key=lambda r: r["pressure_kpa"], default=None)
     if top is not None:
         attrs["extension_mm"] = top["length_mm"] - length0
         attrs["radial_expansion_mm"] = top["outer_radius_mm"] - radius0
@@ -968,7 +973,7 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
         return Evaluation(ok=False, attrs=_packed(attrs),
                           message=f"diverged: {attrs['message'] or 'no reason given'}")
     if top is None:
-        return Evaluation(ok=False, attrs=_packed(attrs), message="no converged pressure step")
+        return Evaluation(ok=False, attrs=_packed(attrs), message="no computed state")
     if settings.get("objectives", "sweep") == "pareto":
         target = max(pressures)
         at = response_at(attrs["rows"], target)

@@ -93,3 +93,15 @@ def paper_like_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 8
         return analytic_curve(design, pressures_kpa, material=material, limit_kpa=80.0)
     wobble = 1.5 if (r in (2.0, 4.0) and design.fiber_turns == 0) else 0.0
     return analytic_curve(design, pressures_kpa, material=material, wobble=wobble)
+
+
+def early_limit_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 80, 100),
+                         mesh_size=None, quick=False, progress=None):
+    """r = 6 bursts at 15 kPa, below the first target: only volume-controlled states."""
+    if design.chamber_radius != 6.0:
+        return fake_simulate(design, material=material, pressures_kpa=pressures_kpa)
+    ref = analytic_curve(design, (), material=material).rows
+    rows = ref + tuple(CurveRow(p, design.length + 3 + p / 5, design.outer_radius + p / 10,
+                                1000 + p, 1.0, 0.0, "volume-control") for p in (5.0, 10.0, 15.0))
+    return ActuatorCurve(rows=rows, converged=True, limit_pressure_kpa=15.0,
+                         message="limit point at P ~ 15 kPa", material=material)

@@ -178,3 +178,12 @@ def test_terminated_worker_hands_its_point_back_at_once(tmp_path, monkeypatch):
     assert time.time() - t0 < 30 and {r["trial_status"] for r in rows} == {"completed"}
     _, counts = _complete_counts(spec)
     assert len(counts) == 3 and set(counts.values()) == {1}
+
+
+def test_limit_point_below_the_first_pressure_is_a_result(tmp_path):
+    spec = _spec(tmp_path, radii=(3.0, 6.0), simulate="tests.test_study_fakes:early_limit_simulate")
+    rows = runner.run_sweep(spec, progress=False)
+    six = [r for r in rows if r["chamber_radius"] == 6.0]
+    assert {r["trial_status"] for r in six} == {"completed"}
+    assert [r["row_status"] for r in six] == ["reference"] + ["volume-control"] * 3
+    assert six[0]["limit_pressure_kpa"] == 15.0
