@@ -282,12 +282,24 @@ def _trial_point(trial) -> str | None:
     return point_key(trial.params) if trial.params else None
 
 
-def is_lost(trial) -> bool:
-    """A FAIL trial that is not a result: its worker died, or it gave way to a duplicate."""
+def is_lost(trial, retry_before: int = 0) -> bool:
+    """A FAIL trial that is not a result: its worker died, it gave way to a duplicate, or it
+    failed before a retry of the failed points (``retry_before``, see :func:`retry_failed`)."""
     from optuna.trial import TrialState
 
     return trial.state == TrialState.FAIL and (
-        "failure" not in trial.user_attrs or "duplicate_of" in trial.user_attrs)
+        "failure" not in trial.user_attrs or "duplicate_of" in trial.user_attrs
+        or trial.number < retry_before)
+
+
+def retry_failed(study) -> None:
+    """Make the failed evaluations of a sweep count as missing, so that they run again (after a
+    fix of the evaluator, for example). Trials keep their history; collect shows the new ones."""
+    study.set_user_attr("retry_failed_before", len(study.get_trials(deepcopy=False)))
+
+
+def _retry_before(study) -> int:
+    return int(study.user_attrs.get("retry_failed_before", 0))
 
 
 def trials_by_point(study, trials=None) -> dict[str, list]:
@@ -299,13 +311,13 @@ def trials_by_point(study, trials=None) -> dict[str, list]:
     return out
 
 
-def _point_pending_or_done(trials) -> bool:
+def _point_pending_or_done(trials, retry_before: int = 0) -> bool:
     from optuna.trial import TrialState
 
     for t in trials:
         if t.state in (TrialState.COMPLETE, TrialState.RUNNING, TrialState.WAITING):
             return True
-        if t.state == TrialState.FAIL and not is_lost(t):
+        if t.state == TrialState.FAIL and not is_lost(t, retry_before):
             return True
     return False
 
@@ -315,9 +327,10 @@ def enqueue_missing(study, spec: SweepSpec, trials=None) -> int:
     a result. Idempotent; call it under :func:`_file_lock` for SQLite. Returns how many.
     ``trials``: a current snapshot of the study's trials (fetched if None)."""
     by_point = trials_by_point(study, trials)
+    retry = _retry_before(study)
     n = 0
     for params in spec.points():
-        if not _point_pending_or_done(by_point.get(point_key(params), [])):
+        if not _point_pending_or_done(by_point.get(point_key(params), []), retry):
             study.enqueue_trial(params, skip_if_exists=False)
             n += 1
     return n
@@ -374,10 +387,12 @@ def _duplicate_of(study, trial_id: int, trials=None) -> int | None:
 
     me = study._storage.get_trial(trial_id)
     key = _trial_point(me)
+    retry = _retry_before(study)
     for t in trials_by_point(study, trials).get(key, []):
         if t._trial_id == trial_id:
             continue
-        if t.state == TrialState.COMPLETE or (t.state == TrialState.FAIL and not is_lost(t)):
+        if t.state == TrialState.COMPLETE or (t.state == TrialState.FAIL
+                                              and not is_lost(t, retry)):
             return t.number
         if t.state == TrialState.RUNNING and (t.datetime_start, t.number) < (me.datetime_start,
                                                                              me.number):
@@ -532,13 +547,17 @@ def _worker_main(spec_dict: dict[str, Any]) -> None:
     run_worker(SweepSpec(**spec_dict))
 
 
-def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True) -> list[dict]:
-    """Run (or resume) a sweep with ``workers`` processes and return :func:`collect` rows."""
+def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True,
+              retry: bool = False) -> list[dict]:
+    """Run (or resume) a sweep with ``workers`` processes and return :func:`collect` rows.
+    ``retry``: evaluate the points whose evaluation failed again (see :func:`retry_failed`)."""
     if not isinstance(workers, int) or workers < 1:
         raise StudyError("workers", f"must be a positive integer, got {workers!r}")
     Path(spec.out_dir).mkdir(parents=True, exist_ok=True)
     study = open_study(spec)
     with _file_lock(_sqlite_path(spec.storage_url)):
+        if retry:
+            retry_failed(study)
         enqueue_missing(study, spec)
     if workers == 1:
         run_worker(spec, progress=progress)
@@ -595,6 +614,7 @@ def point_status(study, spec: SweepSpec) -> dict[str, tuple[str, Any]]:
     from optuna.trial import TrialState
 
     by_point = trials_by_point(study)
+    retry = _retry_before(study)
     out = {}
     rank = {TrialState.COMPLETE: 0, TrialState.FAIL: 1, TrialState.RUNNING: 2,
             TrialState.WAITING: 3}
@@ -602,7 +622,7 @@ def point_status(study, spec: SweepSpec) -> dict[str, tuple[str, Any]]:
              TrialState.RUNNING: "running", TrialState.WAITING: "waiting"}
     for params in spec.points():
         key = point_key(params)
-        trials = [t for t in by_point.get(key, []) if t.state in rank and not is_lost(t)]
+        trials = [t for t in by_point.get(key, []) if t.state in rank and not is_lost(t, retry)]
         if not trials:
             out[key] = ("missing", None)
             continue

@@ -76,6 +76,13 @@ def test_failed_and_invalid_designs_do_not_stop_the_sweep(tmp_path, monkeypatch)
     # failed evaluations are results: a restart does not recompute them
     runner.run_sweep(spec, progress=False)
     assert len(runner.open_study(spec).get_trials(states=(TrialState.FAIL,))) == 2
+    # ... unless asked to retry them (here the evaluator is "fixed" for r = 5)
+    monkeypatch.delenv("SOFTCRAWL_FAKE_DIVERGE")
+    rows = runner.run_sweep(spec, progress=False, retry=True)
+    status = {r["chamber_radius"]: r["trial_status"] for r in rows}
+    assert status == {2.0: "completed", 3.0: "completed", 4.0: "failed", 5.0: "completed",
+                      6.0: "completed"}
+    assert len(runner.open_study(spec).get_trials()) == 7  # 5 + the two retried points
 
 
 def _worker(spec_dict):

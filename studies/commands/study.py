@@ -64,6 +64,9 @@ def register(subparsers) -> None:
     parser.add_argument("--simulator", default=None, metavar="MODULE:FUNCTION",
                         help="replace studies.actuator:simulate_epsa (same signature), e.g. a "
                              "surrogate or a test fake")
+    parser.add_argument("--retry-failed", action="store_true",
+                        help="sweeps: evaluate the failed points again (after an evaluator fix); "
+                             "otherwise a failed evaluation is a result and is kept")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -133,7 +136,8 @@ def _run_sweep(args) -> int:
     spec = sweep_spec(args.name, folder, _settings(args) | {"vtu_dir": str(folder / "vtu")},
                       args.storage)
     (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
-    rows = runner.run_sweep(spec, workers=args.workers, progress=not args.no_progress)
+    rows = runner.run_sweep(spec, workers=args.workers, progress=not args.no_progress,
+                            retry=args.retry_failed)
     return write_sweep_outputs(args.name, spec, rows, folder)
 
 
