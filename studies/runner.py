@@ -342,7 +342,6 @@ def _fail_stale(study, grace_period: float, trials) -> bool:
     ``fail_stale_trials``. Returns whether it failed any trial (the snapshot is then stale)."""
     import datetime
 
-    import optuna
     from optuna.trial import TrialState
 
     storage = study._storage

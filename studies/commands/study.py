@@ -129,7 +129,7 @@ def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
 def _run_sweep(args) -> int:
     import json
 
-    from studies import plots, runner
+    from studies import runner
 
     folder = study_folder(args.out, args.name, args.material, args.quick, args.mesh_size)
     folder.mkdir(parents=True, exist_ok=True)
