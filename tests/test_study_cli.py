@@ -52,6 +52,7 @@ def test_optimise_actuator_marks_table1(tmp_path, capsys):
     (["--material", "nope"], "material"),
     (["--workers", "0"], "workers"),
     (["--simulator", "nocolon"], "simulator"),
+    (["--storage", "study.db"], "storage"),
 ])
 def test_input_errors_exit_2(tmp_path, capsys, argv, parameter):
     assert main(["study", "fiber-turns", "--out", str(tmp_path), *argv]) == 2

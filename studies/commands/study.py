@@ -105,6 +105,9 @@ def _check(args) -> None:
         raise StudyError("mesh-size", f"must be positive, got {args.mesh_size}")
     if args.trials is not None and args.trials < 1:
         raise StudyError("trials", f"must be >= 1, got {args.trials}")
+    if args.storage is not None and "://" not in args.storage:
+        raise StudyError("storage", f"expected a database URL such as sqlite:///PATH or "
+                                    f"postgresql://USER@HOST/DB, got {args.storage!r}")
     if args.simulator is not None and ":" not in args.simulator:
         raise StudyError("simulator", f"expected MODULE:FUNCTION, got {args.simulator!r}")
 
