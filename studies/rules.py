@@ -194,7 +194,7 @@ def select_chamber_radius(rows: Sequence[Mapping[str, Any]], mu: float | None = 
                     why += (f" (would withstand {TARGET_PRESSURE_KPA:g} kPa for mu >= "
                             f"{mu * TARGET_PRESSURE_KPA / c.limit_pressure:.3g} MPa)")
             elif c.trial_status == "failed":
-                why = f"diverged/failed after {c.reached:g} kPa ({c.reason})"
+                why = f"diverged/failed after {c.reached:.3g} kPa ({c.reason})"
             elif c.trial_status != "completed":
                 why = f"no result ({c.trial_status})"
             else:
@@ -214,9 +214,11 @@ def select_chamber_radius(rows: Sequence[Mapping[str, Any]], mu: float | None = 
         return Selection("chamber_radius", None, CHAMBER_RADIUS_RULE, (), "undetermined",
                          "no chamber-radius study data")
     if not candidates:
+        n_ok = sum(c.withstands for c in curves.values())
+        why = (f"no studied radius withstands {TARGET_PRESSURE_KPA:g} kPa" if n_ok == 0 else
+               f"the {n_ok} radii that withstand {TARGET_PRESSURE_KPA:g} kPa all fluctuate")
         return Selection("chamber_radius", None, CHAMBER_RADIUS_RULE, tuple(evidence),
-                         "undetermined", "no studied radius withstands the target pressure "
-                                         "without fluctuating")
+                         "undetermined", why)
     rad, r = min(candidates)
     return Selection("chamber_radius", r, CHAMBER_RADIUS_RULE, tuple(evidence),
                      reason=f"r = {r:g} mm: smallest radial expansion ({rad:.3g} mm) of "

@@ -53,7 +53,7 @@ def test_chamber_radius_follows_the_data():
     assert rules.select_chamber_radius(rows).value == 2.0
     rows = [r for r in paper_like_chamber_rows() if r["chamber_radius"] != "3"]
     sel = rules.select_chamber_radius(rows)
-    assert sel.value is None and sel.status == "undetermined" and "no studied radius" in sel.reason
+    assert sel.value is None and sel.status == "undetermined" and "all fluctuate" in sel.reason
     assert rules.select_chamber_radius([]).status == "undetermined"
 
 
