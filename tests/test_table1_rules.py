@@ -55,6 +55,11 @@ def test_chamber_radius_follows_the_data():
     sel = rules.select_chamber_radius(rows)
     assert sel.value is None and sel.status == "undetermined" and "all fluctuate" in sel.reason
     assert rules.select_chamber_radius([]).status == "undetermined"
+    rows = _rows("chamber_radius", 2, _linear(0.1, n=2), _linear(0.01, 9, 2), limit=34.1)
+    rows += _rows("chamber_radius", 3, _linear(0.1, n=1), _linear(0.01, 9, 1), limit=25.0)
+    sel = rules.select_chamber_radius(rows, mu=0.03)
+    assert sel.value is None and sel.reason == "no studied radius withstands 100 kPa"
+    assert "limit point at 25 kPa (would withstand 100 kPa for mu >= 0.12 MPa)" in sel.evidence[1]
 
 
 def fiber_rows(ext=None):
