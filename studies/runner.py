@@ -75,6 +75,10 @@ class StudyError(ValueError):
         super().__init__(f"{parameter}: {message}")
 
 
+class SweepInterrupted(RuntimeError):
+    """Some worker processes did not finish; the study is consistent and can be resumed."""
+
+
 @dataclass(frozen=True)
 class Evaluation:
     """What an evaluator returns. ``ok = False`` makes the trial FAIL with ``message`` as reason."""
@@ -570,10 +574,16 @@ def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True,
             p.start()
         bar = _progress_bar(study, spec, f"{spec.name} ({workers} workers)") if progress else None
         try:
-            while any(p.is_alive() for p in procs):
-                time.sleep(1.0)
-                if bar is not None:
-                    _update_bar(bar, study, spec)
+            with _sigterm_as_exit():
+                while any(p.is_alive() for p in procs):
+                    time.sleep(1.0)
+                    if bar is not None:
+                        _update_bar(bar, study, spec)
+        except BaseException:  # Ctrl-C / SIGTERM of the parent: stop the workers cleanly
+            for p in procs:
+                if p.is_alive():
+                    p.terminate()  # SIGTERM: the worker hands its running point back
+            raise
         finally:
             for p in procs:
                 p.join()
@@ -582,8 +592,8 @@ def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True,
                 bar.close()
         bad = [p.exitcode for p in procs if p.exitcode != 0]
         if bad:
-            raise RuntimeError(f"{len(bad)} sweep worker(s) exited with codes {bad}; "
-                               "run the sweep again to resume")
+            raise SweepInterrupted(f"{len(bad)} of {workers} workers exited with codes {bad}; "
+                                   "run the same command again to resume")
     return collect(study, spec)
 
 

@@ -22,6 +22,7 @@ machines share one study (start the same command on each).
 from __future__ import annotations
 
 import argparse
+import sys
 
 STUDIES = ("chamber-radius", "fiber-turns", "optimise-actuator")
 #: Grids of the paper's sweeps (Section V-A) and the fixed parameters of each.
@@ -139,8 +140,12 @@ def _run_sweep(args) -> int:
     spec = sweep_spec(args.name, folder, _settings(args) | {"vtu_dir": str(folder / "vtu")},
                       args.storage)
     (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
-    rows = runner.run_sweep(spec, workers=args.workers, progress=not args.no_progress,
-                            retry=args.retry_failed)
+    try:
+        rows = runner.run_sweep(spec, workers=args.workers, progress=not args.no_progress,
+                                retry=args.retry_failed)
+    except runner.SweepInterrupted as exc:
+        print(f"softcrawl study {args.name}: interrupted: {exc}", file=sys.stderr)
+        return 1
     return write_sweep_outputs(args.name, spec, rows, folder)
 
 
