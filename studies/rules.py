@@ -242,8 +242,8 @@ def select_fiber_turns(rows: Sequence[Mapping[str, Any]]) -> Selection:
     ok = {}
     for n, c in sorted(curves.items()):
         if not c.withstands:
-            why = (f"limit point at {c.limit_pressure:g} kPa" if c.limit_pressure is not None
-                   else f"{c.trial_status} after {c.reached:g} kPa {c.reason}".strip())
+            why = (f"limit point at {c.limit_pressure:.3g} kPa" if c.limit_pressure is not None
+                   else f"{c.trial_status} after {c.reached:.3g} kPa: {c.reason}".strip())
             evidence.append(f"N = {n:g}: does not reach {TARGET_PRESSURE_KPA:g} kPa ({why})")
             continue
         length, radius = c.at(TARGET_PRESSURE_KPA)
