@@ -1,0 +1,39 @@
+"""`softcrawl table1`: select the Table 1 parameters from the study outputs and compare with the paper.
+
+    softcrawl table1 --out DIR [--results DIR] [--material M ...]
+
+Reads DIR/chamber-radius/<material>/curves.csv and DIR/fiber-turns/<material>/curves.csv (written by
+`softcrawl study`), applies the rules of studies/rules.py and writes DIR/table1.md: one section per
+material (every material found, or those given with --material), one row per Table 1 parameter
+(paper value, our value, rule, material, agreement and why). The foot and ring rows are pending.
+"""
+from __future__ import annotations
+
+import argparse
+
+
+def register(subparsers) -> None:
+    parser = subparsers.add_parser("table1", help="reproduce Table 1 from the study outputs",
+                                   description=__doc__.splitlines()[0])
+    parser.add_argument("--out", required=True, help="folder for table1.md (and, by default, "
+                                                     "the study results to read)")
+    parser.add_argument("--results", default=None,
+                        help="results folder with the study outputs (default: --out)")
+    parser.add_argument("--material", action="append", default=None,
+                        help="material to report (repeatable; default: every material found)")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from studies.runner import StudyError
+    from studies.table1 import find_materials, write_table1
+
+    results = Path(args.results if args.results is not None else args.out)
+    if not results.is_dir():
+        raise StudyError("results", f"no such folder: {results}")
+    materials = args.material or find_materials(results)
+    path = write_table1(results, args.out, materials)
+    print(f"wrote {path} ({len(materials)} material(s): {', '.join(materials) or 'none'})")
+    return 0

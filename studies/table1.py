@@ -1,0 +1,219 @@
+"""Reproduce the paper's Table 1 from the study outputs with the rules of ``studies.rules``.
+
+Reads RESULTS/chamber-radius/<material>/curves.csv and RESULTS/fiber-turns/<material>/curves.csv
+(as written by ``softcrawl study``; a folder ``<material>-quick`` holds a --quick run and is used
+only when the full run of that material is absent; --mesh-size runs, ``<material>-h<size>``, are
+not used) and writes RESULTS/table1.md: for every material
+one table with a row per Table 1 parameter (paper value, our value, rule, material, agreement and
+why), the evidence of each rule, and a last section saying which selections depend on the material.
+
+Nothing here knows the paper's answers except to compare with them: change the study data and the
+selected values follow.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+from studies import rules
+
+#: The paper's Table 1 (DESIGN.md section 4): parameter key -> (label, value, unit).
+PAPER_TABLE1 = {
+    "length": ("ePSA length l0", 100.0, "mm"),
+    "outer_radius": ("ePSA radius R0", 9.0, "mm"),
+    "chamber_radius": ("air chamber radius r0", 3.0, "mm"),
+    "fiber_turns": ("fiber winding turns N", 20.0, ""),
+    "groove_height": ("foot groove height h", 1.0, "mm"),
+    "foot_radius": ("foot radius d", 14.0, "mm"),
+    "rings": ("connecting rings", 3.0, ""),
+}
+#: Study folders under the results folder that feed the ePSA rows.
+STUDY_DIRS = {"chamber_radius": "chamber-radius", "fiber_turns": "fiber-turns"}
+QUICK_SUFFIX = "-quick"
+PENDING = {
+    "groove_height": "foot study not implemented (issue: foot and ring studies)",
+    "foot_radius": "foot study not implemented (issue: foot and ring studies)",
+    "rings": "robot ring-count study not implemented (issue: foot and ring studies)",
+}
+
+
+@dataclass(frozen=True)
+class MaterialRun:
+    """The study data of one material: which CSV each rule read."""
+
+    material: str
+    sources: dict[str, Path | None]  #: parameter -> curves.csv used (None: no data)
+
+    def quick(self, parameter: str) -> bool:
+        src = self.sources.get(parameter)
+        return src is not None and src.parent.name.endswith(QUICK_SUFFIX)
+
+
+def find_materials(results: str | Path) -> list[str]:
+    """Materials that have at least one ePSA study under ``results``."""
+    names = set()
+    for sub in STUDY_DIRS.values():
+        for curves in sorted(Path(results).glob(f"{sub}/*/curves.csv")):
+            name = curves.parent.name
+            if re.search(r"-h[0-9.]+$", name):  # a --mesh-size run: not used by table1
+                continue
+            names.add(name[: -len(QUICK_SUFFIX)] if name.endswith(QUICK_SUFFIX) else name)
+    return sorted(names)
+
+
+def material_run(results: str | Path, material: str) -> MaterialRun:
+    sources = {}
+    for param, sub in STUDY_DIRS.items():
+        full = Path(results) / sub / material / "curves.csv"
+        quick = Path(results) / sub / (material + QUICK_SUFFIX) / "curves.csv"
+        sources[param] = full if full.exists() else quick if quick.exists() else None
+    return MaterialRun(material, sources)
+
+
+def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
+    """Apply every rule of one material's study data."""
+    from studies.runner import read_csv
+
+    out = {
+        "length": rules.input_parameter("length", PAPER_TABLE1["length"][1],
+                                        "paper Section V-A: l0 = 100 mm in the FE model"),
+        "outer_radius": rules.input_parameter("outer_radius", PAPER_TABLE1["outer_radius"][1],
+                                              "paper Section V-A: R = 9 mm in the FE model"),
+    }
+    selectors = {"chamber_radius": rules.select_chamber_radius,
+                 "fiber_turns": rules.select_fiber_turns}
+    for param, select in selectors.items():
+        src = run.sources.get(param)
+        if src is None:
+            out[param] = rules.Selection(param, None, _rule_text(param), (), "undetermined",
+                                         f"no {STUDY_DIRS[param]} study for this material "
+                                         f"(run `softcrawl study {STUDY_DIRS[param]} --material "
+                                         f"{run.material}`)")
+        elif param == "chamber_radius":
+            out[param] = select(read_csv(src), mu=_mu(run.material))
+        else:
+            out[param] = select(read_csv(src))
+    for param, why in PENDING.items():
+        out[param] = rules.pending(param, why)
+    return out
+
+
+def _rule_text(param: str) -> str:
+    return {"chamber_radius": rules.CHAMBER_RADIUS_RULE,
+            "fiber_turns": rules.FIBER_TURNS_RULE}[param]
+
+
+def agreement(param: str, sel: rules.Selection) -> tuple[str, str]:
+    """(agree | disagree | undetermined | pending | input, why)."""
+    paper = PAPER_TABLE1[param][1]
+    if sel.status == "pending":
+        return "pending", sel.reason
+    if sel.status == "input":
+        return "agree (input)", sel.reason
+    if sel.value is None:
+        return "undetermined", sel.reason
+    if abs(sel.value - paper) < 1e-9:
+        return "agree", sel.reason
+    return "disagree", f"{sel.reason}; the paper's {paper:g} is excluded or not preferred by " \
+                       f"the rule: {_why_not(sel, paper)}"
+
+
+def _why_not(sel: rules.Selection, paper: float) -> str:
+    key = {"chamber_radius": "r", "fiber_turns": "N"}.get(sel.parameter, sel.parameter)
+    for line in sel.evidence:
+        if line.startswith(f"{key} = {paper:g}:"):
+            return line
+    return f"no result for {key} = {paper:g}"
+
+
+def _mu(material: str) -> float | None:
+    try:
+        from fem.materials import get_material
+
+        return float(get_material(material).mu)
+    except Exception:  # noqa: BLE001 - a material unknown to fem.materials
+        return None
+
+
+def _material_label(material: str) -> str:
+    try:
+        from fem.materials import get_material
+
+        m = get_material(material)
+        return f"{material} (mu = {m.mu:.4g} MPa)"
+    except Exception:  # noqa: BLE001 - unknown (e.g. a calibrated material file)
+        return material
+
+
+def _cell(text: str) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def render(results: str | Path, materials: Sequence[str]) -> str:
+    """The Markdown of table1.md."""
+    lines = ["# Table 1 reproduction", "",
+             "Generated by `softcrawl table1` from the study outputs under "
+             f"`{results}` with the rules of `studies/rules.py` (thresholds: target pressure "
+             f"{rules.TARGET_PRESSURE_KPA:g} kPa, fluctuation tolerance "
+             f"{rules.FLUCTUATION_REL_TOL:.0%} / {rules.FLUCTUATION_SIGN_CHANGES} trend changes, "
+             f"similar extension {rules.SIMILAR_EXTENSION_REL:.0%}, linearity R^2 >= "
+             f"{rules.LINEARITY_R2}). The paper's values are those of its Table 1.", ""]
+    if not materials:
+        lines += ["No study results found: run `softcrawl study chamber-radius` and "
+                  "`softcrawl study fiber-turns` first (see README).", ""]
+    selections = {}
+    for material in materials:
+        run = material_run(results, material)
+        sel = select_all(run)
+        selections[material] = sel
+        label = _material_label(material)
+        lines += [f"## Material {label}", "",
+                  "| parameter | paper | ours | rule | material | agreement | reason |",
+                  "|---|---|---|---|---|---|---|"]
+        for param, (name, paper, unit) in PAPER_TABLE1.items():
+            s = sel[param]
+            ours = "-" if s.value is None else f"{s.value:g} {unit}".strip()
+            verdict, why = agreement(param, s)
+            mat = label if param in STUDY_DIRS else "-"
+            if param in STUDY_DIRS and run.quick(param):
+                mat += " (quick mesh)"
+            lines.append(f"| {name} | {paper:g} {unit} | {ours} | {_cell(s.rule)} | "
+                         f"{_cell(mat)} | {verdict} | {_cell(why)} |")
+        lines += [""]
+        for param in STUDY_DIRS:
+            src = run.sources.get(param)
+            lines += [f"Evidence, {PAPER_TABLE1[param][0]} "
+                      f"(`{src if src is not None else 'no data'}`):", ""]
+            lines += [f"- {e}" for e in sel[param].evidence] or ["- (none)"]
+            lines += [""]
+    if len(materials) > 1:
+        lines += ["## Dependence on the material", ""]
+        for param in STUDY_DIRS:
+            values = {m: selections[m][param].value for m in materials}
+            shown = ", ".join(f"{m}: {'-' if v is None else f'{v:g}'}" for m, v in values.items())
+            known = {v for v in values.values() if v is not None}
+            if len(known) > 1:
+                verdict = "**depends on the material**"
+            elif len(known) == 1 and None not in values.values():
+                verdict = "the same for every material studied"
+            else:
+                verdict = "cannot tell (undetermined for some material)"
+            lines.append(f"- {PAPER_TABLE1[param][0]}: {shown} -> {verdict}")
+        lines.append("")
+    elif len(materials) == 1:
+        lines += ["Only one material was studied, so the dependence of the selection on the "
+                  "material is not known; run the studies with another `--material` and "
+                  "regenerate.", ""]
+    return "\n".join(lines)
+
+
+def write_table1(results: str | Path, out: str | Path | None = None,
+                 materials: Sequence[str] | None = None) -> Path:
+    """Write ``table1.md`` into ``out`` (default: the results folder)."""
+    materials = list(materials) if materials else find_materials(results)
+    path = Path(out if out is not None else results) / "table1.md"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(render(results, materials))
+    return path

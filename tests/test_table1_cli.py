@@ -1,0 +1,75 @@
+"""`softcrawl table1` from study outputs made with a fake simulator (no FE)."""
+from __future__ import annotations
+
+import csv
+
+import pytest
+
+pytest.importorskip("optuna")
+from studies.cli import main  # noqa: E402
+
+PAPER_LIKE = "tests.test_study_fakes:paper_like_simulate"
+FAKE = "tests.test_study_fakes:fake_simulate"
+
+
+def _study(tmp_path, name, material, simulator):
+    assert main(["study", name, "--quick", "--material", material, "--simulator", simulator,
+                 "--out", str(tmp_path), "--no-progress"]) == 0
+
+
+def _row(md: str, label: str) -> list[str]:
+    line = next(line for line in md.splitlines() if line.startswith(f"| {label} |"))
+    return [c.strip() for c in line.strip("|").split("|")]
+
+
+def _sections(md: str) -> dict[str, str]:
+    out = {}
+    for part in md.split("\n## ")[1:]:
+        head = part.splitlines()[0]
+        if head.startswith("Material "):
+            out[head.split()[1]] = part
+    return out
+
+
+def test_table1_follows_the_study_data(tmp_path, capsys):
+    _study(tmp_path, "chamber-radius", "ecoflex-00-50-fit", PAPER_LIKE)
+    _study(tmp_path, "fiber-turns", "ecoflex-00-50-fit", PAPER_LIKE)
+    _study(tmp_path, "chamber-radius", "ecoflex-00-50", FAKE)  # another "material": no limits
+    assert main(["table1", "--out", str(tmp_path)]) == 0
+    md = (tmp_path / "table1.md").read_text()
+    sections = _sections(md)
+    fit, other = sections["ecoflex-00-50-fit"], sections["ecoflex-00-50"]
+    chamber = _row(fit, "air chamber radius r0")
+    assert chamber[1:3] == ["3 mm", "3 mm"] and chamber[5] == "agree"
+    assert "ecoflex-00-50-fit" in chamber[4] and "quick mesh" in chamber[4]
+    turns = _row(fit, "fiber winding turns N")
+    assert turns[2] == "20" and turns[5] == "agree"
+    assert _row(fit, "ePSA length l0")[5] == "agree (input)"
+    for label in ("foot groove height h", "foot radius d", "connecting rings"):
+        assert _row(fit, label)[5] == "pending"
+    chamber_other = _row(other, "air chamber radius r0")
+    assert chamber_other[2] == "2 mm" and chamber_other[5] == "disagree"
+    assert _row(other, "fiber winding turns N")[5] == "undetermined"
+    assert "**depends on the material**" in md
+
+    # edit the study data: r = 2 no longer fluctuates -> the rule now selects 2 mm
+    path = tmp_path / "chamber-radius" / "ecoflex-00-50-fit-quick" / "curves.csv"
+    rows = list(csv.DictReader(open(path)))
+    for r in rows:
+        if float(r["chamber_radius"]) == 2.0:
+            r["length_mm"] = str(100 + 0.05 * float(r["pressure_kpa"]))
+    with open(path, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    assert main(["table1", "--out", str(tmp_path), "--material", "ecoflex-00-50-fit"]) == 0
+    md = (tmp_path / "table1.md").read_text()
+    chamber = _row(md, "air chamber radius r0")
+    assert chamber[2] == "2 mm" and chamber[5] == "disagree"
+
+
+def test_table1_without_results(tmp_path, capsys):
+    assert main(["table1", "--out", str(tmp_path)]) == 0
+    assert "No study results found" in (tmp_path / "table1.md").read_text()
+    assert main(["table1", "--out", str(tmp_path / "x"), "--results", str(tmp_path / "nope")]) == 2
+    assert "results" in capsys.readouterr().err
