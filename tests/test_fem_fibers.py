@@ -80,3 +80,18 @@ def test_fiber_discretisation_changes_results_by_less_than_one_percent(short_tub
     ext_c, ext_f = wound.rows[-1].length_mm - 40.0, fine.rows[-1].length_mm - 40.0
     assert ext_f == pytest.approx(ext_c, rel=0.01)
     assert fine.rows[-1].outer_radius_mm == pytest.approx(wound.rows[-1].outer_radius_mm, rel=0.01)
+
+
+@pytest.mark.slow
+def test_table1_epsa_runs_to_100_kpa_with_monotone_length():
+    """Issue 4 acceptance on the quick mesh (minutes): the Table 1 actuator (N = 20, Ecoflex 00-50,
+    mu = 0.03 MPa) reaches 100 kPa - past ~70 kPa on volume control, pressure still rising - and
+    its length grows with pressure."""
+    curve = simulate_epsa(EPSADesign(), pressures_kpa=(20, 40, 60, 80, 100), quick=True)
+    assert curve.converged, curve.message
+    rows = [r for r in curve.rows if r.status != "failed"]
+    pressures = [r.pressure_kpa for r in rows]
+    assert pressures[-1] == pytest.approx(100.0, rel=1e-4)
+    lengths = [r.length_mm for r in rows]
+    assert all(b > a for a, b in zip(lengths, lengths[1:]))
+    assert all(abs(r.outer_radius_mm - 9.0) < 0.7 for r in rows)     # the fibers hold the radius
