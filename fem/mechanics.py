@@ -263,9 +263,10 @@ class SolidModel:
         f = np.matmul(self.dNt, F.transpose(2, 3, 1, 0)).reshape(E, Q, 30)   # f[e,q,(a,i)]
         h = np.matmul(self.dNt, H.transpose(2, 3, 1, 0)).reshape(E, Q, 30)
         hT = h.transpose(0, 2, 1)
-        K = np.matmul(f.transpose(0, 2, 1) * (-2.0 / 3.0 * c * self.dx)[:, None, :], h)
-        K += K.transpose(0, 2, 1)
-        K += np.matmul(hT * (w_hh * self.dx)[:, None, :], h)
+        # f(x)h, h(x)f and h(x)h in one product: V = -2c/3 f + w1/2 h, K = sum V(x)h + (V(x)h)^T
+        V = f * (-2.0 / 3.0 * c * self.dx)[:, :, None] + h * (0.5 * w_hh * self.dx)[:, :, None]
+        K1 = np.matmul(V.transpose(0, 2, 1), h)
+        K = K1 + K1.transpose(0, 2, 1)
         S = np.matmul(hT * (w_sw * self.dx)[:, None, :], h).reshape(E, 10, 3, 10, 3)
         K += S.transpose(0, 1, 4, 3, 2).reshape(E, 30, 30)
         g = self.dN.transpose(2, 0, 3, 1)                                  # (E, 10, Q, 3)

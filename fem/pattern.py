@@ -18,20 +18,22 @@ import scipy.sparse as sp
 class Pattern:
     def __init__(self, free_index: np.ndarray, groups: list[np.ndarray]):
         self.n = int(free_index.max()) + 1
-        keys, self._slices, self._keep = [], [], []
-        start = 0
+        keys = []
         for dofs in groups:
             f = free_index[dofs].T                     # (n_items, n_local)
             n_items, n_local = f.shape
             rows = np.broadcast_to(f[:, :, None], (n_items, n_local, n_local)).reshape(-1)
             cols = np.broadcast_to(f[:, None, :], (n_items, n_local, n_local)).reshape(-1)
-            keep = np.flatnonzero((rows >= 0) & (cols >= 0))
-            keys.append(rows[keep].astype(np.int64) * self.n + cols[keep])
-            self._keep.append(keep)
-            self._slices.append(slice(start, start + keep.size))
-            start += keep.size
-        unique, inverse = np.unique(np.concatenate(keys), return_inverse=True)
-        self._inverse = inverse
+            # entries in a Dirichlet row or column get key -1: they go to a discard bin
+            key = np.where((rows >= 0) & (cols >= 0), rows.astype(np.int64) * self.n + cols, -1)
+            keys.append(key)
+        all_keys = np.concatenate(keys)
+        unique, inverse = np.unique(all_keys, return_inverse=True)
+        dropped = unique.size > 0 and unique[0] == -1
+        if dropped:                      # bin 0 is the discard bin: shift it to the end
+            unique = unique[1:]
+            inverse = np.where(inverse == 0, unique.size, inverse - 1)
+        self._inverse = inverse.reshape(-1)
         self.nnz = unique.size
         col = unique % self.n
         row = unique // self.n
@@ -48,8 +50,8 @@ class Pattern:
     def assemble(self, blocks: list[np.ndarray]) -> sp.csr_matrix:
         """`blocks[g]` has shape (n_items, n_local, n_local) for group g (items first, so element
         matrices are written in place without a transposed copy)."""
-        values = np.concatenate([b.reshape(-1)[keep] for b, keep in zip(blocks, self._keep)])
-        data = np.bincount(self._inverse, weights=values, minlength=self.nnz)
+        values = np.concatenate([b.reshape(-1) for b in blocks])
+        data = np.bincount(self._inverse, weights=values, minlength=self.nnz + 1)[: self.nnz]
         A = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
         A.pattern = self
         return A
