@@ -136,12 +136,14 @@ class _Solver:
         self._q0_norm = np.linalg.norm(model.pressure_load(model.initial_state()))
 
     def _assemble(self, x, P):
+        """Residual and tangent; an inverted element makes the Newton iteration diverge."""
         t = time.perf_counter()
         try:
-            R, K = self.model.residual_and_tangent(x, P)
+            return self.model.residual_and_tangent(x, P)
+        except InvertedElement as exc:
+            raise _Diverged(str(exc)) from None
         finally:
             self.assembly_s += time.perf_counter() - t
-        return R, K
 
     def _residual(self, x, P):
         t = time.perf_counter()
@@ -164,10 +166,7 @@ class _Solver:
         x = m.apply_dirichlet(x, factor)
         history = []
         for it in range(self.opt.max_iter + 1):
-            try:
-                R, K = self._assemble(x, P)
-            except InvertedElement as exc:
-                raise _Diverged(str(exc))
+            R, K = self._assemble(x, P)
             merit, p_ok = self._merit(R, x, P)
             history.append(merit)
             if not np.isfinite(merit):
@@ -224,10 +223,7 @@ class _Solver:
         x = m.apply_dirichlet(x, factor)
         history = []
         for it in range(self.opt.max_iter + 1):
-            try:
-                R, K = self._assemble(x, P)
-            except InvertedElement as exc:
-                raise _Diverged(str(exc))
+            R, K = self._assemble(x, P)
             q = m.pressure_load(x)
             g = m.chamber_volume(x) - volume_target
             merit, p_ok = self._merit(R, x, P)

@@ -8,21 +8,13 @@ import time
 from dataclasses import dataclass, field
 
 from geometry.design import DesignError
-
-
-@dataclass(frozen=True)
-class CurveRow:
-    pressure_kpa: float
-    length_mm: float
-    outer_radius_mm: float
-    chamber_volume_mm3: float
-    max_principal_stretch: float
-    max_fiber_tension_n: float
-    status: str
+from studies.actuator import CurveRow
 
 
 @dataclass(frozen=True)
 class ActuatorCurve:
+    """The fields of `studies.actuator.ActuatorCurve` that the runner reads (no mesh, no design)."""
+
     rows: tuple
     converged: bool
     limit_pressure_kpa: float | None
