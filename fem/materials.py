@@ -49,7 +49,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import replace, dataclass
 from pathlib import Path
 from typing import Callable
 
@@ -765,10 +765,24 @@ def material_names() -> tuple[str, ...]:
 
 
 def get_material(name: str) -> Material:
-    """The preset called `name` (fit presets are computed at first use, then cached)."""
+    """The preset called `name` (fit presets are computed at first use, then cached).
+
+    `NAME@mu=VALUE` is the preset with its shear modulus replaced by VALUE MPa (K/mu kept, see
+    `Material.with_mu`): how a calibrated modulus (`softcrawl calibrate`) is used in studies.
+    """
+    base, _, override = str(name).partition("@")
     try:
-        factory = PRESETS[name]
+        factory = PRESETS[base]
     except (KeyError, TypeError):
         raise MaterialError("material", f"unknown material {name!r}; valid: "
-                                        f"{', '.join(PRESETS)}") from None
-    return factory()
+                                        f"{', '.join(PRESETS)} (optionally NAME@mu=VALUE)") from None
+    if not override:
+        return factory()
+    key, _, value = override.partition("=")
+    try:
+        mu = float(value)
+    except ValueError:
+        mu = float("nan")
+    if key.strip() != "mu" or not math.isfinite(mu) or mu <= 0:
+        raise MaterialError("material", f"{name!r}: write NAME@mu=VALUE with a positive VALUE in MPa")
+    return replace(factory().with_mu(mu), name=f"{base}@mu={value}")

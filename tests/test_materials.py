@@ -240,3 +240,14 @@ def test_unknown_data_name_names_the_parameter():
     with pytest.raises(MaterialError) as info:
         materials.load_tensile("ecoflex-00-99")
     assert info.value.parameter == "data"
+
+
+def test_material_spec_with_a_calibrated_modulus():
+    from fem.materials import MaterialError, get_material
+
+    m = get_material("ecoflex-00-50@mu=0.0634")
+    assert m.mu == 0.0634 and m.k_over_mu == pytest.approx(get_material("ecoflex-00-50").k_over_mu)
+    for bad in ("ecoflex-00-50@mu=-1", "ecoflex-00-50@mu=x", "ecoflex-00-50@nu=0.4", "nope@mu=0.1"):
+        with pytest.raises(MaterialError) as err:
+            get_material(bad)
+        assert err.value.parameter == "material"

@@ -1,0 +1,45 @@
+"""`softcrawl calibrate --out DIR`: the body's shear modulus that makes the FE Table 1 ePSA match the
+prototype statics model (eqs. 19-24) over 0-100 kPa; writes calibration.json and calibration.png."""
+from __future__ import annotations
+
+import json
+from dataclasses import asdict
+from pathlib import Path
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("calibrate", help="calibrate mu to the prototype statics (eqs. 19-24)",
+                              description=__doc__.splitlines()[0])
+    p.add_argument("--material", default="ecoflex-00-50", help="base material (its K/mu is kept)")
+    p.add_argument("--full-mesh", action="store_true", help="default mesh instead of the quick one")
+    p.add_argument("--out", required=True, help="output folder")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from studies.calibrate import calibrate_mu
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    cal = calibrate_mu(base_material=args.material, mesh="default" if args.full_mesh else "quick",
+                       progress=lambda m: print("  " + m, flush=True))
+    (out / "calibration.json").write_text(json.dumps(asdict(cal), indent=2))
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.plot(cal.pressures_kpa, cal.prototype_length_mm, "ko-", label="prototype statics (eqs. 19-24, mean, g = 0)")
+    ax.plot(cal.pressures_kpa, cal.fe_length_mm, "s--", color="C3", label=f"FE, mu = {cal.mu_mpa:.4f} MPa")
+    ax.set_xlabel("pressure P (kPa)")
+    ax.set_ylabel("ePSA length (mm)")
+    ax.set_title(f"calibrated mu: RMS error {cal.rms_error_mm:.2f} mm ({cal.mesh} mesh)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "calibration.png", dpi=110)
+    plt.close(fig)
+    print(f"calibrated mu = {cal.mu_mpa:.4f} MPa (base {cal.base_material}), RMS length error "
+          f"{cal.rms_error_mm:.3g} mm -> {out}")
+    return 0
