@@ -357,7 +357,7 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
     V_prev = m.chamber_volume(history.x_prev) if history.x_prev is not None else V * 0.99
     vh = _History(history.x, (P, f), V)
     vh.x_prev, vh.load_prev, vh.volume_prev = history.x_prev, history.load_prev, V_prev
-    dV = max(0.5 * abs(V - V_prev), 1e-4 * abs(V))
+    dV = max(0.5 * abs(V - V_prev), 1e-3 * abs(V))     # floor: round-off in P must not look like a peak
     pending = [t[0] for t in remaining]
     samples = [(V, P)]
     peak, after_peak, cuts = None, 0, 0
@@ -398,7 +398,7 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
             continue
         vh.accept(x_new, (P_new, f), V_new)
         samples.append((V_new, P_new))
-        if peak is None and len(samples) >= 3 and samples[-1][1] < samples[-2][1]:
+        if peak is None and len(samples) >= 3 and samples[-1][1] < samples[-2][1] - 1e-6 * abs(samples[-2][1]):
             peak = _parabola_peak(samples[-3:])
             events.append(f"limit point at P ~ {peak * 1e3:.4g} kPa (volume control continues)")
         if peak is not None:
