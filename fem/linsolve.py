@@ -111,9 +111,3 @@ class LinearSolver:
 
 
 _OWNER: dict = {}   # matrix type -> the LinearSolver whose analysis the handle holds
-
-
-def spsolve(A, b, solver: str | None = None) -> np.ndarray:
-    s = LinearSolver(solver)
-    s.factor(A)
-    return s.solve(b)

@@ -51,8 +51,7 @@ import numpy as np
 import skfem
 
 from fem.errors import SolverInputError
-from fem.neohooke import (NeoHookean, _outer, cofactor3, det3, iso_stress, mixed_tangent,
-                          pressure_stress)
+from fem.neohooke import NeoHookean, cofactor3, det3, iso_stress, pressure_stress
 from fem.fibers import element_arrays as fiber_arrays
 from fem.fibers import embed as embed_fibers
 from fem.fibers import segment_dofs as fiber_segment_dofs
@@ -378,17 +377,6 @@ class SolidModel:
             mask = np.isin(d, self.fixed_dofs)
             out[c] = f[d[mask]].sum()
         return out
-
-
-def _grad_grad(dNa, A, dNb, dx):
-    """K[(a,i),(b,k),e] = sum_q dNa[a,J] A[i,J,k,L] dNb[b,L] dx, as batched matrix products."""
-    na, E, Q = dNa.shape[0], dx.shape[0], dx.shape[1]
-    Ga = (dNa * dx).transpose(2, 3, 0, 1).reshape(E * Q, na, 3)            # [eq, a, J]
-    Am = A.transpose(4, 5, 1, 0, 2, 3).reshape(E * Q, 3, 27)             # [eq, J, (i k L)]
-    T = np.matmul(Ga, Am).reshape(E * Q, na * 9, 3)                        # [eq, (a i k), L]
-    Gb = dNb.transpose(2, 3, 1, 0).reshape(E * Q, 3, -1)                   # [eq, L, b]
-    K = np.matmul(T, Gb).reshape(E, Q, na, 3, 3, -1).sum(axis=1)          # [e, a, i, k, b]
-    return K.transpose(1, 2, 4, 3, 0).reshape(na * 3, -1, E)
 
 
 def _material_arrays(mesh, materials, n_elem):

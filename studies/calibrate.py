@@ -68,7 +68,7 @@ def calibrate_mu(design: EPSADesign | None = None, *, base_material="ecoflex-00-
             progress(f"mu = {mu:.4f} MPa: RMS length error {err:.3g} mm ({curve.wall_s:.0f} s)")
         return err
 
-    res = minimize_scalar(rms, bounds=(math.log(bounds[0]), math.log(bounds[1])), method="bounded",
+    minimize_scalar(rms, bounds=(math.log(bounds[0]), math.log(bounds[1])), method="bounded",
                           options={"xatol": xatol})
     mu_best = min(cache, key=lambda m: cache[m][0])
     err, lengths = cache[mu_best]

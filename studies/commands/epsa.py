@@ -7,7 +7,6 @@ pressure, and the deformed shape). Pressures are entered in kPa.
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import sys
