@@ -12,7 +12,6 @@ import math
 import os
 import time
 
-import numpy as np
 
 
 def main() -> None:

@@ -23,7 +23,9 @@ unless w_z = 0). The tangent is non-symmetric element by element; Newton converg
 
 Dirichlet conditions fix components of u on tagged boundaries to `factor * value`; the constrained
 dofs are condensed out through a fixed sparsity pattern (`fem.pattern`). Reactions are the
-internal forces on the constrained dofs.
+internal forces on the constrained dofs. Dead loads (a weight on the free end, for the static
+identification of the paper's Section VII-A) are a constant nodal force vector f_dead, scaled by the
+same load factor f: R = f_int - P q - f f_dead; they add nothing to the tangent.
 
 Assembly is vectorised over all elements and quadrature points (batched matrix products), never a
 per-basis-function loop: see DESIGN.md section 7 for why this matters.
@@ -94,11 +96,15 @@ class SolidModel:
     chamber: boundary tags that form the pressurised chamber surface (None: no pressure load).
     fibers: polylines (reference positions, mm) of embedded truss fibers (`fem.fibers`), with
         `fiber_youngs` (MPa) and `fiber_diameter` (mm); None or empty: no fibers.
+    dead_loads: mapping boundary tag -> total force (Fx, Fy, Fz) in N, spread uniformly over the
+        tag's reference area (a dead traction: it keeps its direction and magnitude as the body
+        deforms, like a weight). It is scaled by the load factor f of the path, like the
+        prescribed displacements.
     """
 
     def __init__(self, mesh, materials, *, dirichlet=(), chamber=None, formulation="p2p1",
                  intorder=2, volume_weights=(1.0, 1.0, 1.0), fibers=None, fiber_youngs=None,
-                 fiber_diameter=None, fiber_tension_only=False):
+                 fiber_diameter=None, fiber_tension_only=False, dead_loads=None):
         if formulation not in FORMULATIONS:
             raise SolverInputError("formulation", f"{formulation!r} is not one of {FORMULATIONS}")
         self.mesh = mesh
@@ -182,8 +188,24 @@ class SolidModel:
             self.fiber_dofs = fiber_segment_dofs(self.fibers)
             groups.append(self.fiber_dofs)
         self.pattern = Pattern(self.free_index, groups)
+        self.dead_load = self._dead_load_vector(dead_loads or {})
 
     # ------------------------------------------------------------------ helpers
+    def _dead_load_vector(self, dead_loads) -> np.ndarray:
+        """f_dead = sum_tag (F_tag / A_tag) int_tag N_a dA on the u dofs (A_tag: reference area)."""
+        out = np.zeros(self.n_dofs)
+        boundaries = self.mesh.boundaries or {}
+        for tag, force in dead_loads.items():
+            if tag not in boundaries:
+                raise SolverInputError("dead_loads", f"unknown boundary tag {tag!r}; known: {sorted(boundaries)}")
+            force = np.asarray(force, dtype=float)
+            if force.shape != (3,) or not np.all(np.isfinite(force)):
+                raise SolverInputError("dead_loads", f"{tag}: give a finite total force (Fx, Fy, Fz) in N")
+            fb = skfem.FacetBasis(self.mesh, skfem.ElementTetP2(), facets=boundaries[tag], intorder=4)
+            weights = skfem.asm(skfem.LinearForm(lambda v, w: v), fb)      # int N_a dA per node
+            out[: self.n_u] += (weights[:, None] * force[None, :] / weights.sum()).reshape(-1)
+        return out
+
     def boundary_nodes(self, tag: str) -> np.ndarray:
         return self.basis.get_dofs(self.mesh.boundaries[tag]).flatten()
 
@@ -335,15 +357,16 @@ class SolidModel:
         q, _ = self._chamber_load(x, False)
         return self._scatter(q, self.f_u_dofs)
 
-    def residual(self, x: np.ndarray, pressure: float) -> np.ndarray:
-        return self.internal_force(x) - pressure * self.pressure_load(x)
+    def residual(self, x: np.ndarray, pressure: float, factor: float = 0.0) -> np.ndarray:
+        """R = f_int - P q - f f_dead on all dofs (the dead loads need no tangent)."""
+        return self.internal_force(x) - pressure * self.pressure_load(x) - factor * self.dead_load
 
-    def residual_and_tangent(self, x: np.ndarray, pressure: float):
+    def residual_and_tangent(self, x: np.ndarray, pressure: float, factor: float = 0.0):
         """Full residual (all dofs) and the tangent on the free dofs (CSR)."""
         stress = self._stress(x)
         Re = self._element_residual(x, stress)
         Ke = self._element_tangent(x, stress)
-        R = self._scatter(Re, self.element_dofs)
+        R = self._scatter(Re, self.element_dofs) - factor * self.dead_load
         blocks = [Ke]
         if self.chamber:
             q, dq = self._chamber_load(x, True)
@@ -364,12 +387,13 @@ class SolidModel:
         N, *_ = segment_forces(self.fibers, fiber_state(self.fibers, x[: self.n_u].reshape(-1, 3)))
         return N
 
-    def reaction(self, x: np.ndarray, tag: str, pressure: float = 0.0) -> np.ndarray:
+    def reaction(self, x: np.ndarray, tag: str, pressure: float = 0.0, factor: float = 0.0) -> np.ndarray:
         """Total support force (N) on the constrained dofs of boundary `tag`, per component.
 
-        At equilibrium f_int = P q + f_support, so f_support = R(x, P) on the constrained dofs.
+        At equilibrium f_int = P q + f f_dead + f_support, so f_support = R(x, P, f) on the
+        constrained dofs.
         """
-        f = self.residual(x, pressure)
+        f = self.residual(x, pressure, factor)
         nodes = self.boundary_nodes(tag)
         out = np.zeros(3)
         for c in range(3):

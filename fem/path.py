@@ -1,7 +1,7 @@
 r"""Path following: Newton's method under pressure, volume or displacement control.
 
 Load control. The load is the pair (P, f): chamber pressure P (MPa) and the factor f that scales
-the prescribed Dirichlet values. Between two targets the load moves on a straight line in (P, f)
+the prescribed Dirichlet values and the dead loads. Between two targets the load moves on a straight line in (P, f)
 in sub-steps; each sub-step starts from the secant predictor (linear extrapolation of the last two
 converged states), a sub-step whose Newton iteration diverges (stalling residual, an inverted
 element, no convergence in `max_iter`) is halved, and an easy one lets the next grow again.
@@ -69,7 +69,7 @@ class Step:
     """One converged equilibrium state on the path."""
 
     pressure: float                   # MPa
-    factor: float                     # Dirichlet factor
+    factor: float                     # load factor (Dirichlet values, dead loads)
     volume: float                     # cavity volume, mm^3
     x: np.ndarray = field(repr=False) # state vector (u, and p for the mixed formulation)
     control: str                      # "pressure", "volume" or "displacement"
@@ -134,21 +134,22 @@ class _Solver:
         self.free_u = self.free[self.free < model.n_u]
         self._volume = float(model.dx.sum())
         self._q0_norm = np.linalg.norm(model.pressure_load(model.initial_state()))
+        self._dead_norm = np.linalg.norm(model.dead_load)
 
-    def _assemble(self, x, P):
+    def _assemble(self, x, P, f):
         """Residual and tangent; an inverted element makes the Newton iteration diverge."""
         t = time.perf_counter()
         try:
-            return self.model.residual_and_tangent(x, P)
+            return self.model.residual_and_tangent(x, P, f)
         except InvertedElement as exc:
             raise _Diverged(str(exc)) from None
         finally:
             self.assembly_s += time.perf_counter() - t
 
-    def _residual(self, x, P):
+    def _residual(self, x, P, f):
         t = time.perf_counter()
         try:
-            return self.model.residual(x, P)
+            return self.model.residual(x, P, f)
         finally:
             self.assembly_s += time.perf_counter() - t
 
@@ -166,8 +167,8 @@ class _Solver:
         x = m.apply_dirichlet(x, factor)
         history = []
         for it in range(self.opt.max_iter + 1):
-            R, K = self._assemble(x, P)
-            merit, p_ok = self._merit(R, x, P)
+            R, K = self._assemble(x, P, factor)
+            merit, p_ok = self._merit(R, x, P, factor)
             history.append(merit)
             if not np.isfinite(merit):
                 raise _Diverged("non-finite residual")
@@ -175,15 +176,18 @@ class _Solver:
                 return x, NewtonRecord(tuple(history), True)
             self._check_progress(history)
             dx = -self._solve(K, R[free])
-            x = self._line_search(x, dx, P, history)
+            x = self._line_search(x, dx, P, factor, history)
         raise _Diverged(f"no convergence in {self.opt.max_iter} iterations")
 
-    def _merit(self, R, x, P):
+    def _merit(self, R, x, P, f):
         """Relative force residual ||R_u(free)|| / ||f_int||, and whether the mixed-pressure
         constraint residual is below tol x the solid volume (it has units of volume)."""
         m = self.model
-        fint = R[: m.n_u] + P * m.pressure_load(x)[: m.n_u] if m.chamber else R[: m.n_u]
-        scale = max(np.linalg.norm(fint), abs(P) * self._q0_norm, _force_floor(m))
+        fint = R[: m.n_u] + f * m.dead_load[: m.n_u]
+        if m.chamber:
+            fint = fint + P * m.pressure_load(x)[: m.n_u]
+        scale = max(np.linalg.norm(fint), abs(P) * self._q0_norm, abs(f) * self._dead_norm,
+                    _force_floor(m))
         merit = float(np.linalg.norm(R[self.free_u]) / scale)
         p_ok = (not m.mixed) or np.linalg.norm(R[m.n_u:]) <= self.opt.tol * self._volume
         return merit, p_ok
@@ -195,7 +199,7 @@ class _Solver:
         if len(history) > k and min(history[-3:]) > 0.5 * min(history[:-3]):
             raise _Diverged(f"residual stalls at {history[-1]:.2e} after {len(history) - 1} iterations")
 
-    def _line_search(self, x, dx, P, history):
+    def _line_search(self, x, dx, P, f, history):
         """Non-monotone backtracking: accept a step whose merit is below the largest of the last
         three (early Newton steps of nearly incompressible solids overshoot before they converge);
         the full step is tried first, and always taken near the solution."""
@@ -208,7 +212,7 @@ class _Solver:
             if k == 0 and history[-1] <= 1e-3:
                 return trial
             try:
-                merit, _ = self._merit(self._residual(trial, P), trial, P)
+                merit, _ = self._merit(self._residual(trial, P, f), trial, P, f)
             except InvertedElement:
                 alpha *= 0.5
                 continue
@@ -223,10 +227,10 @@ class _Solver:
         x = m.apply_dirichlet(x, factor)
         history = []
         for it in range(self.opt.max_iter + 1):
-            R, K = self._assemble(x, P)
+            R, K = self._assemble(x, P, factor)
             q = m.pressure_load(x)
             g = m.chamber_volume(x) - volume_target
-            merit, p_ok = self._merit(R, x, P)
+            merit, p_ok = self._merit(R, x, P, factor)
             history.append(merit)
             if not (np.isfinite(merit) and np.isfinite(g)):
                 raise _Diverged("non-finite residual")
@@ -255,7 +259,7 @@ def _force_floor(model):
 
 def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = None,
               control: str = "pressure", on_step=None) -> PathResult:
-    """Follow the load through `targets`, a sequence of (pressure MPa, Dirichlet factor) pairs.
+    """Follow the load through `targets`, a sequence of (pressure MPa, load factor) pairs.
 
     Starts from the undeformed state at (0, 0). See the module docstring for cut-back and limit
     point handling. `control` only labels the steps ("pressure" or "displacement"). `on_step`,
@@ -479,7 +483,7 @@ def volume_path(model: SolidModel, volumes, *, factor: float = 0.0,
 
 def _failed(steps, events, solver, t0, load, reason, volume=None):
     P, f = load
-    where = f"P = {P * 1e3:.4g} kPa, Dirichlet factor {f:.4g}"
+    where = f"P = {P * 1e3:.4g} kPa, load factor {f:.4g}"
     if volume is not None:
         where += f", chamber volume {volume:.6g} mm^3"
     msg = f"diverged after the last converged load ({where}): {reason}"

@@ -8,6 +8,10 @@ Cases
 - patch: homogeneous uniaxial stretch of a box (lateral faces free): every node on the exact
   homogeneous field (relative error), and nominal stress against mu (lam - lam^-2) (the
   compressible solver at K/mu = 1e4 approaches the incompressible value).
+- dead-load: the same box under a dead axial force F on its top face (load control, no prescribed
+  displacement): the axial stretch against the exact homogeneous solution of the compressible
+  material (P_zz = F/A, P_xx = P_yy = 0, solved with scipy), and against the incompressible
+  uniaxial stretch of mu (lam - lam^-2) = F/A.
 - tube: 1/4 plane-strain thick tube, A = 1, B = 20 mm, K/mu = 1000, P = 0.5 mu and 2 mu; inner
   and outer radius against the analytic ones. (The A = 3, B = 9 tube cannot carry 2 mu: its
   pressure tends to mu ln(B/A) = 1.10 mu as la -> infinity.)
@@ -70,6 +74,48 @@ def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
         "field_error": field_err, "nominal_stress_MPa": nominal, "analytic_MPa": target,
         "stress_error": stress_err, "stress_tolerance": 5e-3, "lateral_stretch": lat,
         "iterations": res.stats.iterations})
+
+
+def _homogeneous_uniaxial(material: NeoHookean, nominal_stress: float):
+    """(axial, lateral) stretches of the homogeneous uniaxial state P_zz = S, P_xx = P_yy = 0."""
+    from scipy.optimize import fsolve
+
+    def equations(v):
+        P = material.stress(np.diag([v[1], v[1], v[0]]))
+        return [P[2, 2] - nominal_stress, P[0, 0]]
+
+    guess = brentq_uniaxial(material.mu, nominal_stress)
+    return fsolve(equations, [guess, guess ** -0.5], xtol=1e-12)
+
+
+def brentq_uniaxial(mu: float, nominal_stress: float) -> float:
+    """Incompressible uniaxial stretch with mu (lam - lam^-2) = S."""
+    from scipy.optimize import brentq
+
+    return brentq(lambda lam: analytic.uniaxial_nominal_stress(mu, lam) - nominal_stress, 0.2, 100.0,
+                  xtol=1e-14)
+
+
+def dead_load_test(stretch=1.5, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
+    size = (2.0, 2.0, 4.0)
+    area = size[0] * size[1]
+    force = analytic.uniaxial_nominal_stress(MU, stretch) * area
+    mat = NeoHookean.nearly_incompressible(MU, k_over_mu)
+    bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2)]
+    model = SolidModel(box(size, (2, 2, 3)), mat, dirichlet=bcs, dead_loads={"z1": (0.0, 0.0, force)})
+    res = load_path(model, [(0.0, f) for f in np.linspace(0.25, 1.0, 4)])
+    if not res.converged:
+        return CaseResult("dead-load", np.inf, tolerance, {"message": res.message})
+    u = model.displacement(res.steps[-1].x)
+    top = model.boundary_nodes("z1")
+    axial = 1 + u[2, top].mean() / size[2]
+    exact, lateral = _homogeneous_uniaxial(mat, force / area)
+    err = abs(axial - exact) / (exact - 1)
+    spread = np.ptp(u[2, top]) / size[2]
+    return CaseResult("dead-load", max(err, spread), tolerance, {
+        "force_N": force, "stretch": axial, "exact_stretch": float(exact), "lateral": float(lateral),
+        "incompressible_stretch": stretch, "incompressible_error": abs(axial - stretch) / (stretch - 1),
+        "top_flatness": spread, "iterations": res.stats.iterations})
 
 
 def tube_model(inner=1.0, outer=20.0, n_radial=12, n_angle=8, k_over_mu=1000.0, formulation="p2p1"):
@@ -172,6 +218,7 @@ def newton_test(tolerance=10.0) -> CaseResult:
 
 CASES = {
     "patch": patch_test,
+    "dead-load": dead_load_test,
     "tube": tube_test,
     "sphere-volume": sphere_volume_test,
     "sphere-limit": sphere_limit_test,

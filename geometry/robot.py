@@ -53,7 +53,6 @@ def assemble_robot(design: RobotDesign | None = None, edge_length: float | None 
     meshes = dict(parts)
 
     # interface facets: {part: {tag: [(other part, mask)]}}
-    tol = 0.5
     inter: list[tuple[str, str, str, np.ndarray]] = []  # (part, tag, other, mask over the tag's facets)
     for i, c in enumerate(design.actuator_centres, start=1):
         a, s = f"epsa{i}", f"seal_head{i}"

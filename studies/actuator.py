@@ -104,11 +104,19 @@ def solid_material(name: str):
 
 
 def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings | str = "default",
-                blocked: bool = False, fiber_material: str = "kevlar", seal_material: str = "abs"):
+                blocked: bool = False, fiber_material: str = "kevlar", seal_material: str = "abs",
+                end_load_n: float | None = None):
     """The actuator model: body (Neo-Hookean `material`), ABS seal head on top (tied, stiff
     Neo-Hookean with the ABS shear and bulk moduli: at 20-100 kPa its strains are ~1e-4, so the
     hyperelastic and linear-elastic ABS agree), Kevlar fibers, base z = 0 fixed (glued to the
-    robot's foot); with `blocked`, the seal head's top face is fixed too."""
+    robot's foot); with `blocked`, the seal head's top face is fixed too.
+
+    `end_load_n` (N, the static identification of Section VII-A): a weight W on the seal head,
+    a dead force -W e_z that opposes the extension (eq. 3 with the load beside m g). The seal
+    head's top is then guided (u_x = u_y = 0, u_z free), as a weight on a guide: an unguided
+    compressive dead load buckles the fixed-free silicone column already at the Euler load
+    pi^2 E I / (4 L^2) ~ 0.1 N (mu = 0.03 MPa), which the paper's weights (~1 N) would have done.
+    The guide removes that mode and leaves the axial response that eq. 3 describes."""
     from fem.materials import get_material
     from fem.mechanics import Dirichlet, SolidModel
     from geometry.swept import mesh_epsa_swept
@@ -120,12 +128,21 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
     tagged = mesh_epsa_swept(design, n_around=settings.n_around, n_radial=settings.n_radial,
                              axial_size=settings.axial_size,
                              fiber_points_per_turn=settings.fiber_points_per_turn, seal_head=True)
+    if blocked and end_load_n is not None:
+        raise DesignError("end_load", "a blocked actuator carries no end load (its top is fixed)")
+    if end_load_n is not None and not (math.isfinite(end_load_n) and end_load_n >= 0):
+        raise DesignError("end_load", f"must be a weight >= 0 N, got {end_load_n}")
     bcs = [Dirichlet.fixed("end_bottom")] + ([Dirichlet.fixed("seal_top")] if blocked else [])
+    dead_loads = None
+    if end_load_n is not None:
+        bcs.append(Dirichlet("seal_top", (0, 1), (0.0, 0.0)))
+        dead_loads = {"seal_top": (0.0, 0.0, -float(end_load_n))}
     kevlar, abs_ = get_material(fiber_material), get_material(seal_material)
     materials = {"epsa": neo, "seal_head": NeoHookean(mu=abs_.mu, bulk=abs_.bulk)}
     model = SolidModel(tagged.to_skfem(order=2), materials, dirichlet=bcs,
                        chamber=("chamber_wall", "chamber_ends"), fibers=tagged.fibers or None,
-                       fiber_youngs=kevlar.youngs_modulus, fiber_diameter=design.fiber_diameter)
+                       fiber_youngs=kevlar.youngs_modulus, fiber_diameter=design.fiber_diameter,
+                       dead_loads=dead_loads)
     return model, mat, settings
 
 
@@ -151,9 +168,12 @@ def parse_pressures(spec: str) -> tuple[float, ...]:
 def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa=(20, 40, 60, 80, 100),
                   mesh: MeshSettings | str = "default", mesh_size: float | None = None,
                   quick: bool = False, blocked: bool = False, progress=None,
-                  keep_model: bool = False):
+                  keep_model: bool = False, end_load_n: float | None = None):
     """Simulate the closed actuator under a pressure ramp. Returns an `ActuatorCurve`
-    (or `Solved` with the model and path when `keep_model`)."""
+    (or `Solved` with the model and path when `keep_model`).
+
+    With `end_load_n` (see `build_model`) the weight is put on first, at 0 kPa (a "converged"
+    row at 0 kPa), and stays on through the ramp."""
     from fem.path import load_path
     from fem.post import actuator_length, max_principal_stretch, outer_radius_at
 
@@ -165,7 +185,8 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
     pressures = tuple(float(p) for p in pressures_kpa)
     if not pressures or min(pressures) <= 0:
         raise DesignError("pressures", "give positive pressures in kPa")
-    model, mat, settings = build_model(design, material, mesh, blocked)
+    model, mat, settings = build_model(design, material, mesh, blocked, end_load_n=end_load_n)
+    factor = 0.0 if end_load_n is None else 1.0
 
     def row(step, status):
         x = step.x
@@ -181,7 +202,8 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
             progress(f"P = {step.pressure * 1e3:7.2f} kPa  ({step.control} control, "
                      f"{step.newton.iterations} Newton iterations)")
 
-    result = load_path(model, [(p * 1e-3, 0.0) for p in pressures], on_step=on_step)
+    targets = [(p * 1e-3, factor) for p in pressures]
+    result = load_path(model, ([(0.0, 1.0)] if factor else []) + targets, on_step=on_step)
     x0 = model.initial_state()
     from fem.path import NewtonRecord, Step
 

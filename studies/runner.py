@@ -60,6 +60,8 @@ SQLITE_TIMEOUT_S = 60
 #: Default ePSA evaluator and simulator.
 EPSA_EVALUATOR = "studies.runner:evaluate_epsa"
 EPSA_SIMULATOR = "studies.actuator:simulate_epsa"
+#: Grid or fixed parameters that go to the simulator as keywords instead of into the design.
+SIMULATOR_PARAMS = ("end_load_n",)
 #: Pressures of the paper's ePSA studies (kPa), Section V-A.
 PAPER_PRESSURES_KPA = (20.0, 40.0, 60.0, 80.0, 100.0)
 #: Columns of an ActuatorCurve row, in CSV order.
@@ -956,7 +958,9 @@ def _packed(attrs: dict[str, Any]) -> dict[str, Any]:
 
 def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
                   settings: Mapping[str, Any]) -> Evaluation:
-    """Evaluate one ePSA design. ``settings``: material, pressures_kpa, quick, mesh_size,
+    """Evaluate one ePSA design (parameters named in ``SIMULATOR_PARAMS``, e.g. the end load of
+    the identification study, go to the simulator as keywords). ``settings``: material,
+    pressures_kpa, quick, mesh_size,
     simulate ("module:function", default ``studies.actuator:simulate_epsa``), objectives
     ("sweep": extension at the highest computed pressure; "pareto": extension and radial
     expansion at the highest requested pressure, plus the fiber length of both helices).
@@ -966,11 +970,14 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
     """
     from geometry.design import EPSADesign
 
-    design = EPSADesign(**{**fixed, **params})
+    merged = {**fixed, **params}
+    load = {k: merged.pop(k) for k in SIMULATOR_PARAMS if k in merged}
+    design = EPSADesign(**merged)
     simulate = load_callable(settings.get("simulate", EPSA_SIMULATOR))
     pressures = tuple(float(p) for p in settings.get("pressures_kpa", PAPER_PRESSURES_KPA))
     kwargs = {"material": settings.get("material", "ecoflex-00-50"), "pressures_kpa": pressures,
               "mesh_size": settings.get("mesh_size"), "quick": bool(settings.get("quick", False))}
+    kwargs |= {k: float(v) for k, v in load.items()}
     vtu_path = None
     if settings.get("vtu_dir") and "keep_model" in _parameters(simulate):
         kwargs["keep_model"] = True

@@ -1,5 +1,4 @@
 """The calibration loop recovers a known modulus (fake evaluator: length = L_proto(P * mu* / mu))."""
-import numpy as np
 import pytest
 
 from studies import actuator, calibrate

@@ -16,6 +16,24 @@ def test_patch_test_reproduces_homogeneous_stretch():
     assert r.details["stress_error"] <= 5e-3, r.details
 
 
+def test_dead_load_gives_the_homogeneous_uniaxial_stretch():
+    r = V.dead_load_test()
+    assert r.passed, r.details
+    assert r.details["incompressible_error"] <= 5e-3, r.details      # K/mu = 1e4 vs incompressible
+    # the load really is dead: doubling it follows the material law, not a linear spring
+    r2 = V.dead_load_test(stretch=2.5)
+    assert r2.passed and abs(r2.details["stretch"] - 2.5) / 1.5 < 5e-3, r2.details
+
+
+@pytest.mark.parametrize("loads, word", [({"nowhere": (0, 0, 1)}, "unknown boundary"),
+                                         ({"z1": (0, 1)}, "finite total force"),
+                                         ({"z1": (0, 0, float("nan"))}, "finite total force")])
+def test_bad_dead_load_names_the_parameter(loads, word):
+    with pytest.raises(SolverInputError) as e:
+        SolidModel(box((1, 1, 1), (1, 1, 1)), NeoHookean(mu=0.03, bulk=30.0), dead_loads=loads)
+    assert e.value.parameter == "dead_loads" and word in str(e.value)
+
+
 def test_plane_strain_tube_at_half_and_twice_mu():
     r = V.tube_test()
     assert r.passed, r.details
@@ -51,7 +69,7 @@ def test_diverging_solve_returns_a_failure_naming_the_last_converged_load():
     model = SolidModel(mesh, NeoHookean.nearly_incompressible(0.03, 10.0), dirichlet=bcs)
     res = load_path(model, [(0.0, 1.0)], control="displacement")
     assert not res.converged
-    assert "last converged load" in res.message and "Dirichlet factor" in res.message
+    assert "last converged load" in res.message and "load factor" in res.message
 
 
 def test_unknown_boundary_tag_is_a_named_error():

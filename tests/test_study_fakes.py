@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from geometry.design import DesignError
 from studies.actuator import CurveRow
@@ -97,3 +97,35 @@ def early_limit_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 
                                 1000 + p, 1.0, 0.0, "volume-control") for p in (5.0, 10.0, 15.0))
     return ActuatorCurve(rows=rows, converged=True, limit_pressure_kpa=15.0,
                          message="limit point at P ~ 15 kPa", material=material)
+
+
+#: The law of `loaded_simulate` (N/mm, N against P in kPa): k_p = 0.05 + 2e-4 P, f_p = 0.04 P; at
+#: 70 kPa and above the FE-like response "fails" for the heaviest weight when SOFTCRAWL_FAKE_FAIL_HEAVY
+#: is set.
+def fake_k_p(p):
+    return 0.05 + 2e-4 * p
+
+
+def fake_f_p(p):
+    return 0.04 * p
+
+
+def loaded_simulate(design, *, material="fake", pressures_kpa=(20, 40), mesh_size=None, quick=False,
+                    progress=None, end_load_n=None):
+    """A weight W on the top: extension y = (f_p(P) - W) / k_p(P) exactly (eq. 3, m g = 0)."""
+    w = 0.0 if end_load_n is None else float(end_load_n)
+    fail_heavy = os.environ.get("SOFTCRAWL_FAKE_FAIL_HEAVY") and w >= 1.0
+    rows = [CurveRow(0.0, design.length, design.outer_radius, 1000.0, 1.0, 0.0, "reference"),
+            CurveRow(0.0, design.length - w / fake_k_p(0.0), design.outer_radius, 1000.0, 1.0, 0.0,
+                     "converged")]
+    nan = float("nan")
+    for p in pressures_kpa:
+        if fail_heavy and p >= 70:
+            rows.append(CurveRow(p, nan, nan, nan, nan, nan, "failed"))
+            continue
+        y = (fake_f_p(p) - w) / fake_k_p(p)
+        rows.append(CurveRow(p, design.length + y, design.outer_radius, 1000.0 + p, 1.0, 0.0,
+                             "converged"))
+    failed = any(r.status == "failed" for r in rows)
+    return ActuatorCurve(rows=tuple(rows), converged=not failed, limit_pressure_kpa=None,
+                         material=material, message="diverged at 70 kPa" if failed else "")

@@ -2,11 +2,14 @@
 
     softcrawl study chamber-radius    [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study fiber-turns       [--quick] [--material M] [--storage URL] [--workers N] --out DIR
+    softcrawl study identify          [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study optimise-actuator [--quick] [--material M] [--storage URL] [--workers N]
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
 
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm,
-N = 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. optimise-actuator: NSGA-II (or TPE) over
+N = 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1
+ePSA under weights W = 0, 0.5, 1 N on its guided top at 10-100 kPa; k_p(P) and f_p(P) fitted as the
+paper does and compared with eqs. 19-24 (studies/identify.py). optimise-actuator: NSGA-II (or TPE) over
 r in [2, 6] mm and N in 0..50 for three objectives at 100 kPa: maximise extension, minimise radial
 expansion, minimise the Kevlar thread length of the double helix (the fabrication cost: winding is
 done by hand, turn by turn, so thread length ~ winding work; the body mass depends on r only and is
@@ -24,11 +27,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-STUDIES = ("chamber-radius", "fiber-turns", "optimise-actuator")
+STUDIES = ("chamber-radius", "fiber-turns", "identify", "optimise-actuator")
 #: Grids of the paper's sweeps (Section V-A) and the fixed parameters of each.
 GRIDS = {
     "chamber-radius": ({"chamber_radius": (2.0, 3.0, 4.0, 5.0, 6.0)}, {"fiber_turns": 0}),
     "fiber-turns": ({"fiber_turns": (0, 10, 20, 25, 50)}, {"chamber_radius": 3.0}),
+    "identify": ({"end_load_n": (0.0, 0.5, 1.0)}, {}),      # studies.identify.LOADS_N, Table 1 ePSA
 }
 #: Search space and budget of optimise-actuator.
 SPACE = {"chamber_radius": ("float", 2.0, 6.0), "fiber_turns": ("int", 0, 50)}
@@ -86,8 +90,10 @@ def study_folder(out, name: str, material: str, quick: bool, mesh_size: float | 
 def _settings(args) -> dict:
     from studies import runner
 
-    settings = {"material": args.material, "quick": bool(args.quick),
-                "pressures_kpa": list(runner.PAPER_PRESSURES_KPA)}
+    from studies.identify import PRESSURES_KPA
+
+    pressures = PRESSURES_KPA if args.name == "identify" else runner.PAPER_PRESSURES_KPA
+    settings = {"material": args.material, "quick": bool(args.quick), "pressures_kpa": list(pressures)}
     if args.mesh_size is not None:
         settings["mesh_size"] = args.mesh_size
     if args.simulator:
@@ -149,10 +155,50 @@ def _run_sweep(args) -> int:
     return write_sweep_outputs(args.name, spec, rows, folder)
 
 
+def write_identify_outputs(spec, rows, folder) -> int:
+    """curves.csv, identify.png (length per weight), identification.csv/.json and
+    identification.png (k_p, f_p against eqs. 19-24)."""
+    import json
+
+    from studies import identify, plots, runner
+
+    runner.write_csv(rows, folder / "curves.csv")
+    material = spec.settings.get("material")
+    quick = " (quick mesh)" if spec.settings.get("quick") else ""
+    plots.plot_curves(rows, "end_load_n", folder / "identify.png", label="W", unit=" N",
+                      title=f"identify: Table 1 ePSA under weights W; material {material}{quick}")
+    ident = identify.identify_from_rows(rows)
+    table = identify.comparison_rows(ident)
+    laws = identify.fitted_laws(ident) | {"material": material, "quick": bool(spec.settings.get("quick"))}
+    (folder / "identification.json").write_text(json.dumps(laws, indent=2) + "\n")
+    written = [folder / "curves.csv", folder / "identify.png", folder / "identification.json"]
+    for p, why in ident.skipped:
+        print(f"  P = {p:g} kPa not used: {why}")
+    if not table:
+        print(f"identify: no identification: {ident.message}", file=sys.stderr)
+        print("wrote " + ", ".join(map(str, written)))
+        return 1
+    runner.write_csv(table, folder / "identification.csv")
+    plots.plot_identification(table, folder / "identification.png",
+                              title=f"FE identification (material {material}{quick}) vs the prototype")
+    written += [folder / "identification.csv", folder / "identification.png"]
+    for name, key in (("k_p (N/m)", "k_p_n_per_m"), ("f_p (N)", "f_p_n")):
+        text = "; ".join(f"{b['slope']:.4g} P + {b['intercept']:.4g}"
+                         + ("" if b["p_max_kpa"] is None else f" (P <= {b['p_max_kpa']:g})")
+                         for b in laws[key])
+        print(f"identify: FE {name} = {text}")
+    if ident.message:
+        print(f"identify: {ident.message}")
+    print("wrote " + ", ".join(map(str, written)))
+    return 0
+
+
 def write_sweep_outputs(name: str, spec, rows, folder) -> int:
     """curves.csv, summary.csv and the PNG of a finished (or partial) sweep."""
     from studies import plots, rules, runner
 
+    if name == "identify":
+        return write_identify_outputs(spec, rows, folder)
     param = next(iter(spec.grid))
     runner.write_csv(rows, folder / "curves.csv")
     summary = []

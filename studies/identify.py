@@ -1,0 +1,127 @@
+r"""The paper's static identification (Section VII-A) run on finite element results.
+
+FE experiment (one sweep point per weight W in `LOADS_N`): the Table 1 ePSA with its base fixed and
+a weight W on the guided seal head (a dead force -W e_z, see `studies.actuator.build_model`) is
+ramped through `PRESSURES_KPA` (10 to 100 kPa in 10 kPa steps, as the paper's step (2)). The weight
+goes on first, at 0 kPa. The extension y is the FE length minus the unloaded 0 kPa length.
+
+Identification (`robot.identification`, the paper's two least-squares steps): at each pressure
+where every weight converged under pressure control, the line y = a + b W gives
+
+    k_p = -1/b,     f_p = a k_p          (eq. 3, k_p y + m g + W = f_p, with m g = 0: no gravity in the FE)
+
+then k_p(P) and f_p(P) are each fitted by two lines split at 60 kPa, the form of eqs. 19-24 (one
+line when fewer than two pressures lie on a side). The comparison with the prototype ePSAs 1-3
+(eqs. 19-24) is per pressure, in the paper's units (k_p in N/m, f_p in N).
+
+Pressures past a limit point (volume-controlled states) and failed points are not used; they are
+listed in the outputs with their status, so a missing pressure is visible, not silently dropped.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Weights on the seal head, N (0, 51 and 102 g): within the paper's measured output force range
+#: (8.42 N blocked at 100 kPa) and small enough to keep the response linear in W.
+LOADS_N = (0.0, 0.5, 1.0)
+#: The paper's pressure steps (Section VII-A, step 2).
+PRESSURES_KPA = tuple(float(p) for p in range(10, 101, 10))
+
+
+@dataclass(frozen=True)
+class FEIdentification:
+    table: tuple[tuple[float, float, float], ...]   # (P kPa, W N, y mm) used in the fit
+    pressures_kpa: tuple[float, ...]                 # pressures with every weight converged
+    skipped: tuple[tuple[float, str], ...]           # (P kPa, why) not used
+    result: object | None                            # robot.identification.Identification
+    message: str = ""
+
+
+def load_extension_table(rows) -> tuple[list[tuple[float, float, float]], list[tuple[float, str]]]:
+    """(P, W, y) from the sweep's curve rows (runner.collect), and the pressures left out."""
+    by_load: dict[float, dict[float, float]] = {}
+    length0: dict[float, float] = {}
+    status: dict[float, dict[float, str]] = {}
+    for r in rows:
+        if r.get("pressure_kpa") in ("", None):
+            continue
+        w, p = float(r["end_load_n"]), float(r["pressure_kpa"])
+        st = r.get("row_status", "")
+        if st == "reference":
+            length0[w] = float(r["length_mm"])
+            continue
+        status.setdefault(w, {})[p] = st
+        if st == "converged" and r.get("length_mm") not in ("", None) and p > 0:
+            by_load.setdefault(w, {})[p] = float(r["length_mm"])
+    loads = sorted(status)
+    pressures = sorted({p for s in status.values() for p in s if p > 0})
+    table, skipped = [], []
+    for p in pressures:
+        missing = [w for w in loads if p not in by_load.get(w, {}) or w not in length0]
+        if missing:
+            skipped.append((p, "no pressure-controlled state for W = "
+                            + ", ".join(f"{w:g} N ({status.get(w, {}).get(p, 'missing')})" for w in missing)))
+            continue
+        table += [(p, w, by_load[w][p] - length0[w]) for w in loads]
+    return table, skipped
+
+
+def identify_from_rows(rows, breakpoint: float = 60.0) -> FEIdentification:
+    from robot.errors import ModelInputError
+    from robot.identification import identify
+
+    table, skipped = load_extension_table(rows)
+    loads = sorted({w for _, w, _ in table})
+    pressures = sorted({p for p, _, _ in table})
+    if len(loads) < 2 or not pressures:
+        return FEIdentification(tuple(table), tuple(pressures), tuple(skipped), None,
+                                "needs at least two weights converged at one pressure")
+    P, W, y = (np.array(c) for c in zip(*table))
+    lo = sum(p <= breakpoint for p in pressures)
+    piecewise = lo >= 2 and len(pressures) - lo >= 2
+    try:
+        result = identify(P, W, y, mass_t=0.0, breakpoint=breakpoint if piecewise else None,
+                          piecewise=piecewise)
+    except ModelInputError as exc:
+        return FEIdentification(tuple(table), tuple(pressures), tuple(skipped), None, str(exc))
+    note = "" if piecewise else f"one line per parameter: fewer than two pressures on a side of {breakpoint:g} kPa"
+    return FEIdentification(tuple(table), tuple(pressures), tuple(skipped), result, note)
+
+
+def comparison_rows(ident: FEIdentification) -> list[dict]:
+    """Per pressure: FE k_p (N/m), f_p (N) and the fit residual, beside eqs. 19-24 for ePSAs 1-3."""
+    from robot.prototype import prototype_epsa
+
+    protos = {i: prototype_epsa(i) for i in (1, 2, 3)}
+    out = []
+    if ident.result is None:
+        return out
+    per = ident.result.per_pressure
+    for p, k, f, rms in zip(per.pressure_kpa, per.k_p, per.f_p, per.rms_mm):
+        row = {"pressure_kpa": float(p), "k_p_fe_n_per_m": 1e3 * float(k), "f_p_fe_n": float(f),
+               "fit_rms_mm": float(rms),
+               "k_p_fe_fit_n_per_m": 1e3 * float(ident.result.k_p(p)),
+               "f_p_fe_fit_n": float(ident.result.f_p(p))}
+        for i, a in protos.items():
+            row[f"k_p_epsa{i}_n_per_m"] = 1e3 * float(a.k_p(p))
+            row[f"f_p_epsa{i}_n"] = float(a.f_p(p))
+        out.append(row)
+    return out
+
+
+def fitted_laws(ident: FEIdentification) -> dict:
+    """The identified laws in the paper's printed form (k_p in N/m, f_p in N, P in kPa)."""
+    if ident.result is None:
+        return {"message": ident.message}
+
+    def lines(pw, factor):
+        return [{"p_max_kpa": None if hi is None or not np.isfinite(hi) else float(hi),
+                 "slope": factor * line.slope, "intercept": factor * line.intercept}
+                for _, hi, line in pw.branches()]
+
+    return {"k_p_n_per_m": lines(ident.result.k_p, 1e3), "f_p_n": lines(ident.result.f_p, 1.0),
+            "pressures_kpa": list(ident.pressures_kpa),
+            "skipped": [{"pressure_kpa": p, "reason": why} for p, why in ident.skipped],
+            "message": ident.message}
