@@ -75,6 +75,7 @@ class Step:
     control: str                      # "pressure", "volume" or "displacement"
     newton: NewtonRecord = field(repr=False)
     substeps: int = 1
+    past_limit: bool = False          # a volume-controlled state after the limit point
 
 
 @dataclass(frozen=True)
@@ -351,7 +352,7 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
 
     Volume steps adapt to the Newton effort. When the pressure crosses the next target, a secant
     iteration in V lands on it, and that state is recorded as the target's step (control
-    "volume"). If the pressure peaks and falls, the peak is the limit point; the path goes on for
+    "volume", `past_limit` False: it is the equilibrium at that target). If the pressure peaks and falls, the peak is the limit point; the path goes on for
     `post_limit_steps` volume steps and ends (targets above the peak are unreachable).
     """
     m = solver.model
@@ -406,7 +407,7 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
             peak = _parabola_peak(samples[-3:])
             events.append(f"limit point at P ~ {peak * 1e3:.4g} kPa (volume control continues)")
         if peak is not None:
-            steps.append(Step(P_new, f, V_new, x_new, "volume", record))
+            steps.append(Step(P_new, f, V_new, x_new, "volume", record, past_limit=True))
             after_peak += 1
             if after_peak >= opt.post_limit_steps:
                 break

@@ -199,6 +199,11 @@ def sphere_limit_test(inner=5.0, outer=7.5, tolerance=0.03, **mesh) -> CaseResul
     if res.limit_pressure is None:
         return CaseResult("sphere-limit", np.inf, tolerance, details)
     details["fe_limit_kPa"] = res.limit_pressure * 1e3
+    past = [s for s in res.steps if s.past_limit]
+    details["past_limit_states"] = len(past)
+    details["past_limit_flags_consistent"] = bool(
+        all(s.control == "volume" and s.pressure < res.limit_pressure for s in past)
+        and not any(s.past_limit for s in res.steps if s.control == "pressure"))
     return CaseResult("sphere-limit", abs(res.limit_pressure - p_max) / p_max, tolerance, details)
 
 

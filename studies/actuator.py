@@ -24,6 +24,10 @@ import numpy as np
 
 from geometry.design import DesignError, EPSADesign
 
+#: Row statuses: "reference" the undeformed 0 kPa state; "converged" the equilibrium at a requested
+#: pressure (under pressure control, or landed on by volume control when pressure control stalled
+#: on a rising path); "volume-control" a state past a limit point (the pressure falls there);
+#: "failed" a requested pressure the solve did not reach.
 STATUSES = ("reference", "converged", "volume-control", "failed")
 
 
@@ -209,8 +213,8 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
 
     rows = [row(Step(0.0, 0.0, model.chamber_volume(x0), x0, "pressure", NewtonRecord((0.0,), True)),
                 "reference")]
-    rows += [row(s, "converged" if s.control == "pressure" else "volume-control") for s in result.steps]
-    reached = max([s.pressure for s in result.steps if s.control == "pressure"], default=0.0) * 1e3
+    rows += [row(s, "volume-control" if s.past_limit else "converged") for s in result.steps]
+    reached = max([s.pressure for s in result.steps if not s.past_limit], default=0.0) * 1e3
     nan = float("nan")
     if not result.converged:
         rows += [CurveRow(p, nan, nan, nan, nan, nan, "failed") for p in pressures if p > reached + 1e-9]

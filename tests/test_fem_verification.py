@@ -7,7 +7,7 @@ from fem.errors import SolverInputError
 from fem.mechanics import Dirichlet, SolidModel
 from fem.meshes import box
 from fem.neohooke import NeoHookean
-from fem.path import load_path
+from fem.path import NewtonOptions, load_path
 
 
 def test_patch_test_reproduces_homogeneous_stretch():
@@ -52,6 +52,8 @@ def test_sphere_pressure_control_reports_the_limit_point():
     r = V.sphere_limit_test()
     assert r.passed, r.details
     assert any("limit point at P ~" in e for e in r.details["events"])
+    # the states after the maximum are flagged as past the limit, the ones before are not
+    assert r.details["past_limit_states"] >= 1 and r.details["past_limit_flags_consistent"]
 
 
 def test_newton_converges_quadratically_under_follower_pressure():
@@ -92,3 +94,15 @@ def test_reaction_balances_the_pressure_load():
     resultant = P * (y0 + 4 * ymid + y1) / 6
     support = model.reaction(x, "sym_x", pressure=P)
     assert support[0] == pytest.approx(-resultant, rel=1e-7)
+
+
+def test_volume_control_lands_on_targets_before_and_flags_states_past_the_limit():
+    # a stalling pressure control (3 Newton iterations allowed, no cut-back) hands over to volume
+    # control on the monotone tube: the targets are landed on and are not "past the limit"
+    model = V.tube_model(3.0, 9.0, n_radial=4, n_angle=6)
+    targets = [(0.3 * V.MU, 0.0), (0.6 * V.MU, 0.0)]
+    res = load_path(model, targets, options=NewtonOptions(max_iter=3, max_cutbacks=0))
+    assert res.converged and res.limit_pressure is None, res.message
+    assert [s.control for s in res.steps] == ["volume", "volume"]
+    assert not any(s.past_limit for s in res.steps)
+    np.testing.assert_allclose([s.pressure for s in res.steps], [t[0] for t in targets], rtol=1e-5)
