@@ -40,12 +40,16 @@ class MeshSettings:
 
     @classmethod
     def from_size(cls, h: float, design: EPSADesign) -> "MeshSettings":
-        """A mesh of element size about h (mm): axial h, ~h around the outer surface, ~h/1.5 across."""
+        """A mesh of element size about h (mm): axial h, at most 0.8 h around the outer surface
+        (a multiple of 4 cells, at least 12), ~h/1.5 across the wall, and at least two fiber
+        points per cell around. For the Table 1 ePSA, h = 10 and 5 mm give the "quick" and
+        "default" presets, so a convergence study over sizes contains both."""
         if not (isinstance(h, (int, float)) and h > 0 and math.isfinite(h)):
             raise DesignError("mesh_size", f"must be a positive length in mm, got {h}")
         wall = design.outer_radius - design.chamber_radius
-        n_around = max(12, 4 * math.ceil(2 * math.pi * design.outer_radius / (4 * 1.5 * h)))
-        return cls(n_around=n_around, n_radial=max(1, round(1.5 * wall / h)), axial_size=float(h))
+        n_around = max(12, 4 * math.ceil(2 * math.pi * design.outer_radius / (4 * 0.8 * h)))
+        return cls(n_around=n_around, n_radial=max(1, round(1.5 * wall / h)), axial_size=float(h),
+                   fiber_points_per_turn=max(32, 2 * n_around))
 
 
 MESH_PRESETS = {"default": MeshSettings(), "quick": MeshSettings(n_around=12, n_radial=1, axial_size=10.0)}

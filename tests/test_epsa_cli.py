@@ -74,3 +74,15 @@ def test_verify_command_writes_json(tmp_path):
     assert main(["verify", "--case", "patch", "--json", str(path)]) == 0
     data = json.loads(path.read_text())
     assert data["all_passed"] and data["cases"][0]["case"] == "patch"
+
+
+def test_mesh_presets_are_points_of_the_size_family():
+    """The convergence study over sizes contains the presets: quick = h 10 mm, default = h 5 mm."""
+    from geometry.design import EPSADesign
+    from studies.actuator import MESH_PRESETS, MeshSettings
+
+    d = EPSADesign()
+    assert MeshSettings.from_size(10.0, d) == MESH_PRESETS["quick"]
+    assert MeshSettings.from_size(5.0, d) == MESH_PRESETS["default"]
+    finer = MeshSettings.from_size(2.5, d)
+    assert finer.n_around > 16 and finer.n_radial > 2 and finer.fiber_points_per_turn >= 2 * finer.n_around

@@ -183,7 +183,7 @@ def write_identify_outputs(spec, rows, folder) -> int:
                               title=f"FE identification (material {material}{quick}) vs the prototype")
     written += [folder / "identification.csv", folder / "identification.png"]
     for name, key in (("k_p (N/m)", "k_p_n_per_m"), ("f_p (N)", "f_p_n")):
-        text = "; ".join(f"{b['slope']:.4g} P + {b['intercept']:.4g}"
+        text = "; ".join(f"{b['slope']:.4g} P {'-' if b['intercept'] < 0 else '+'} {abs(b['intercept']):.4g}"
                          + ("" if b["p_max_kpa"] is None else f" (P <= {b['p_max_kpa']:g})")
                          for b in laws[key])
         print(f"identify: FE {name} = {text}")
