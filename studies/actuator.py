@@ -65,6 +65,7 @@ class CurveRow:
     max_fiber_tension_n: float
     status: str
     blocked_force_n: float = float("nan")
+    tip_lateral_mm: float = float("nan")      # sideways displacement of the top face's centroid
 
 
 @dataclass(frozen=True)
@@ -113,11 +114,14 @@ def solid_material(name: str):
 
 def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings | str = "default",
                 blocked: bool = False, fiber_material: str = "kevlar", seal_material: str = "abs",
-                end_load_n: float | None = None):
+                end_load_n: float | None = None, guided: bool = False):
     """The actuator model: body (Neo-Hookean `material`), ABS seal head on top (tied, stiff
     Neo-Hookean with the ABS shear and bulk moduli: at 20-100 kPa its strains are ~1e-4, so the
     hyperelastic and linear-elastic ABS agree), Kevlar fibers, base z = 0 fixed (glued to the
-    robot's foot); with `blocked`, the seal head's top face is fixed too.
+    robot's foot); with `blocked`, the seal head's top face is fixed too. With `guided`, the seal
+    head's top keeps to the axis (u_x = u_y = 0, u_z free): the free actuator is a slender
+    pressurised column that can bend over sideways (see `simulate_epsa`); in the robot the rings and
+    the two other actuators hold it, and a guide is the single-actuator equivalent.
 
     `end_load_n` (N, the static identification of Section VII-A): a weight W on the seal head,
     a dead force -W e_z that opposes the extension (eq. 3 with the load beside m g). The seal
@@ -136,14 +140,15 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
     tagged = mesh_epsa_swept(design, n_around=settings.n_around, n_radial=settings.n_radial,
                              axial_size=settings.axial_size,
                              fiber_points_per_turn=settings.fiber_points_per_turn, seal_head=True)
-    if blocked and end_load_n is not None:
-        raise DesignError("end_load", "a blocked actuator carries no end load (its top is fixed)")
+    if blocked and (end_load_n is not None or guided):
+        raise DesignError("blocked", "a blocked actuator (top fixed) takes no end load and no guide")
     if end_load_n is not None and not (math.isfinite(end_load_n) and end_load_n >= 0):
         raise DesignError("end_load", f"must be a weight >= 0 N, got {end_load_n}")
     bcs = [Dirichlet.fixed("end_bottom")] + ([Dirichlet.fixed("seal_top")] if blocked else [])
     dead_loads = None
-    if end_load_n is not None:
+    if end_load_n is not None or guided:
         bcs.append(Dirichlet("seal_top", (0, 1), (0.0, 0.0)))
+    if end_load_n is not None:
         dead_loads = {"seal_top": (0.0, 0.0, -float(end_load_n))}
     kevlar, abs_ = get_material(fiber_material), get_material(seal_material)
     materials = {"epsa": neo, "seal_head": NeoHookean(mu=abs_.mu, bulk=abs_.bulk)}
@@ -176,9 +181,15 @@ def parse_pressures(spec: str) -> tuple[float, ...]:
 def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa=(20, 40, 60, 80, 100),
                   mesh: MeshSettings | str = "default", mesh_size: float | None = None,
                   quick: bool = False, blocked: bool = False, progress=None,
-                  keep_model: bool = False, end_load_n: float | None = None):
+                  keep_model: bool = False, end_load_n: float | None = None, guided: bool = False):
     """Simulate the closed actuator under a pressure ramp. Returns an `ActuatorCurve`
     (or `Solved` with the model and path when `keep_model`).
+
+    Every row records the sideways displacement of the top face (`tip_lateral_mm`). A free
+    actuator whose top sways by more than `SWAY_WARNING` of its extension gets an event that says
+    so: the long, soft, pressurised tube bends over like an Euler strut (the inflated-tube bending
+    bifurcation of Haughton & Ogden), triggered by the small asymmetry of the helix ends; with
+    `guided` the top keeps to the axis.
 
     With `end_load_n` (see `build_model`) the weight is put on first, at 0 kPa (a "converged"
     row at 0 kPa), and stays on through the ramp."""
@@ -193,17 +204,20 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
     pressures = tuple(float(p) for p in pressures_kpa)
     if not pressures or min(pressures) <= 0:
         raise DesignError("pressures", "give positive pressures in kPa")
-    model, mat, settings = build_model(design, material, mesh, blocked, end_load_n=end_load_n)
+    model, mat, settings = build_model(design, material, mesh, blocked, end_load_n=end_load_n,
+                                       guided=guided)
+    top_nodes = model.boundary_nodes("end_top")
     factor = 0.0 if end_load_n is None else 1.0
 
     def row(step, status):
         x = step.x
         tension = model.fiber_tension(x)
         force = -model.reaction(x, "seal_top", step.pressure)[2] if blocked else float("nan")
+        sway = float(np.hypot(*model.displacement(x)[:2, top_nodes].mean(axis=1)))
         return CurveRow(step.pressure * 1e3, actuator_length(model, x),
                         outer_radius_at(model, x, design.length / 2), step.volume,
                         max_principal_stretch(model, x), float(tension.max()) if tension.size else 0.0,
-                        status, float(force))
+                        status, float(force), sway)
 
     def on_step(step):
         if progress is not None:
@@ -223,10 +237,27 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
     if not result.converged:
         rows += [CurveRow(p, nan, nan, nan, nan, nan, "failed") for p in pressures if p > reached + 1e-9]
     limit = None if result.limit_pressure is None else result.limit_pressure * 1e3
+    events = tuple(result.events) + _sway_events(rows)
     curve = ActuatorCurve(tuple(rows), bool(result.converged), limit, result.message,
                           time.perf_counter() - t0, int(model.n_dofs), mat.name, float(mat.mu),
-                          design.to_dict(), asdict(settings), tuple(result.events))
+                          design.to_dict(), asdict(settings), events)
     return Solved(curve, model, result) if keep_model else curve
+
+
+#: Tip sway (lateral top displacement) above this fraction of the extension is reported as bending.
+SWAY_WARNING = 0.1
+
+
+def _sway_events(rows) -> tuple[str, ...]:
+    length0 = rows[0].length_mm
+    for r in rows[1:]:
+        ext = r.length_mm - length0
+        if np.isfinite(r.tip_lateral_mm) and r.tip_lateral_mm > max(1.0, SWAY_WARNING * abs(ext)):
+            return (f"the top sways sideways by {r.tip_lateral_mm:.3g} mm at P = {r.pressure_kpa:.4g} kPa "
+                    f"(extension {ext:.3g} mm): the free actuator bends over (Euler-type bending of "
+                    "an inflated tube); the length is then the axial projection. --guided keeps "
+                    "the top on the axis",)
+    return ()
 
 
 @dataclass(frozen=True)

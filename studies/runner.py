@@ -66,7 +66,7 @@ SIMULATOR_PARAMS = ("end_load_n",)
 PAPER_PRESSURES_KPA = (20.0, 40.0, 60.0, 80.0, 100.0)
 #: Columns of an ActuatorCurve row, in CSV order.
 CURVE_COLUMNS = ("pressure_kpa", "length_mm", "outer_radius_mm", "chamber_volume_mm3",
-                 "max_principal_stretch", "max_fiber_tension_n", "status")
+                 "max_principal_stretch", "max_fiber_tension_n", "status", "tip_lateral_mm")
 
 
 class StudyError(ValueError):

@@ -1,9 +1,14 @@
 """`softcrawl epsa`: simulate one ePSA under a pressure ramp (or blocked, for its output force).
 
 Writes DIR/curve.csv (pressure_kPa, length_mm, outer_radius_mm, chamber_volume_mm3,
-max_principal_stretch, max_fiber_tension_N, status[, blocked_force_N]), DIR/summary.json,
+max_principal_stretch, max_fiber_tension_N, status, tip_lateral_mm[, blocked_force_N]),
+DIR/summary.json,
 DIR/vtu/step_NNN.vtu (+ steps.pvd for ParaView) and DIR/epsa.png (length and radius against
 pressure, and the deformed shape). Pressures are entered in kPa.
+
+The free actuator is a slender pressurised column: with soft silicone it can bend over sideways
+at high pressure (tip_lateral_mm grows, and the run prints a note); --guided keeps its top on the
+axis, as the rings and the other actuators do in the robot.
 """
 from __future__ import annotations
 
@@ -26,6 +31,8 @@ def register(subparsers) -> None:
     p.add_argument("--mesh-size", type=float, default=None, help="element size (mm); default: converged preset")
     p.add_argument("--quick", action="store_true", help="coarse mesh (seconds; for CI and trials)")
     p.add_argument("--blocked", action="store_true", help="fix both ends: blocked force (paper Fig. 19)")
+    p.add_argument("--guided", action="store_true",
+                   help="keep the top on the axis (u_x = u_y = 0): no sideways bending of the free end")
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
     p.add_argument("--convergence", metavar="SIZES", default=None,
                    help="mesh study instead: element sizes in mm, coarse to fine (e.g. 10,5,2.5); "
@@ -45,14 +52,14 @@ def design_from_args(args):
 
 def write_curve_csv(path: Path, curve, blocked: bool) -> None:
     cols = ["pressure_kPa", "length_mm", "outer_radius_mm", "chamber_volume_mm3", "max_principal_stretch",
-            "max_fiber_tension_N", "status"] + (["blocked_force_N"] if blocked else [])
+            "max_fiber_tension_N", "status", "tip_lateral_mm"] + (["blocked_force_N"] if blocked else [])
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(cols)
         for r in curve.rows:
             vals = [r.pressure_kpa, r.length_mm, r.outer_radius_mm, r.chamber_volume_mm3,
                     r.max_principal_stretch, r.max_fiber_tension_n]
-            vals = [f"{float(v):.6g}" for v in vals] + [r.status]
+            vals = [f"{float(v):.6g}" for v in vals] + [r.status, f"{r.tip_lateral_mm:.6g}"]
             if blocked:
                 vals.append(f"{r.blocked_force_n:.6g}")
             w.writerow(vals)
@@ -69,10 +76,10 @@ def run(args) -> int:
     if args.convergence:
         return run_convergence(args, design, pressures, out)
     print(f"ePSA {design.short_hash()}: r0 = {design.chamber_radius} mm, N = {design.fiber_turns}, "
-          f"material {args.material}, {'blocked' if args.blocked else 'free end'}, "
+          f"material {args.material}, {'blocked' if args.blocked else 'guided top' if args.guided else 'free end'}, "
           f"{len(pressures)} pressure targets up to {pressures[-1]:g} kPa", flush=True)
     solved = simulate_epsa(design, material=args.material, pressures_kpa=pressures, quick=args.quick,
-                           mesh_size=args.mesh_size, blocked=args.blocked, keep_model=True,
+                           mesh_size=args.mesh_size, blocked=args.blocked, guided=args.guided, keep_model=True,
                            progress=lambda msg: print("  " + msg, flush=True))
     curve = solved.curve
     write_curve_csv(out / "curve.csv", curve, args.blocked)
@@ -85,6 +92,9 @@ def run(args) -> int:
 
         write_path(out / "vtu", solved.model, solved.path, stem="step")
     plot_epsa(out / "epsa.png", curve, solved.model, solved.path)
+    for event in curve.events:
+        if "sways" in event:
+            print(f"note: {event}")
     print(f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s -> {out}")
     if curve.limit_pressure_kpa is not None:
         print(f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa")
