@@ -83,10 +83,11 @@ def test_fiber_discretisation_changes_results_by_less_than_one_percent(short_tub
 
 
 @pytest.mark.slow
-def test_table1_epsa_runs_to_100_kpa_with_monotone_length():
-    """Issue 4 acceptance on the quick mesh (minutes): the Table 1 actuator (N = 20, Ecoflex 00-50,
-    mu = 0.03 MPa) reaches 100 kPa - past ~70 kPa on volume control, pressure still rising - and
-    its length grows with pressure."""
+def test_table1_epsa_quick_mesh_runs_to_100_kpa_with_monotone_length():
+    """The ramp machinery on the quick mesh (minutes): the Table 1 actuator (N = 20, mu = 0.03 MPa)
+    reaches 100 kPa and its length grows with pressure. The quick mesh (one element across the
+    wall, 10 mm long) is too stiff in bending to show the sideways instability of the finer
+    meshes (next test), so this is not the physics answer at 100 kPa."""
     curve = simulate_epsa(EPSADesign(), pressures_kpa=(20, 40, 60, 80, 100), quick=True)
     assert curve.converged, curve.message
     rows = [r for r in curve.rows if r.status != "failed"]
@@ -95,3 +96,17 @@ def test_table1_epsa_runs_to_100_kpa_with_monotone_length():
     lengths = [r.length_mm for r in rows]
     assert all(b > a for a, b in zip(lengths, lengths[1:]))
     assert all(abs(r.outer_radius_mm - 9.0) < 0.7 for r in rows)     # the fibers hold the radius
+
+
+@pytest.mark.slow
+def test_table1_epsa_bends_over_on_the_default_mesh_with_tensile_modulus():
+    """Issue 4 finding (default mesh, ~5-10 min): with mu = 0.03 MPa the free Table 1 actuator,
+    extended to about twice its length, bends over sideways between 40 and 60 kPa (Euler-type
+    bending of the inflated tube; the tip leaves the axis by tens of mm) instead of extending
+    straight to 100 kPa. Measured (2026-11-21): tip 3.6 mm off axis at 40 kPa, 34.5 mm at 60 kPa,
+    limit point 69.1 kPa."""
+    curve = simulate_epsa(EPSADesign(), pressures_kpa=(20, 40, 60))
+    rows = {round(r.pressure_kpa): r for r in curve.rows if r.status == "converged"}
+    assert rows[40].tip_lateral_mm < 0.1 * (rows[40].length_mm - 100.0)
+    assert rows[60].tip_lateral_mm > 10.0
+    assert any("sways" in e for e in curve.events)
