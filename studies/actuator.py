@@ -187,9 +187,13 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
 
     Every row records the sideways displacement of the top face (`tip_lateral_mm`). A free
     actuator whose top sways by more than `SWAY_WARNING` of its extension gets an event that says
-    so: the long, soft, pressurised tube bends over like an Euler strut (the inflated-tube bending
-    bifurcation of Haughton & Ogden), triggered by the small asymmetry of the helix ends; with
-    `guided` the top keeps to the axis.
+    so: the long, soft, pressurised tube bends over like an Euler strut (an asymmetric, bending
+    bifurcation of the inflated tube; see Haughton & Ogden, J. Mech. Phys. Solids 27, 1979, for
+    such modes of inflated thick tubes under axial load), triggered by the small asymmetry of the
+    helix ends. With `guided` the top keeps to the axis, and the guided column bows at mid-span
+    instead, later: Table 1 ePSA, mu = 0.03 MPa, default mesh: free tip 3.6 / 34.5 mm off the axis
+    at 40 / 60 kPa with a limit point at 69.1 kPa; guided, mid-span 0.3 / 1.5 mm off at 48 / 56
+    kPa, and the path fails at 57.3 kPa.
 
     With `end_load_n` (see `build_model`) the weight is put on first, at 0 kPa (a "converged"
     row at 0 kPa), and stays on through the ramp."""
