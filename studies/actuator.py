@@ -29,6 +29,14 @@ from geometry.design import DesignError, EPSADesign
 #: on a rising path); "volume-control" a state past a limit point (the pressure falls there);
 #: "failed" a requested pressure the solve did not reach.
 STATUSES = ("reference", "converged", "volume-control", "failed")
+#: A state "is at" a requested pressure within this relative tolerance: volume control lands on
+#: a target to 1e-5 (fem.path), so a landed 100 kPa state may read 99.9999 kPa.
+PRESSURE_MATCH_REL = 1e-4
+
+
+def same_pressure(a: float, b: float) -> bool:
+    """True when two pressures (kPa) name the same requested load (see PRESSURE_MATCH_REL)."""
+    return abs(float(a) - float(b)) <= PRESSURE_MATCH_REL * max(1.0, abs(float(b)))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -239,7 +247,8 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
     reached = max([s.pressure for s in result.steps if not s.past_limit], default=0.0) * 1e3
     nan = float("nan")
     if not result.converged:
-        rows += [CurveRow(p, nan, nan, nan, nan, nan, "failed") for p in pressures if p > reached + 1e-9]
+        rows += [CurveRow(p, nan, nan, nan, nan, nan, "failed") for p in pressures
+                 if p > reached and not same_pressure(reached, p)]
     limit = None if result.limit_pressure is None else result.limit_pressure * 1e3
     events = tuple(result.events) + _sway_events(rows)
     curve = ActuatorCurve(tuple(rows), bool(result.converged), limit, result.message,

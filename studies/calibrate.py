@@ -48,7 +48,7 @@ def calibrate_mu(design: EPSADesign | None = None, *, base_material="ecoflex-00-
     from scipy.optimize import minimize_scalar
 
     from fem.materials import get_material
-    from studies.actuator import simulate_epsa
+    from studies.actuator import same_pressure, simulate_epsa
 
     design = design or EPSADesign()
     base = get_material(base_material)
@@ -58,8 +58,8 @@ def calibrate_mu(design: EPSADesign | None = None, *, base_material="ecoflex-00-
     def rms(log_mu: float) -> float:
         mu = float(math.exp(log_mu))
         curve = simulate_epsa(design, material=base.with_mu(mu), pressures_kpa=pressures_kpa, mesh=mesh)
-        rows = {round(r.pressure_kpa, 6): r for r in curve.rows if r.status in ("converged", "volume-control")}
-        lengths = np.array([rows[round(p, 6)].length_mm if round(p, 6) in rows else np.nan
+        good = [r for r in curve.rows if r.status == "converged"]
+        lengths = np.array([next((r.length_mm for r in good if same_pressure(r.pressure_kpa, p)), np.nan)
                             for p in pressures_kpa])
         err = FAILED_PENALTY_MM if np.isnan(lengths).any() or curve.limit_pressure_kpa is not None \
             else float(np.sqrt(np.mean((lengths - target) ** 2)))

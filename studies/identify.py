@@ -47,7 +47,8 @@ def load_extension_table(rows) -> tuple[list[tuple[float, float, float]], list[t
     for r in rows:
         if r.get("pressure_kpa") in ("", None):
             continue
-        w, p = float(r["end_load_n"]), float(r["pressure_kpa"])
+        # landed targets read e.g. 79.9995 kPa (volume control): group them with the target
+        w, p = float(r["end_load_n"]), round(float(r["pressure_kpa"]), 2)
         st = r.get("row_status", "")
         if st == "reference":
             length0[w] = float(r["length_mm"])

@@ -26,6 +26,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
+from studies.actuator import same_pressure
+
 #: The studies' highest pressure and the one a design must withstand (kPa), paper Section V-A.
 TARGET_PRESSURE_KPA = 100.0
 #: Relative tolerance of the fluctuation test (fraction of the largest length increment).
@@ -64,7 +66,7 @@ class DesignCurve:
 
     def at(self, pressure: float) -> tuple[float, float] | None:
         for p, length, radius in zip(self.pressures, self.lengths, self.radii):
-            if abs(p - pressure) < 1e-9:
+            if same_pressure(p, pressure):
                 return length, radius
         return None
 

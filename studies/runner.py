@@ -937,15 +937,18 @@ def curve_to_attrs(curve) -> dict[str, Any]:
 
 def response_at(rows: Sequence[Mapping[str, Any]], pressure_kpa: float | None = None
                 ) -> Mapping[str, Any] | None:
-    """The pressure-controlled ("converged") row at ``pressure_kpa`` (default: the highest
-    such pressure). Volume-controlled states past a limit point are not used."""
+    """The equilibrium ("converged") row at ``pressure_kpa`` (default: the highest such pressure),
+    matched with `same_pressure` (a target landed on by volume control reads e.g. 99.9999 kPa).
+    Volume-controlled states past a limit point are not used."""
+    from studies.actuator import same_pressure
+
     good = [r for r in rows if r.get("status") == "converged"]
     if not good:
         return None
     if pressure_kpa is None:
         return max(good, key=lambda r: r["pressure_kpa"])
     for r in good:
-        if abs(float(r["pressure_kpa"]) - pressure_kpa) < 1e-9:
+        if same_pressure(r["pressure_kpa"], pressure_kpa):
             return r
     return None
 

@@ -62,3 +62,28 @@ def test_fe_weight_shortens_the_actuator_linearly():
         y[w] = c.rows[-1].length_mm - c.rows[0].length_mm
     assert y[0.0] > y[0.25] > y[0.5]
     assert abs((y[0.0] - y[0.25]) - (y[0.25] - y[0.5])) < 0.1 * (y[0.0] - y[0.5])
+
+
+def test_landed_targets_are_grouped_with_their_pressure():
+    """Volume control lands on a target to 1e-5: 79.9995 kPa is the 80 kPa state of that weight."""
+    from studies.identify import identify_from_rows
+
+    rows = []
+    for w, p80 in ((0.0, 79.9995), (1.0, 80.0)):
+        rows.append({"end_load_n": w, "pressure_kpa": 0.0, "length_mm": 100.0, "row_status": "reference"})
+        for p in (20.0, 40.0, p80):
+            y = (fake_f_p(p) - w) / fake_k_p(p)
+            rows.append({"end_load_n": w, "pressure_kpa": p, "length_mm": 100.0 + y, "row_status": "converged"})
+    ident = identify_from_rows(rows)
+    assert ident.pressures_kpa == (20.0, 40.0, 80.0) and not ident.skipped
+    assert ident.result.per_pressure.k_p[-1] == pytest.approx(fake_k_p(80.0), rel=1e-4)
+
+
+def test_rules_read_a_landed_100_kpa_state_as_100_kpa():
+    from studies.rules import design_curves
+
+    rows = [{"fiber_turns": 10, "pressure_kpa": p, "length_mm": 100 + p / 2, "outer_radius_mm": 9.0,
+             "row_status": s, "trial_status": "completed", "limit_pressure_kpa": ""}
+            for p, s in ((0.0, "reference"), (50.0, "converged"), (99.99995, "converged"))]
+    curve = design_curves(rows, "fiber_turns")[10.0]
+    assert curve.withstands and curve.at(100.0) is not None
