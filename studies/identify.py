@@ -14,8 +14,11 @@ then k_p(P) and f_p(P) are each fitted by two lines split at 60 kPa, the form of
 line when fewer than two pressures lie on a side). The comparison with the prototype ePSAs 1-3
 (eqs. 19-24) is per pressure, in the paper's units (k_p in N/m, f_p in N).
 
-Pressures past a limit point (volume-controlled states) and failed points are not used; they are
-listed in the outputs with their status, so a missing pressure is visible, not silently dropped.
+Not used, and listed with the reason (so a missing pressure is visible, not silently dropped):
+pressures past a limit point (volume-controlled states) or not reached, and pressures above the
+longest state of any weight: a loaded soft actuator can stop extending and shorten as the
+pressure rises (it bulges or folds under the weight), which is not the spring-and-thrust
+behaviour of eq. 3 that the identification fits.
 """
 from __future__ import annotations
 
@@ -58,15 +61,31 @@ def load_extension_table(rows) -> tuple[list[tuple[float, float, float]], list[t
             by_load.setdefault(w, {})[p] = float(r["length_mm"])
     loads = sorted(status)
     pressures = sorted({p for s in status.values() for p in s if p > 0})
+    collapsed = {w: _collapse_pressure(by_load.get(w, {})) for w in loads}
     table, skipped = [], []
     for p in pressures:
         missing = [w for w in loads if p not in by_load.get(w, {}) or w not in length0]
         if missing:
-            skipped.append((p, "no pressure-controlled state for W = "
+            skipped.append((p, "no equilibrium at this pressure for W = "
                             + ", ".join(f"{w:g} N ({status.get(w, {}).get(p, 'missing')})" for w in missing)))
+            continue
+        fallen = [w for w in loads if collapsed[w] is not None and p > collapsed[w]]
+        if fallen:
+            skipped.append((p, "the loaded actuator shortens as the pressure rises (past its longest "
+                            "state, eq. 3 no longer describes it) for W = "
+                            + ", ".join(f"{w:g} N (longest at {collapsed[w]:g} kPa)" for w in fallen)))
             continue
         table += [(p, w, by_load[w][p] - length0[w]) for w in loads]
     return table, skipped
+
+
+def _collapse_pressure(lengths: dict[float, float]) -> float | None:
+    """The pressure of the longest state if the length falls at a higher pressure, else None."""
+    ps = sorted(lengths)
+    if not ps:
+        return None
+    top = max(ps, key=lambda p: lengths[p])
+    return top if top < ps[-1] else None
 
 
 def identify_from_rows(rows, breakpoint: float = 60.0) -> FEIdentification:

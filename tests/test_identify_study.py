@@ -87,3 +87,19 @@ def test_rules_read_a_landed_100_kpa_state_as_100_kpa():
             for p, s in ((0.0, "reference"), (50.0, "converged"), (99.99995, "converged"))]
     curve = design_curves(rows, "fiber_turns")[10.0]
     assert curve.withstands and curve.at(100.0) is not None
+
+
+def test_pressures_past_the_longest_state_of_a_weight_are_left_out():
+    from studies.identify import identify_from_rows
+
+    rows = []
+    for w in (0.0, 1.0):
+        rows.append({"end_load_n": w, "pressure_kpa": 0.0, "length_mm": 100.0, "row_status": "reference"})
+        for p in (10.0, 20.0, 30.0, 40.0):
+            y = (fake_f_p(p) - w) / fake_k_p(p)
+            if w == 1.0 and p == 40.0:
+                y = 0.0                                   # the loaded actuator collapses
+            rows.append({"end_load_n": w, "pressure_kpa": p, "length_mm": 100.0 + y, "row_status": "converged"})
+    ident = identify_from_rows(rows)
+    assert ident.pressures_kpa == (10.0, 20.0, 30.0)
+    assert ident.skipped[0][0] == 40.0 and "longest at 30 kPa" in ident.skipped[0][1]
