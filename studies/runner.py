@@ -175,13 +175,15 @@ def _sqlite_path(url: str) -> Path | None:
 
 
 def _quiet_optuna() -> None:
-    """Heartbeats are 'experimental' in optuna since 2.9; keep the terminal for progress bars."""
+    """Heartbeats are 'experimental' in optuna since 2.9; keep the terminal for progress bars.
+    Optuna logs a failed trial as a WARNING with a traceback; a failed design is a result here (its
+    reason is in the tables and the summary), so only optuna's errors reach the terminal."""
     import warnings
 
     import optuna
 
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
-    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    optuna.logging.set_verbosity(optuna.logging.ERROR)
 
 
 def make_storage(spec: SweepSpec):

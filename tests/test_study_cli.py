@@ -58,3 +58,13 @@ def test_input_errors_exit_2(tmp_path, capsys, argv, parameter):
     assert main(["study", "fiber-turns", "--out", str(tmp_path), *argv]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and parameter in err
+
+
+def test_optimiser_failed_trials_are_results_not_tracebacks(tmp_path, capfd):
+    assert main(["study", "optimise-actuator", "--quick", "--trials", "10", "--simulator",
+                 "tests.test_study_fakes:limited_simulate", "--out", str(tmp_path), "--no-progress"]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "optimise-actuator" / "ecoflex-00-50-quick" / "trials.csv")))
+    failed = [r for r in rows if r["trial_status"] == "failed"]
+    assert failed and all("does not reach 100 kPa" in r["reason"] for r in failed)
+    out, err = capfd.readouterr()
+    assert "Traceback" not in out + err and "failed" in out

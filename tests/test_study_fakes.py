@@ -129,3 +129,10 @@ def loaded_simulate(design, *, material="fake", pressures_kpa=(20, 40), mesh_siz
     failed = any(r.status == "failed" for r in rows)
     return ActuatorCurve(rows=tuple(rows), converged=not failed, limit_pressure_kpa=None,
                          material=material, message="diverged at 70 kPa" if failed else "")
+
+
+def limited_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 80, 100), mesh_size=None,
+                     quick=False, progress=None):
+    """Like fake_simulate, but chamber radii above 4 mm meet a limit point at 60 kPa."""
+    limit = 60.0 if design.chamber_radius > 4.0 else None
+    return analytic_curve(design, pressures_kpa, material=material, limit_kpa=limit)
