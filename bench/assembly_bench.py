@@ -1,6 +1,7 @@
 """Time the parts of one assembly on the solver benchmark's ~19k-DOF tube (bench/solver_bench.py).
 
     PYTHONPATH=. python bench/assembly_bench.py [--repeat 7] [--state state.npy]
+    SOFTCRAWL_THREADS=1 PYTHONPATH=. python bench/assembly_bench.py    # assembly on one thread
 
 The state is the converged one at 4 kPa (saved to --state and reused, so runs compare on the same
 x). Each part is timed best-of --repeat (the machine is shared: the minimum is the cleanest
@@ -68,18 +69,26 @@ def main(argv=None):
         if args.state:
             np.save(args.state, x)
     print(f"cpus={os.cpu_count()} load={os.getloadavg()[0]:.2f} elements={model.dx.shape[0]} "
-          f"dofs={model.n_dofs}")
+          f"dofs={model.n_dofs} SOFTCRAWL_THREADS={os.environ.get('SOFTCRAWL_THREADS', '-')}")
+    parts = {}
     stress = model._stress(x)
-    parts = {
-        "_stress": lambda: model._stress(x),
-        "_element_residual": lambda: model._element_residual(x, stress),
-        "_element_tangent": lambda: model._element_tangent(x, stress),
-        "_chamber_load(tangent)": lambda: model._chamber_load(x, True),
-        "residual": lambda: model.residual(x, P),
-        "residual_and_tangent": lambda: model.residual_and_tangent(x, P),
-    }
-    blocks = [model._element_tangent(x, stress), -P * model._chamber_load(x, True)[1]]
-    parts["pattern.assemble"] = lambda: model.pattern.assemble(blocks)
+    parts["_stress"] = lambda: model._stress(x)
+    if hasattr(model.pattern, "assemble_values"):          # element matrices into one flat array
+        values = model.pattern.new_values()
+        blocks = model.pattern.views(values)
+        parts["_element_residual"] = lambda: model._element_residual(stress)
+        parts["_element_tangent"] = lambda: model._element_tangent(stress, blocks)
+        parts["new_values"] = model.pattern.new_values
+        assemble = lambda: model.pattern.assemble_values(values)  # noqa: E731
+    else:                                                   # before issue 3
+        parts["_element_residual"] = lambda: model._element_residual(x, stress)
+        parts["_element_tangent"] = lambda: model._element_tangent(x, stress)
+        blocks = [model._element_tangent(x, stress), -P * model._chamber_load(x, True)[1]]
+        assemble = lambda: model.pattern.assemble(blocks)  # noqa: E731
+    parts["_chamber_load(tangent)"] = lambda: model._chamber_load(x, True)
+    parts["pattern scatter"] = assemble
+    parts["residual"] = lambda: model.residual(x, P)
+    parts["residual_and_tangent"] = lambda: model.residual_and_tangent(x, P)
     R, K = model.residual_and_tangent(x, P)
     solver = LinearSolver()
     solver.factor(K)

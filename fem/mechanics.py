@@ -47,19 +47,26 @@ analytic solution: at K/mu = 1e5 the same meshes give 4.3e-3 and 1.7e-4 (order 4
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Mapping, NamedTuple
 
 import numpy as np
 import skfem
 
 from fem.errors import SolverInputError
-from fem.neohooke import NeoHookean, cofactor3, det3, iso_stress, pressure_stress
+from fem.neohooke import NeoHookean, cofactor3, det3
 from fem.fibers import element_arrays as fiber_arrays
 from fem.fibers import embed as embed_fibers
 from fem.fibers import segment_dofs as fiber_segment_dofs
+from fem.parallel import for_chunks
 from fem.pattern import Pattern
 
 FORMULATIONS = ("p2p1", "p2")
+
+#: Elements per chunk of the volume assembly (`fem.parallel.for_chunks`): small enough for the
+#: temporaries of a chunk (~10 kB per element) to stay in a core's cache.
+_CHUNK = 128
+#: Flat index of M[k a, i b] for each entry [i a, k b] of a 30 x 30 element matrix (i <-> k).
+_SWAP_IK = np.arange(900).reshape(3, 10, 3, 10).transpose(2, 1, 0, 3).reshape(-1)
 
 
 @dataclass(frozen=True)
@@ -82,6 +89,16 @@ class Dirichlet:
     @classmethod
     def prescribed(cls, tag: str, component: int, value: float) -> "Dirichlet":
         return cls(tag, (component,), (float(value),))
+
+
+class _Stress(NamedTuple):
+    F: np.ndarray       # (3, 3, E, Q)
+    J: np.ndarray       # (E, Q)
+    H: np.ndarray       # F^-T, (3, 3, E, Q)
+    p: np.ndarray       # pressure, (E, Q)
+    c: np.ndarray       # mu J^-2/3, (E, Q)
+    I1: np.ndarray      # F:F, (E, Q)
+    P: np.ndarray       # first Piola stress, (3, 3, E, Q)
 
 
 class InvertedElement(ArithmeticError):
@@ -117,23 +134,32 @@ class SolidModel:
         self.n_u = 3 * self.n_nodes
         self.nodes = self.basis.doflocs                         # (3, n_nodes) reference positions
         self.dN = np.stack([phi[0].grad for phi in self.basis.basis])   # (10, 3, E, Q)
-        self.dNt = np.ascontiguousarray(self.dN.transpose(2, 3, 0, 1))  # (E, Q, 10, 3)
         self.dx = self.basis.dx                                  # (E, Q)
         self.node_dofs = self.basis.element_dofs                 # (10, E)
-        self.u_dofs = (3 * self.node_dofs[:, None, :] + np.arange(3)[None, :, None]).reshape(30, -1)
+        n_elem, n_qp = self.dx.shape
+        # Element-first layouts of the shape-function gradients g[e, q, a, J] = dN_a/dX_J for the
+        # batched products of `_volume_chunk`: g_aqJ[e, a, 3 q + J] and g_qJa[e, q, J, a].
+        self._g_aqJ = np.ascontiguousarray(self.dN.transpose(2, 0, 3, 1)).reshape(n_elem, 10, 3 * n_qp)
+        self._g_qJa = np.ascontiguousarray(self.dN.transpose(2, 3, 1, 0))
+        self._elem_nodes = np.ascontiguousarray(self.node_dofs.T)              # (E, 10)
+        # Local displacement dofs are component-major: local 10 i + a is component i of node a.
+        self.u_dofs = (3 * self.node_dofs[None, :, :] + np.arange(3)[:, None, None]).reshape(30, -1)
 
-        n_elem = mesh.t.shape[1]
         self.mu, self.bulk = _material_arrays(mesh, materials, n_elem)
 
         if self.mixed:
             self.pbasis = skfem.Basis(mesh, skfem.ElementTetP1(), quadrature=self.basis.quadrature)
             self.Np = np.stack([np.asarray(phi[0]) for phi in self.pbasis.basis])   # (4, E, Q)
+            self._Np_qc = np.ascontiguousarray(self.Np.transpose(1, 2, 0))         # (E, Q, 4)
             self.p_dofs = self.n_u + self.pbasis.element_dofs                # (4, E)
             self.n_p = self.pbasis.N
+            # K_pp = -int Np_c Np_d / K dV depends on the mesh and the material only.
+            self._Kpp = -np.einsum("ceq,deq,eq->ecd", self.Np, self.Np, self.dx / self.bulk)
         else:
             self.n_p = 0
         self.n_dofs = self.n_u + self.n_p
         self.element_dofs = (np.vstack([self.u_dofs, self.p_dofs]) if self.mixed else self.u_dofs)
+        self._elem_dofs = np.ascontiguousarray(self.element_dofs.T)           # (E, n_local)
 
         # Dirichlet conditions -> constrained dofs and their values at factor 1.
         self.dirichlet = tuple(dirichlet)
@@ -163,7 +189,10 @@ class SolidModel:
         # Chamber surface: facet basis of the adjacent elements.
         self.chamber = tuple(chamber) if chamber else ()
         self.volume_weights = np.asarray(volume_weights, dtype=float)
-        groups = [self.element_dofs]
+        # Volume blocks: K_uu, and for the mixed formulation K_up, K_pu = K_up^T and K_pp.
+        groups = ([self.u_dofs, (self.u_dofs, self.p_dofs), (self.p_dofs, self.u_dofs), self.p_dofs]
+                  if self.mixed else [self.u_dofs])
+        self._n_volume_groups = len(groups)
         if self.chamber:
             for tag in self.chamber:
                 if tag not in boundaries:
@@ -222,14 +251,26 @@ class SolidModel:
         return x[: self.n_u].reshape(-1, 3).T
 
     def deformation_gradient(self, x: np.ndarray, dN=None, node_dofs=None) -> np.ndarray:
-        dN = self.dN if dN is None else dN
-        node_dofs = self.node_dofs if node_dofs is None else node_dofs
-        ue = x[: self.n_u].reshape(-1, 3)[node_dofs]               # (10, E, 3)
-        F = np.einsum("aei,aJeq->iJeq", ue, dN)
+        """F = I + grad u at the quadrature points, shape (3, 3, E, Q); `dN` (10, 3, E, Q) and
+        `node_dofs` (10, E) default to the volume basis."""
+        if dN is None and node_dofs is None:
+            g, nodes = self._g_aqJ, self._elem_nodes
+        else:
+            dN = self.dN if dN is None else dN
+            g = np.ascontiguousarray(dN.transpose(2, 0, 3, 1)).reshape(dN.shape[2], 10, -1)
+            nodes = (self.node_dofs if node_dofs is None else node_dofs).T
+        F = np.ascontiguousarray(self._displacement_gradient(x, g, nodes).transpose(2, 3, 0, 1))
         F[0, 0] += 1.0
         F[1, 1] += 1.0
         F[2, 2] += 1.0
         return F
+
+    def _displacement_gradient(self, x, g_aqJ, elem_nodes):
+        """grad u[e, q, i, J] = sum_a u_ai dN_a/dX_J, shape (n, Q, 3, 3) (a strided view): one
+        (3 x 10) @ (10 x 3Q) product per element."""
+        n, _, m = g_aqJ.shape
+        u = x[: self.n_u].reshape(-1, 3)[elem_nodes]                     # (n, 10, 3)
+        return np.matmul(u.transpose(0, 2, 1), g_aqJ).reshape(n, 3, m // 3, 3).transpose(0, 2, 1, 3)
 
     def pressure_field(self, x: np.ndarray) -> np.ndarray:
         """Mixed pressure at the quadrature points (E, Q); for "p2", K (J - 1)."""
@@ -240,72 +281,99 @@ class SolidModel:
 
     # ------------------------------------------------------------ volume terms
     def _stress(self, x):
-        F = self.deformation_gradient(x)
+        """F, J, H = F^-T, the pressure p, c = mu J^-2/3, I1 = F:F and the first Piola stress
+        P = c (F - I1/3 H) + p J H at all quadrature points (p = K (J - 1) for "p2").
+
+        Tensors are (3, 3, E, Q) and scalars (E, Q), contiguous: every component is one
+        contiguous array, so the pointwise algebra runs at memory speed."""
+        E, Q = self.dx.shape
+        F = np.ascontiguousarray(self._displacement_gradient(x, self._g_aqJ, self._elem_nodes)
+                                 .transpose(2, 3, 0, 1))
+        F[0, 0] += 1.0
+        F[1, 1] += 1.0
+        F[2, 2] += 1.0
         J = det3(F)
         if np.any(J <= 0.0) or not np.all(np.isfinite(J)):
             raise InvertedElement("det F <= 0")
-        cof = cofactor3(F)
-        H = cof / J
+        H = cofactor3(F)
+        H /= J
         p = self.pressure_field(x) if self.mixed else self.bulk * (J - 1.0)
-        P = iso_stress(F, self.mu, J, H) + pressure_stress(p, J, H)
-        return F, J, H, p, P
+        I1 = np.einsum("ijeq,ijeq->eq", F, F)
+        c = self.mu * J ** (-2.0 / 3.0)
+        P = c * (F - (I1 / 3.0) * H) + (p * J) * H
+        return _Stress(F, J, H, p, c, I1, P)
 
-    def _element_residual(self, x, stress):
-        F, J, H, p, P = stress
+    def _element_residual(self, stress):
+        """Element residuals (E, n_local) in the local order of `_element_dofs`:
+        R_u[i a] = int P_iJ g_aJ dV and R_p[c] = int (J - 1 - p/K) Np_c dV."""
         E, Q = self.dx.shape
-        Pt = P.transpose(2, 3, 1, 0)                                     # (E, Q, J, i)
-        Ru = np.matmul(self.dNt * self.dx[:, :, None, None], Pt).sum(axis=1).reshape(E, 30).T
+        Pw = np.ascontiguousarray((stress.P * self.dx).transpose(2, 0, 3, 1)).reshape(E, 3, 3 * Q)
+        Ru = np.matmul(Pw, self._g_aqJ.transpose(0, 2, 1)).reshape(E, 30)   # [e, i, (q, J)] @ [e, (q, J), a]
         if not self.mixed:
             return Ru
-        Rp = np.einsum("eq,ceq,eq->ce", J - 1.0 - p / self.bulk, self.Np, self.dx)
-        return np.vstack([Ru, Rp])
+        w = (stress.J - 1.0 - stress.p / self.bulk) * self.dx
+        return np.hstack([Ru, np.matmul(w[:, None, :], self._Np_qc)[:, 0]])
 
-    def _element_tangent(self, x, stress):
-        """Element matrices (n_local, n_local, E) without forming the 81-component tangent.
+    def _element_tangent(self, stress, blocks):
+        """Element matrices into blocks[0..3] (K_uu, K_up, K_pu, K_pp; K_uu only for "p2"),
+        over chunks of elements on the assembly threads (`fem.parallel`); see `_tangent_chunk`."""
+        # (E, Q, 3, 3) copies of F and H for the batched products of the chunks
+        F = np.ascontiguousarray(stress.F.transpose(2, 3, 0, 1))
+        H = np.ascontiguousarray(stress.H.transpose(2, 3, 0, 1))
+        J, p, c, I1, dx = stress.J, stress.p, stress.c, stress.I1, self.dx
+        w1 = (2.0 / 9.0) * c * I1 + p * J
+        if not self.mixed:
+            w1 += self.bulk * J * J
+        w2 = c * I1 / 3.0 - p * J
+        weights = np.stack([(-2.0 / 3.0) * c * dx, 0.5 * w1 * dx, w2 * dx, c * dx, J * dx])
+        for_chunks(lambda s: self._tangent_chunk(s, F[s], H[s], weights[:, s], blocks),
+                   self.dx.shape[0], _CHUNK)
 
-        With f_a = F grad N_a, h_a = H grad N_a (H = F^-T), g_a = grad N_a and c = mu J^-2/3, the
-        Neo-Hookean tangent (see `fem.neohooke.mixed_tangent`) gives per quadrature point
+    def _tangent_chunk(self, s, F, H, weights, blocks):
+        r"""Element matrices of the elements `s` (a slice) into blocks[k][s].
 
-            K[(a,i),(b,k)] = c (g_a . g_b) d_ik - 2c/3 (f_ai h_bk + h_ai f_bk)
+        Local dofs: u component i of node a is 10 i + a, then the pressure dofs c. With
+        g_a = grad N_a, f_ai = F_iJ g_aJ, h_ai = H_iJ g_aJ and c = mu J^-2/3, the Neo-Hookean +
+        pressure tangent (`fem.neohooke.mixed_tangent`) contracted with g_a and g_b is, per
+        quadrature point (weight dx),
+
+            K_uu[i a, k b] = c (g_a . g_b) d_ik - 2c/3 (f_ai h_bk + h_ai f_bk)
                              + w1 h_ai h_bk + w2 h_ak h_bi,
-            w1 = 2c I1/9 + p J (+ K J^2 without the mixed pressure),  w2 = c I1/3 - p J,
+            w1 = 2c I1/9 + p J (+ K J^2 for "p2"),   w2 = c I1/3 - p J,
+            K_up[i a, c] = J h_ai Np_c,   K_pu = K_up^T,   K_pp = -Np_c Np_d / K (constant).
 
-        so each element block is a few (30 x Q) @ (Q x 30) products.
+        The quadrature sums are inside batched matrix products, one per element: with
+        V = -2c/3 f + w1/2 h, the f/h terms are [V; h]^T [h; V] (inner dimension 2Q); the
+        swapped term w2 h_ak h_bi is the product M[k a, i b] = sum w2 h_ka h_ib read with i and
+        k exchanged (one gather); c (g_a . g_b) is a 10 x 10 product added to the three
+        diagonal 10 x 10 blocks.
         """
-        F, J, H, p, P = stress
-        E, Q = self.dx.shape
-        c = self.mu * J ** (-2.0 / 3.0)
-        I1 = np.einsum("ijeq,ijeq->eq", F, F)
-        pJ = p * J
-        w_hh = 2.0 / 9.0 * c * I1 + pJ
-        if not self.mixed:
-            w_hh = w_hh + self.bulk * J * J
-        w_sw = c * I1 / 3.0 - pJ
-        f = np.matmul(self.dNt, F.transpose(2, 3, 1, 0)).reshape(E, Q, 30)   # f[e,q,(a,i)]
-        h = np.matmul(self.dNt, H.transpose(2, 3, 1, 0)).reshape(E, Q, 30)
-        hT = h.transpose(0, 2, 1)
-        # f(x)h, h(x)f and h(x)h in one product: V = -2c/3 f + w1/2 h, K = sum V(x)h + (V(x)h)^T
-        V = f * (-2.0 / 3.0 * c * self.dx)[:, :, None] + h * (0.5 * w_hh * self.dx)[:, :, None]
-        K1 = np.matmul(V.transpose(0, 2, 1), h)
-        K = K1 + K1.transpose(0, 2, 1)
-        S = np.matmul(hT * (w_sw * self.dx)[:, None, :], h).reshape(E, 10, 3, 10, 3)
-        K += S.transpose(0, 1, 4, 3, 2).reshape(E, 30, 30)
-        g = self.dN.transpose(2, 0, 3, 1)                                  # (E, 10, Q, 3)
-        G = np.matmul((g * (c * self.dx)[:, None, :, None]).reshape(E, 10, 3 * Q),
-                      g.reshape(E, 10, 3 * Q).transpose(0, 2, 1))          # (E, 10, 10)
-        K4 = K.reshape(E, 10, 3, 10, 3)
-        for i in range(3):
-            K4[:, :, i, :, i] += G
-        if not self.mixed:
-            return K                                                        # (E, 30, 30)
-        out = np.empty((E, 34, 34))
-        out[:, :30, :30] = K
-        # K_up[a i, c] = int dN_a,J J H_iJ Np_c = int h_ai J Np_c
-        Kup = np.matmul(hT * (J * self.dx)[:, None, :], self.Np.transpose(1, 2, 0))   # (E, 30, 4)
-        out[:, :30, 30:] = Kup
-        out[:, 30:, :30] = Kup.transpose(0, 2, 1)
-        out[:, 30:, 30:] = -np.einsum("ceq,deq,eq->ecd", self.Np, self.Np, self.dx / self.bulk)
-        return out
+        g, gt = self._g_aqJ[s], self._g_qJa[s]            # g[e, a, (q, J)], gt[e, q, J, a]
+        n, Q = F.shape[:2]
+        w_f, w_h, w_sw, w_g, w_p = weights[:, :, :, None, None]
+        Vh = np.empty((n, 3 * Q, 3, 10))                   # rows [V; h; V]
+        h = Vh[:, Q:2 * Q]
+        np.matmul(H, gt, out=h)                            # h[e, q, i, a]
+        V = Vh[:, :Q]
+        np.matmul(F, gt, out=V)                            # f[e, q, i, a]
+        V *= w_f
+        V += h * w_h
+        Vh[:, 2 * Q:] = V
+        Vh = Vh.reshape(n, 3 * Q, 30)
+        h = Vh[:, Q:2 * Q]                                 # (n, Q, 30)
+        Kuu = blocks[0][s]
+        np.matmul(Vh[:, :2 * Q].transpose(0, 2, 1), Vh[:, Q:], out=Kuu)
+        M = np.matmul((h * w_sw[..., 0]).transpose(0, 2, 1), h)
+        Kuu += np.take(M.reshape(n, 900), _SWAP_IK, axis=1).reshape(n, 30, 30)
+        G = np.matmul(g * np.repeat(w_g[:, :, 0, 0], 3, axis=1)[:, None, :], g.transpose(0, 2, 1))
+        K5 = Kuu.reshape(n, 3, 10, 3, 10)
+        for i in range(3):                                 # the three diagonal blocks
+            K5[:, i, :, i, :] += G
+        if self.mixed:
+            Kup = blocks[1][s]
+            np.matmul(h.transpose(0, 2, 1), self._Np_qc[s] * w_p[..., 0], out=Kup)
+            blocks[2][s] = Kup.transpose(0, 2, 1)
+            blocks[3][s] = self._Kpp[s]
 
     # ----------------------------------------------------------- chamber terms
     def _chamber_kinematics(self, x):
@@ -344,7 +412,7 @@ class SolidModel:
 
     def internal_force(self, x: np.ndarray) -> np.ndarray:
         """Full internal force vector (all dofs, including the constrained ones)."""
-        f = self._scatter(self._element_residual(x, self._stress(x)), self.element_dofs)
+        f = self._scatter(self._element_residual(self._stress(x)), self._elem_dofs)
         if self.fibers is not None:
             Rf, _ = fiber_arrays(self.fibers, x[: self.n_u].reshape(-1, 3), with_tangent=False)
             f += self._scatter(Rf, self.fiber_dofs)
@@ -362,21 +430,26 @@ class SolidModel:
         return self.internal_force(x) - pressure * self.pressure_load(x) - factor * self.dead_load
 
     def residual_and_tangent(self, x: np.ndarray, pressure: float, factor: float = 0.0):
-        """Full residual (all dofs) and the tangent on the free dofs (CSR)."""
+        """Full residual (all dofs) and the tangent on the free dofs (CSR).
+
+        The element matrices of all groups are written straight into one flat array in the
+        pattern's order (`fem.pattern.Pattern.views`), which one `np.bincount` scatters."""
+        values = self.pattern.new_values()
+        blocks = self.pattern.views(values)
         stress = self._stress(x)
-        Re = self._element_residual(x, stress)
-        Ke = self._element_tangent(x, stress)
-        R = self._scatter(Re, self.element_dofs) - factor * self.dead_load
-        blocks = [Ke]
+        R = self._scatter(self._element_residual(stress), self._elem_dofs) - factor * self.dead_load
+        self._element_tangent(stress, blocks)
+        k = self._n_volume_groups
         if self.chamber:
             q, dq = self._chamber_load(x, True)
             R -= pressure * self._scatter(q, self.f_u_dofs)
-            blocks.append(-pressure * dq)
+            np.multiply(dq, -pressure, out=blocks[k])
+            k += 1
         if self.fibers is not None:
             Rf, Kf = fiber_arrays(self.fibers, x[: self.n_u].reshape(-1, 3))
             R += self._scatter(Rf, self.fiber_dofs)
-            blocks.append(Kf)
-        return R, self.pattern.assemble(blocks)
+            blocks[k][...] = Kf
+        return R, self.pattern.assemble_values(values)
 
     def fiber_tension(self, x: np.ndarray) -> np.ndarray:
         """Axial force (N) of every fiber segment; empty without fibers."""

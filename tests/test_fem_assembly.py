@@ -1,0 +1,97 @@
+"""The vectorised assembly of `fem.mechanics` against a plain einsum of the 81-component tangent
+on a distorted mesh with a random state (several chunkings, so the threaded chunk loop is covered),
+and its tangent against central differences of the residual (chamber pressure and "p2")."""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import skfem
+
+import fem.mechanics as mech
+from fem import verification as V
+from fem.mechanics import Dirichlet, SolidModel
+from fem.neohooke import NeoHookean, det3, inv_transpose3, iso_stress, mixed_tangent
+
+
+def distorted_box_model(formulation):
+    rng = np.random.default_rng(1)
+    m = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 4)] * 3)
+    shift = 0.08 * rng.uniform(-1, 1, m.p.shape)
+    shift[2, m.p[2] == 0.0] = 0.0                       # the bottom stays plane
+    m = skfem.MeshTet(m.p + shift, m.t).with_boundaries({"z0": lambda x: np.abs(x[2]) < 1e-12})
+    m = m.with_subdomains({"soft": lambda x: x[0] < 0.5, "hard": lambda x: x[0] >= 0.5})
+    mats = {"soft": NeoHookean.nearly_incompressible(0.03, 50.0), "hard": NeoHookean(mu=0.1, bulk=2.0)}
+    model = SolidModel(m, mats, dirichlet=[Dirichlet.fixed("z0")], formulation=formulation)
+    x = model.initial_state()
+    X = model.nodes                                  # a smooth large deformation + noise
+    u = 0.2 * rng.uniform(-1, 1, (3, 3)) @ X + 0.05 * np.sin(3 * X[[1, 2, 0]])
+    x[: model.n_u] = (u + 0.003 * rng.standard_normal(u.shape)).T.ravel()
+    if model.mixed:
+        x[model.n_u:] = 0.01 * rng.standard_normal(model.n_p)
+    return model, x
+
+
+def reference(model, x):
+    """Element residuals and matrices straight from `fem.neohooke`, assembled on all dofs."""
+    dN, dx, mu, K = model.dN, model.dx, model.mu, model.bulk
+    ue = x[: model.n_u].reshape(-1, 3)[model.node_dofs]                      # (10, E, 3)
+    F = np.einsum("aei,aJeq->iJeq", ue, dN) + np.eye(3)[:, :, None, None]
+    J, H = det3(F), inv_transpose3(F)
+    p = np.einsum("ce,ceq->eq", x[model.p_dofs], model.Np) if model.mixed else K * (J - 1)
+    A = mixed_tangent(F, mu, p, J, H)
+    if not model.mixed:
+        A = A + K * J * J * H[:, :, None, None] * H[None, None]
+    P = iso_stress(F, mu, J, H) + p * J * H
+    u_dofs = 3 * model.node_dofs[:, None, :] + np.arange(3)[None, :, None]   # (10, 3, E)
+    rows, cols, vals = [], [], []
+
+    def add(block, r, c):                        # block (E, nr, nc); r (nr, E), c (nc, E)
+        rows.append(np.broadcast_to(r.T[:, :, None], block.shape).ravel())
+        cols.append(np.broadcast_to(c.T[:, None, :], block.shape).ravel())
+        vals.append(block.ravel())
+
+    u = u_dofs.reshape(30, -1)
+    add(np.einsum("aJeq,iJkLeq,bLeq,eq->eaibk", dN, A, dN, dx).reshape(-1, 30, 30), u, u)
+    R = np.zeros(model.n_dofs)
+    np.add.at(R, u.ravel(), np.einsum("aJeq,iJeq,eq->aie", dN, P, dx).reshape(30, -1).ravel())
+    if model.mixed:
+        Np = model.Np
+        Kup = np.einsum("aJeq,iJeq,ceq,eq->eaic", dN, J * H, Np, dx).reshape(-1, 30, 4)
+        add(Kup, u, model.p_dofs)
+        add(Kup.transpose(0, 2, 1), model.p_dofs, u)
+        add(-np.einsum("ceq,deq,eq->ecd", Np, Np, dx / K), model.p_dofs, model.p_dofs)
+        np.add.at(R, model.p_dofs.ravel(), np.einsum("ceq,eq->ce", Np, (J - 1 - p / K) * dx).ravel())
+    Kfull = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                          shape=(model.n_dofs,) * 2).tocsr()
+    return R, Kfull[model.free_dofs][:, model.free_dofs]
+
+
+@pytest.mark.parametrize("formulation", ["p2p1", "p2"])
+@pytest.mark.parametrize("chunk", [7, 128])
+def test_assembly_matches_the_plain_tangent_on_a_distorted_mesh(formulation, chunk, monkeypatch):
+    monkeypatch.setattr(mech, "_CHUNK", chunk)
+    model, x = distorted_box_model(formulation)
+    R_ref, K_ref = reference(model, x)
+    R, K = model.residual_and_tangent(x, 0.0)
+    scale = abs(K_ref).max()
+    assert abs(K - K_ref).max() <= 1e-12 * scale
+    assert np.abs(R - R_ref).max() <= 1e-12 * np.abs(R_ref).max()
+    assert np.abs(model.internal_force(x) - R_ref).max() <= 1e-12 * np.abs(R_ref).max()
+
+
+@pytest.mark.parametrize("formulation", ["p2p1", "p2"])
+def test_tangent_is_the_derivative_of_the_residual_under_follower_pressure(formulation):
+    model = V.tube_model(3.0, 9.0, n_radial=2, n_angle=3, k_over_mu=50.0, formulation=formulation)
+    rng = np.random.default_rng(2)
+    x = model.initial_state()
+    x[: model.n_u] = 2e-2 * rng.standard_normal(model.n_u)
+    x = model.apply_dirichlet(x, 0.0)
+    P = 0.01
+    _, K = model.residual_and_tangent(x, P)
+    free = model.free_dofs
+    for _ in range(3):
+        v = np.zeros(model.n_dofs)
+        v[free] = rng.standard_normal(free.size)
+        eps = 1e-6
+        dR = (model.residual(x + eps * v, P) - model.residual(x - eps * v, P))[free] / (2 * eps)
+        Kv = K @ v[free]
+        assert np.linalg.norm(Kv - dR) <= 1e-6 * np.linalg.norm(Kv)
