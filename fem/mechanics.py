@@ -58,15 +58,33 @@ from fem.fibers import element_arrays as fiber_arrays
 from fem.fibers import embed as embed_fibers
 from fem.fibers import segment_dofs as fiber_segment_dofs
 from fem.parallel import for_chunks
-from fem.pattern import Pattern
+from fem.pattern import Mirrored, Pattern
 
 FORMULATIONS = ("p2p1", "p2")
 
 #: Elements per chunk of the volume assembly (`fem.parallel.for_chunks`): small enough for the
 #: temporaries of a chunk (~10 kB per element) to stay in a core's cache.
 _CHUNK = 128
-#: Flat index of M[k a, i b] for each entry [i a, k b] of a 30 x 30 element matrix (i <-> k).
-_SWAP_IK = np.arange(900).reshape(3, 10, 3, 10).transpose(2, 1, 0, 3).reshape(-1)
+
+
+def _upper_gather() -> np.ndarray:
+    """Indices into [K_fh (900) | M (900) | G (100) | 0] of the three terms of every upper-triangle
+    entry [i a, k b] (r = 10 i + a <= c = 10 k + b) of K_uu; see `SolidModel._tangent_chunk`."""
+    r, c = np.triu_indices(30)
+    (i, a), (k, b) = np.divmod(r, 10), np.divmod(c, 10)
+    swapped = (10 * k + a) * 30 + 10 * i + b                    # M[k a, i b]
+    diagonal = np.where(i == k, 10 * a + b, 100)                # G[a, b] on the diagonal blocks, else 0
+    return np.concatenate([30 * r + c, 900 + swapped, 1800 + diagonal])
+
+
+_UPPER_GATHER = _upper_gather()
+
+
+def _view(a: np.ndarray, shape) -> np.ndarray:
+    """A reshaped view of `a` (an error, never a silent copy: results are written into it)."""
+    v = a.view()
+    v.shape = shape
+    return v
 
 
 @dataclass(frozen=True)
@@ -154,7 +172,8 @@ class SolidModel:
             self.p_dofs = self.n_u + self.pbasis.element_dofs                # (4, E)
             self.n_p = self.pbasis.N
             # K_pp = -int Np_c Np_d / K dV depends on the mesh and the material only.
-            self._Kpp = -np.einsum("ceq,deq,eq->ecd", self.Np, self.Np, self.dx / self.bulk)
+            Kpp = -np.einsum("ceq,deq,eq->ecd", self.Np, self.Np, self.dx / self.bulk)
+            self._Kpp_upper = Kpp[(slice(None),) + np.triu_indices(4)]                # (E, 10)
         else:
             self.n_p = 0
         self.n_dofs = self.n_u + self.n_p
@@ -190,8 +209,10 @@ class SolidModel:
         self.chamber = tuple(chamber) if chamber else ()
         self.volume_weights = np.asarray(volume_weights, dtype=float)
         # Volume blocks: K_uu, and for the mixed formulation K_up, K_pu = K_up^T and K_pp.
-        groups = ([self.u_dofs, (self.u_dofs, self.p_dofs), (self.p_dofs, self.u_dofs), self.p_dofs]
-                  if self.mixed else [self.u_dofs])
+        # Volume blocks (symmetric element matrices): the upper triangle of K_uu and, for the
+        # mixed formulation, K_up (standing for K_pu = K_up^T too) and the upper triangle of K_pp.
+        groups = ([Mirrored.upper(self.u_dofs), Mirrored.block(self.u_dofs, self.p_dofs),
+                   Mirrored.upper(self.p_dofs)] if self.mixed else [Mirrored.upper(self.u_dofs)])
         self._n_volume_groups = len(groups)
         if self.chamber:
             for tag in self.chamber:
@@ -315,7 +336,7 @@ class SolidModel:
         return np.hstack([Ru, np.matmul(w[:, None, :], self._Np_qc)[:, 0]])
 
     def _element_tangent(self, stress, blocks):
-        """Element matrices into blocks[0..3] (K_uu, K_up, K_pu, K_pp; K_uu only for "p2"),
+        """Element matrices into blocks[0..2] (K_uu, K_up, K_pp; K_uu only for "p2"),
         over chunks of elements on the assembly threads (`fem.parallel`); see `_tangent_chunk`."""
         # (E, Q, 3, 3) copies of F and H for the batched products of the chunks
         F = np.ascontiguousarray(stress.F.transpose(2, 3, 0, 1))
@@ -343,10 +364,11 @@ class SolidModel:
             K_up[i a, c] = J h_ai Np_c,   K_pu = K_up^T,   K_pp = -Np_c Np_d / K (constant).
 
         The quadrature sums are inside batched matrix products, one per element: with
-        V = -2c/3 f + w1/2 h, the f/h terms are [V; h]^T [h; V] (inner dimension 2Q); the
-        swapped term w2 h_ak h_bi is the product M[k a, i b] = sum w2 h_ka h_ib read with i and
-        k exchanged (one gather); c (g_a . g_b) is a 10 x 10 product added to the three
-        diagonal 10 x 10 blocks.
+        V = -2c/3 f + w1/2 h, the f/h terms are K_fh = [V; h]^T [h; V] (inner dimension 2Q); the
+        swapped term is M[k a, i b] = sum w2 h_ka h_ib read with i and k exchanged; G = c g^T g
+        (10 x 10) goes on the three diagonal blocks. K_uu is symmetric, so only its upper
+        triangle is stored (`fem.pattern.Mirrored`): one gather picks, for each of its 465
+        entries, the K_fh, M and G terms, which are then summed.
         """
         g, gt = self._g_aqJ[s], self._g_qJa[s]            # g[e, a, (q, J)], gt[e, q, J, a]
         n, Q = F.shape[:2]
@@ -361,19 +383,19 @@ class SolidModel:
         Vh[:, 2 * Q:] = V
         Vh = Vh.reshape(n, 3 * Q, 30)
         h = Vh[:, Q:2 * Q]                                 # (n, Q, 30)
+        terms = np.empty((n, 1901))                        # [K_fh | M | G | 0]
+        np.matmul(Vh[:, :2 * Q].transpose(0, 2, 1), Vh[:, Q:], out=_view(terms[:, :900], (n, 30, 30)))
+        np.matmul((h * w_sw[..., 0]).transpose(0, 2, 1), h, out=_view(terms[:, 900:1800], (n, 30, 30)))
+        np.matmul(g * np.repeat(w_g[:, :, 0, 0], 3, axis=1)[:, None, :], g.transpose(0, 2, 1),
+                  out=_view(terms[:, 1800:1900], (n, 10, 10)))
+        terms[:, 1900] = 0.0
+        picked = np.take(terms, _UPPER_GATHER, axis=1)     # (n, 3 x 465)
         Kuu = blocks[0][s]
-        np.matmul(Vh[:, :2 * Q].transpose(0, 2, 1), Vh[:, Q:], out=Kuu)
-        M = np.matmul((h * w_sw[..., 0]).transpose(0, 2, 1), h)
-        Kuu += np.take(M.reshape(n, 900), _SWAP_IK, axis=1).reshape(n, 30, 30)
-        G = np.matmul(g * np.repeat(w_g[:, :, 0, 0], 3, axis=1)[:, None, :], g.transpose(0, 2, 1))
-        K5 = Kuu.reshape(n, 3, 10, 3, 10)
-        for i in range(3):                                 # the three diagonal blocks
-            K5[:, i, :, i, :] += G
+        np.add(picked[:, :465], picked[:, 465:930], out=Kuu)
+        Kuu += picked[:, 930:]
         if self.mixed:
-            Kup = blocks[1][s]
-            np.matmul(h.transpose(0, 2, 1), self._Np_qc[s] * w_p[..., 0], out=Kup)
-            blocks[2][s] = Kup.transpose(0, 2, 1)
-            blocks[3][s] = self._Kpp[s]
+            np.matmul(h.transpose(0, 2, 1), self._Np_qc[s] * w_p[..., 0], out=_view(blocks[1][s], (n, 30, 4)))
+            blocks[2][s] = self._Kpp_upper[s]
 
     # ----------------------------------------------------------- chamber terms
     def _chamber_kinematics(self, x):

@@ -95,3 +95,27 @@ def test_tangent_is_the_derivative_of_the_residual_under_follower_pressure(formu
         dR = (model.residual(x + eps * v, P) - model.residual(x - eps * v, P))[free] / (2 * eps)
         Kv = K @ v[free]
         assert np.linalg.norm(Kv - dR) <= 1e-6 * np.linalg.norm(Kv)
+
+
+def test_mirrored_groups_assemble_like_full_blocks():
+    """Upper triangles (Mirrored.upper) and mirrored off-diagonal blocks (Mirrored.block) give the
+    matrix of the full symmetric element blocks, with Dirichlet rows/columns dropped."""
+    from fem.pattern import Mirrored, Pattern
+
+    rng = np.random.default_rng(3)
+    n_dofs, n_items = 40, 25
+    free_index = np.arange(n_dofs)
+    free_index[[3, 17]] = -1
+    free_index[free_index >= 0] = np.arange(n_dofs - 2)
+    a = np.array([rng.choice(30, 6, replace=False) for _ in range(n_items)]).T    # (6, n_items)
+    b = np.array([rng.choice(np.arange(30, 40), 2, replace=False) for _ in range(n_items)]).T
+    both = np.vstack([a, b])
+    Ke = rng.standard_normal((n_items, 8, 8))
+    Ke = Ke + Ke.transpose(0, 2, 1)
+    full = Pattern(free_index, [both]).assemble([Ke])
+    r, c = np.triu_indices(6)
+    rp, cp = np.triu_indices(2)
+    mirrored = Pattern(free_index, [Mirrored.upper(a), Mirrored.block(a, b), Mirrored.upper(b)])
+    K = mirrored.assemble([Ke[:, r, c], Ke[:, :6, 6:].reshape(n_items, -1), Ke[:, 6 + rp, 6 + cp]])
+    assert (K.indptr == full.indptr).all() and (K.indices == full.indices).all()
+    assert np.abs(K.data - full.data).max() <= 1e-14 * np.abs(full.data).max()
