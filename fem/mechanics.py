@@ -67,17 +67,26 @@ FORMULATIONS = ("p2p1", "p2")
 _CHUNK = 128
 
 
-def _upper_gather() -> np.ndarray:
-    """Indices into [K_fh (900) | M (900) | G (100) | 0] of the three terms of every upper-triangle
-    entry [i a, k b] (r = 10 i + a <= c = 10 k + b) of K_uu; see `SolidModel._tangent_chunk`."""
+def _uu_entries():
+    """The 465 stored entries (r, c) of the symmetric 30 x 30 K_uu, r = 10 i + a, c = 10 k + b:
+    first the upper triangles of the three diagonal blocks i = k (the entries that get c g.g),
+    then the blocks i < k."""
     r, c = np.triu_indices(30)
-    (i, a), (k, b) = np.divmod(r, 10), np.divmod(c, 10)
-    swapped = (10 * k + a) * 30 + 10 * i + b                    # M[k a, i b]
-    diagonal = np.where(i == k, 10 * a + b, 100)                # G[a, b] on the diagonal blocks, else 0
-    return np.concatenate([30 * r + c, 900 + swapped, 1800 + diagonal])
+    first = r // 10 == c // 10
+    return np.concatenate([r[first], r[~first]]), np.concatenate([c[first], c[~first]])
 
 
-_UPPER_GATHER = _upper_gather()
+_UU_ROWS, _UU_COLS = _uu_entries()
+
+
+def _uu_gather() -> np.ndarray:
+    """Indices into [K_fh (900) | M (900)] of the terms K_fh[i a, k b] and M[k a, i b] of the
+    stored K_uu entries [i a, k b] (see `SolidModel._tangent_chunk`)."""
+    (i, a), (k, b) = np.divmod(_UU_ROWS, 10), np.divmod(_UU_COLS, 10)
+    return np.concatenate([30 * _UU_ROWS + _UU_COLS, 900 + (10 * k + a) * 30 + 10 * i + b])
+
+
+_UU_GATHER = _uu_gather()
 
 
 def _view(a: np.ndarray, shape) -> np.ndarray:
@@ -160,6 +169,9 @@ class SolidModel:
         self._g_aqJ = np.ascontiguousarray(self.dN.transpose(2, 0, 3, 1)).reshape(n_elem, 10, 3 * n_qp)
         self._g_qJa = np.ascontiguousarray(self.dN.transpose(2, 3, 1, 0))
         self._elem_nodes = np.ascontiguousarray(self.node_dofs.T)              # (E, 10)
+        # g_a . g_b (a <= b, `np.triu_indices(10)`) at each quadrature point: (E, Q, 55)
+        ta, tb = np.triu_indices(10)
+        self._gg = np.ascontiguousarray(np.einsum("aJeq,aJeq->eqa", self.dN[ta], self.dN[tb]))
         # Local displacement dofs are component-major: local 10 i + a is component i of node a.
         self.u_dofs = (3 * self.node_dofs[None, :, :] + np.arange(3)[:, None, None]).reshape(30, -1)
 
@@ -211,8 +223,9 @@ class SolidModel:
         # Volume blocks: K_uu, and for the mixed formulation K_up, K_pu = K_up^T and K_pp.
         # Volume blocks (symmetric element matrices): the upper triangle of K_uu and, for the
         # mixed formulation, K_up (standing for K_pu = K_up^T too) and the upper triangle of K_pp.
-        groups = ([Mirrored.upper(self.u_dofs), Mirrored.block(self.u_dofs, self.p_dofs),
-                   Mirrored.upper(self.p_dofs)] if self.mixed else [Mirrored.upper(self.u_dofs)])
+        uu = Mirrored(self.u_dofs[_UU_ROWS], self.u_dofs[_UU_COLS])
+        groups = ([uu, Mirrored.block(self.u_dofs, self.p_dofs), Mirrored.upper(self.p_dofs)]
+                  if self.mixed else [uu])
         self._n_volume_groups = len(groups)
         if self.chamber:
             for tag in self.chamber:
@@ -338,20 +351,23 @@ class SolidModel:
     def _element_tangent(self, stress, blocks):
         """Element matrices into blocks[0..2] (K_uu, K_up, K_pp; K_uu only for "p2"),
         over chunks of elements on the assembly threads (`fem.parallel`); see `_tangent_chunk`."""
-        # (E, Q, 3, 3) copies of F and H for the batched products of the chunks
-        F = np.ascontiguousarray(stress.F.transpose(2, 3, 0, 1))
-        H = np.ascontiguousarray(stress.H.transpose(2, 3, 0, 1))
         J, p, c, I1, dx = stress.J, stress.p, stress.c, stress.I1, self.dx
         w1 = (2.0 / 9.0) * c * I1 + p * J
         if not self.mixed:
             w1 += self.bulk * J * J
         w2 = c * I1 / 3.0 - p * J
-        weights = np.stack([(-2.0 / 3.0) * c * dx, 0.5 * w1 * dx, w2 * dx, c * dx, J * dx])
-        for_chunks(lambda s: self._tangent_chunk(s, F[s], H[s], weights[:, s], blocks),
+        # (E, Q, 3, 3) arrays for the batched products of the chunks: H and the combination
+        # A = -2c/3 F + w1/2 H, with V = A g (dx included in A)
+        H = np.ascontiguousarray(stress.H.transpose(2, 3, 0, 1))
+        A = stress.F * ((-2.0 / 3.0) * c * dx) + stress.H * (0.5 * w1 * dx)
+        A = np.ascontiguousarray(A.transpose(2, 3, 0, 1))
+        weights = np.stack([w2 * dx, c * dx, J * dx])
+        for_chunks(lambda s: self._tangent_chunk(s, A[s], H[s], weights[:, s], blocks),
                    self.dx.shape[0], _CHUNK)
 
-    def _tangent_chunk(self, s, F, H, weights, blocks):
-        r"""Element matrices of the elements `s` (a slice) into blocks[k][s].
+    def _tangent_chunk(self, s, A, H, weights, blocks):
+        r"""Element matrices of the elements `s` (a slice) into blocks[k][s]; A and H are
+        (n, Q, 3, 3) (A as below, dx included) and weights (3, n, Q) = (w2 dx, c dx, J dx).
 
         Local dofs: u component i of node a is 10 i + a, then the pressure dofs c. With
         g_a = grad N_a, f_ai = F_iJ g_aJ, h_ai = H_iJ g_aJ and c = mu J^-2/3, the Neo-Hookean +
@@ -364,37 +380,33 @@ class SolidModel:
             K_up[i a, c] = J h_ai Np_c,   K_pu = K_up^T,   K_pp = -Np_c Np_d / K (constant).
 
         The quadrature sums are inside batched matrix products, one per element: with
-        V = -2c/3 f + w1/2 h, the f/h terms are K_fh = [V; h]^T [h; V] (inner dimension 2Q); the
-        swapped term is M[k a, i b] = sum w2 h_ka h_ib read with i and k exchanged; G = c g^T g
-        (10 x 10) goes on the three diagonal blocks. K_uu is symmetric, so only its upper
-        triangle is stored (`fem.pattern.Mirrored`): one gather picks, for each of its 465
-        entries, the K_fh, M and G terms, which are then summed.
+        V = -2c/3 f + w1/2 h = A g (A = -2c/3 F + w1/2 H, formed pointwise for all elements), the
+        f/h terms are K_fh = [V; h]^T [h; V] (inner dimension 2Q); the
+        swapped term is M[k a, i b] = sum w2 h_ka h_ib read with i and k exchanged. K_uu is
+        symmetric, so only half of it is stored (`fem.pattern.Mirrored`; the 465 entries of
+        `_uu_entries`): one gather picks their K_fh and M terms. The upper triangle of
+        G = sum c (g_a . g_b) (precomputed g_a . g_b) is added to the three diagonal blocks,
+        which come first.
         """
-        g, gt = self._g_aqJ[s], self._g_qJa[s]            # g[e, a, (q, J)], gt[e, q, J, a]
-        n, Q = F.shape[:2]
-        w_f, w_h, w_sw, w_g, w_p = weights[:, :, :, None, None]
+        gt = self._g_qJa[s]                                # gt[e, q, J, a] = dN_a/dX_J
+        n, Q = H.shape[:2]
+        w_sw, w_g, w_p = weights[:, :, :, None]
         Vh = np.empty((n, 3 * Q, 3, 10))                   # rows [V; h; V]
-        h = Vh[:, Q:2 * Q]
-        np.matmul(H, gt, out=h)                            # h[e, q, i, a]
-        V = Vh[:, :Q]
-        np.matmul(F, gt, out=V)                            # f[e, q, i, a]
-        V *= w_f
-        V += h * w_h
-        Vh[:, 2 * Q:] = V
+        np.matmul(A, gt, out=Vh[:, :Q])                    # V[e, q, i, a] = (A g_a)_i dx
+        np.matmul(H, gt, out=Vh[:, Q:2 * Q])               # h[e, q, i, a]
+        Vh[:, 2 * Q:] = Vh[:, :Q]
         Vh = Vh.reshape(n, 3 * Q, 30)
         h = Vh[:, Q:2 * Q]                                 # (n, Q, 30)
-        terms = np.empty((n, 1901))                        # [K_fh | M | G | 0]
+        terms = np.empty((n, 1800))                        # [K_fh | M]
         np.matmul(Vh[:, :2 * Q].transpose(0, 2, 1), Vh[:, Q:], out=_view(terms[:, :900], (n, 30, 30)))
-        np.matmul((h * w_sw[..., 0]).transpose(0, 2, 1), h, out=_view(terms[:, 900:1800], (n, 30, 30)))
-        np.matmul(g * np.repeat(w_g[:, :, 0, 0], 3, axis=1)[:, None, :], g.transpose(0, 2, 1),
-                  out=_view(terms[:, 1800:1900], (n, 10, 10)))
-        terms[:, 1900] = 0.0
-        picked = np.take(terms, _UPPER_GATHER, axis=1)     # (n, 3 x 465)
+        np.matmul((h * w_sw).transpose(0, 2, 1), h, out=_view(terms[:, 900:], (n, 30, 30)))
+        picked = np.take(terms, _UU_GATHER, axis=1)        # (n, 465 + 465)
         Kuu = blocks[0][s]
-        np.add(picked[:, :465], picked[:, 465:930], out=Kuu)
-        Kuu += picked[:, 930:]
+        np.add(picked[:, :465], picked[:, 465:], out=Kuu)
+        G = np.matmul(w_g.transpose(0, 2, 1), self._gg[s])    # (n, 1, 55): c (g_a . g_b), a <= b
+        _view(Kuu[:, :165], (n, 3, 55))[...] += G             # the diagonal blocks' upper triangles
         if self.mixed:
-            np.matmul(h.transpose(0, 2, 1), self._Np_qc[s] * w_p[..., 0], out=_view(blocks[1][s], (n, 30, 4)))
+            np.matmul(h.transpose(0, 2, 1), self._Np_qc[s] * w_p, out=_view(blocks[1][s], (n, 30, 4)))
             blocks[2][s] = self._Kpp_upper[s]
 
     # ----------------------------------------------------------- chamber terms
