@@ -239,6 +239,11 @@ class SolidModel:
             self.f_normal = fb.normals                                   # (3, F, Qf) solid outward
             self.f_dx = fb.dx
             self.f_node_dofs = fb.element_dofs                           # (10, F)
+            n_f = self.f_dx.shape[0]
+            self._f_g_aqJ = np.ascontiguousarray(self.f_dN.transpose(2, 0, 3, 1)).reshape(n_f, 10, -1)
+            self._f_g_qaJ = np.ascontiguousarray(self.f_dN.transpose(2, 3, 0, 1))   # (F, Qf, 10, 3)
+            self._f_nodes = np.ascontiguousarray(self.f_node_dofs.T)
+            self._f_Ndx = np.ascontiguousarray((self.f_N * self.f_dx).transpose(1, 0, 2))  # (F, 10, Qf)
             self.f_u_dofs = (3 * self.f_node_dofs[:, None, :]
                              + np.arange(3)[None, :, None]).reshape(30, -1)
             groups.append(self.f_u_dofs)
@@ -411,7 +416,11 @@ class SolidModel:
 
     # ----------------------------------------------------------- chamber terms
     def _chamber_kinematics(self, x):
-        F = self.deformation_gradient(x, self.f_dN, self.f_node_dofs)
+        F = np.ascontiguousarray(self._displacement_gradient(x, self._f_g_aqJ, self._f_nodes)
+                                 .transpose(2, 3, 0, 1))
+        F[0, 0] += 1.0
+        F[1, 1] += 1.0
+        F[2, 2] += 1.0
         cofN = -np.einsum("iJfq,Jfq->ifq", cofactor3(F), self.f_normal)   # cavity-outward n da/dA
         return F, cofN
 
@@ -433,11 +442,15 @@ class SolidModel:
             return q, None
         J = det3(F)
         H = cofactor3(F) / J
-        # d(cof F N)_i / dF_kL = -J (H_iJ H_kL - H_iL H_kJ) N_J   (the minus: cavity normal)
+        # d(cof F N)_i / dF_kL = -J (H_iJ H_kL - H_iL H_kJ) N_J = D[i, L, k]   (the minus: cavity
+        # normal); dq[a i, b k] = int N_a D[i, L, k] dN_b/dX_L dA: per point (10 x 3) @ D[i]
+        # gives E[i, b, k], then one (10 x Qf) @ (Qf x 90) product per facet.
         HN = np.einsum("iJfq,Jfq->ifq", H, self.f_normal)
-        D = -J * (np.einsum("ifq,klfq->iklfq", HN, H) - np.einsum("iLfq,kJfq,Jfq->ikLfq", H, H, self.f_normal))
-        E = np.einsum("ikLfq,bLfq->ikbfq", D, self.f_dN) * self.f_dx         # (3, 3, 10, F, Q)
-        dq = np.einsum("afq,ikbfq->faibk", self.f_N, E, optimize=True).reshape(-1, 30, 30)
+        D = -J * (HN[:, None, None] * H.transpose(1, 0, 2, 3)[None] - H[:, :, None] * HN[None, None])
+        D = np.ascontiguousarray(D.transpose(3, 4, 0, 1, 2))                   # (F, Qf, 3, 3, 3)
+        E = np.matmul(self._f_g_qaJ[:, :, None], D)                               # (F, Qf, 3, 10, 3)
+        n_f, n_q = E.shape[:2]
+        dq = np.matmul(self._f_Ndx, E.reshape(n_f, n_q, 90)).reshape(n_f, 30, 30)
         return q, dq
 
     # ---------------------------------------------------------------- globals
