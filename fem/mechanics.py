@@ -256,6 +256,7 @@ class SolidModel:
             self.fiber_dofs = fiber_segment_dofs(self.fibers)
             groups.append(self.fiber_dofs)
         self.pattern = Pattern(self.free_index, groups)
+        self._memo = None                  # see `_at`
         self.dead_load = self._dead_load_vector(dead_loads or {})
 
     # ------------------------------------------------------------------ helpers
@@ -457,9 +458,25 @@ class SolidModel:
     def _scatter(self, element_values, dofs):
         return np.bincount(dofs.reshape(-1), weights=element_values.reshape(-1), minlength=self.n_dofs)
 
+    def _at(self, x: np.ndarray) -> dict:
+        """Results that depend on the state only (stress, volume internal force, pressure load
+        vector), remembered for the last state x: the line search evaluates the residual at the
+        trial state that the next Newton iteration assembles, and the convergence test asks for
+        the pressure load at the state just assembled."""
+        memo = self._memo
+        if memo is None or not np.array_equal(memo["x"], x):
+            memo = self._memo = {"x": x.copy()}
+        return memo
+
+    def _volume_force(self, x: np.ndarray, memo: dict):
+        if "f_vol" not in memo:
+            memo["stress"] = self._stress(x)
+            memo["f_vol"] = self._scatter(self._element_residual(memo["stress"]), self._elem_dofs)
+        return memo["stress"], memo["f_vol"]
+
     def internal_force(self, x: np.ndarray) -> np.ndarray:
         """Full internal force vector (all dofs, including the constrained ones)."""
-        f = self._scatter(self._element_residual(self._stress(x)), self._elem_dofs)
+        f = self._volume_force(x, self._at(x))[1].copy()
         if self.fibers is not None:
             Rf, _ = fiber_arrays(self.fibers, x[: self.n_u].reshape(-1, 3), with_tangent=False)
             f += self._scatter(Rf, self.fiber_dofs)
@@ -469,8 +486,10 @@ class SolidModel:
         """q = dV_cav/du on all dofs; the pressure load vector is P q."""
         if not self.chamber:
             return np.zeros(self.n_dofs)
-        q, _ = self._chamber_load(x, False)
-        return self._scatter(q, self.f_u_dofs)
+        memo = self._at(x)
+        if "q" not in memo:
+            memo["q"] = self._scatter(self._chamber_load(x, False)[0], self.f_u_dofs)
+        return memo["q"].copy()
 
     def residual(self, x: np.ndarray, pressure: float, factor: float = 0.0) -> np.ndarray:
         """R = f_int - P q - f f_dead on all dofs (the dead loads need no tangent)."""
@@ -483,13 +502,15 @@ class SolidModel:
         pattern's order (`fem.pattern.Pattern.views`), which one `np.bincount` scatters."""
         values = self.pattern.new_values()
         blocks = self.pattern.views(values)
-        stress = self._stress(x)
-        R = self._scatter(self._element_residual(stress), self._elem_dofs) - factor * self.dead_load
+        memo = self._at(x)
+        stress, f_vol = self._volume_force(x, memo)
+        R = f_vol - factor * self.dead_load
         self._element_tangent(stress, blocks)
         k = self._n_volume_groups
         if self.chamber:
             q, dq = self._chamber_load(x, True)
-            R -= pressure * self._scatter(q, self.f_u_dofs)
+            memo["q"] = self._scatter(q, self.f_u_dofs)
+            R -= pressure * memo["q"]
             np.multiply(dq, -pressure, out=blocks[k])
             k += 1
         if self.fibers is not None:
