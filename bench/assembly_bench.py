@@ -87,8 +87,16 @@ def main(argv=None):
         assemble = lambda: model.pattern.assemble(blocks)  # noqa: E731
     parts["_chamber_load(tangent)"] = lambda: model._chamber_load(x, True)
     parts["pattern scatter"] = assemble
-    parts["residual"] = lambda: model.residual(x, P)
-    parts["residual_and_tangent"] = lambda: model.residual_and_tangent(x, P)
+
+    def fresh(fn):                        # forget the state remembered from the last call
+        def run():
+            model._memo = None
+            return fn()
+        return run
+    parts["residual"] = fresh(lambda: model.residual(x, P))
+    parts["residual_and_tangent"] = fresh(lambda: model.residual_and_tangent(x, P))
+    if hasattr(model, "_memo"):
+        parts["  same x as a residual"] = lambda: model.residual_and_tangent(x, P)
     R, K = model.residual_and_tangent(x, P)
     solver = LinearSolver()
     solver.factor(K)

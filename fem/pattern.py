@@ -93,7 +93,10 @@ class Pattern:
             return np.where(k >= 0, np.searchsorted(unique, k), self.nnz)
 
         self._inverse_mirrored = positions(canonical)
-        self._inverse = positions(direct)
+        # The other groups touch few positions (facets, fiber segments): their bincount runs
+        # over those positions only and is added there.
+        self._plain_positions, self._inverse = np.unique(positions(direct), return_inverse=True)
+        self._inverse = self._inverse.reshape(-1)
         col = unique % n
         row = unique // n
         self.indices = col.astype(np.int32)
@@ -136,7 +139,9 @@ class Pattern:
         else:
             data = np.zeros(self.nnz)
         if self.size > m:
-            data += np.bincount(self._inverse, weights=values[m:], minlength=self.nnz + 1)[: self.nnz]
+            sums = np.bincount(self._inverse, weights=values[m:], minlength=self._plain_positions.size)
+            keep = self._plain_positions < self.nnz     # drop the discard bin
+            data[self._plain_positions[keep]] += sums[keep]
         A = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
         A.pattern = self
         return A

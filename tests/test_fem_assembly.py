@@ -112,11 +112,14 @@ def test_mirrored_groups_assemble_like_full_blocks():
     both = np.vstack([a, b])
     Ke = rng.standard_normal((n_items, 8, 8))
     Ke = Ke + Ke.transpose(0, 2, 1)
-    full = Pattern(free_index, [both]).assemble([Ke])
+    facets = a[:3, :7]                                   # a non-symmetric group on a few dofs
+    Kf = rng.standard_normal((7, 3, 3))
+    full = Pattern(free_index, [both, facets]).assemble([Ke, Kf])
     r, c = np.triu_indices(6)
     rp, cp = np.triu_indices(2)
-    mirrored = Pattern(free_index, [Mirrored.upper(a), Mirrored.block(a, b), Mirrored.upper(b)])
-    K = mirrored.assemble([Ke[:, r, c], Ke[:, :6, 6:].reshape(n_items, -1), Ke[:, 6 + rp, 6 + cp]])
+    mirrored = Pattern(free_index, [Mirrored.upper(a), facets, Mirrored.block(a, b), Mirrored.upper(b)])
+    K = mirrored.assemble([Ke[:, r, c], Kf, Ke[:, :6, 6:].reshape(n_items, -1), Ke[:, 6 + rp, 6 + cp]])
+    assert mirrored.views(mirrored.new_values())[1].shape == (7, 3, 3)
     assert (K.indptr == full.indptr).all() and (K.indices == full.indices).all()
     assert np.abs(K.data - full.data).max() <= 1e-14 * np.abs(full.data).max()
 
