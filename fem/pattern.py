@@ -1,57 +1,147 @@
 """A fixed sparsity pattern: scatter batches of element matrices into a CSR matrix fast.
 
-Element contributions come as groups: a group is a dof array `dofs` of shape (n_local, n_items)
-(global dof numbers, or -1 for an entry to drop, such as a Dirichlet dof); its element matrices
-come as an array (n_items, n_local, n_local). The pattern is built
-once with `np.unique` over the linear keys row * n + col; each assembly is then a single
-`np.bincount` of the element values into CSR data order. Rows/columns are the free dofs only:
-Dirichlet dofs are condensed out by the caller's `free_index` map (global dof -> free number, -1).
+Element contributions come as groups of items (elements, facets, fiber segments). A group is
+
+- a dof array `dofs` of shape (n_local, n_items): square blocks, rows and columns the same dofs;
+- a pair (row_dofs, col_dofs) of shapes (n_rows, n_items) and (n_cols, n_items): rectangular
+  blocks;
+- a `Mirrored` group: entries that are assembled at (row, col) *and* at (col, row) (once where
+  row == col). A symmetric element matrix needs only its upper triangle (`Mirrored.upper`), and
+  an off-diagonal block of a symmetric element matrix stands for its transpose too
+  (`Mirrored.block`): about half the values to compute and to scatter.
+
+Dof numbers are global, or -1 for an entry to drop, such as a Dirichlet dof. The values of a
+block group come as an array (n_items, n_rows, n_cols), those of a `Mirrored` group as
+(n_items, n_entries). The pattern is built once with `np.unique` over the linear keys
+row * n + col; each assembly is then a `np.bincount` of the values into CSR data order (one for
+the mirrored groups, into the upper triangle, spread to both triangles by one gather; one for
+the others). Rows/columns are the free dofs only: Dirichlet dofs are condensed out by the caller's
+`free_index` map (global dof -> free number, -1).
+
+The values of all groups form one flat array of `size` entries. A caller that assembles
+repeatedly can keep such an array (`new_values`), write each group's values into its view
+(`views`) and scatter it with `assemble_values`; this saves the concatenation of `assemble` (a full
+copy of the values, as expensive as the scatter itself).
+
 The pattern also knows its transpose permutation (a symmetry check costs one gather) and its upper
 triangle (the input of symmetric solvers).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.sparse as sp
 
 
+@dataclass(frozen=True)
+class Mirrored:
+    """Entries e of item j assembled at (rows[e, j], cols[e, j]) and at the transposed position."""
+
+    rows: np.ndarray            # (n_entries, n_items) global dofs
+    cols: np.ndarray
+
+    @classmethod
+    def upper(cls, dofs: np.ndarray) -> "Mirrored":
+        """The upper triangle (r <= c, row by row, `np.triu_indices`) of square blocks on `dofs`."""
+        r, c = np.triu_indices(dofs.shape[0])
+        return cls(dofs[r], dofs[c])
+
+    @classmethod
+    def block(cls, row_dofs: np.ndarray, col_dofs: np.ndarray) -> "Mirrored":
+        """All entries of (n_rows, n_cols) blocks, row by row; each also stands for its transpose."""
+        nr, nc = row_dofs.shape[0], col_dofs.shape[0]
+        return cls(np.repeat(row_dofs, nc, axis=0), np.tile(col_dofs, (nr, 1)))
+
+
 class Pattern:
-    def __init__(self, free_index: np.ndarray, groups: list[np.ndarray]):
+    def __init__(self, free_index: np.ndarray, groups: list):
         self.n = int(free_index.max()) + 1
-        keys = []
-        for dofs in groups:
-            f = free_index[dofs].T                     # (n_items, n_local)
-            n_items, n_local = f.shape
-            rows = np.broadcast_to(f[:, :, None], (n_items, n_local, n_local)).reshape(-1)
-            cols = np.broadcast_to(f[:, None, :], (n_items, n_local, n_local)).reshape(-1)
+        n = self.n
+        self.shapes = []                 # value shape of each group, in the caller's order
+        mirrored, plain = [], []         # (group index, rows, cols) with rows/cols (n_items, ...)
+        for g, group in enumerate(groups):
+            if isinstance(group, Mirrored):
+                rows, cols = free_index[group.rows].T, free_index[group.cols].T   # (n_items, n_entries)
+                self.shapes.append(rows.shape)
+                mirrored.append((g, rows, cols))
+            else:
+                row_dofs, col_dofs = group if isinstance(group, tuple) else (group, group)
+                r, c = free_index[row_dofs].T, free_index[col_dofs].T
+                shape = (r.shape[0], r.shape[1], c.shape[1])
+                self.shapes.append(shape)
+                plain.append((g, np.broadcast_to(r[:, :, None], shape), np.broadcast_to(c[:, None, :], shape)))
+
+        def keys(rows, cols):
             # entries in a Dirichlet row or column get key -1: they go to a discard bin
-            key = np.where((rows >= 0) & (cols >= 0), rows.astype(np.int64) * self.n + cols, -1)
-            keys.append(key)
-        all_keys = np.concatenate(keys)
-        unique, inverse = np.unique(all_keys, return_inverse=True)
-        dropped = unique.size > 0 and unique[0] == -1
-        if dropped:                      # bin 0 is the discard bin: shift it to the end
-            unique = unique[1:]
-            inverse = np.where(inverse == 0, unique.size, inverse - 1)
-        self._inverse = inverse.reshape(-1)
+            rows, cols = rows.reshape(-1).astype(np.int64), cols.reshape(-1).astype(np.int64)
+            return np.where((rows >= 0) & (cols >= 0), rows * n + cols, -1)
+
+        # Flat value layout: the mirrored groups first, then the others.
+        self._order = [g for g, _, _ in mirrored] + [g for g, _, _ in plain]
+        self.size = sum(int(np.prod(self.shapes[g])) for g in self._order)
+        self._n_mirrored = sum(int(np.prod(self.shapes[g])) for g, _, _ in mirrored)
+        canonical = [keys(np.minimum(r, c), np.maximum(r, c)) for _, r, c in mirrored]
+        direct = [keys(r, c) for _, r, c in plain]
+        every = [keys(r, c) for _, r, c in mirrored] + [keys(c, r) for _, r, c in mirrored] + direct
+        unique = np.unique(np.concatenate(every)) if every else np.zeros(0, dtype=np.int64)
+        unique = unique[unique >= 0]
         self.nnz = unique.size
-        col = unique % self.n
-        row = unique // self.n
+
+        def positions(k):                # key -> CSR position; discarded entries -> nnz
+            k = np.concatenate(k) if k else np.zeros(0, dtype=np.int64)
+            return np.where(k >= 0, np.searchsorted(unique, k), self.nnz)
+
+        self._inverse_mirrored = positions(canonical)
+        # The other groups touch few positions (facets, fiber segments): their bincount runs
+        # over those positions only and is added there.
+        self._plain_positions, self._inverse = np.unique(positions(direct), return_inverse=True)
+        self._inverse = self._inverse.reshape(-1)
+        col = unique % n
+        row = unique // n
         self.indices = col.astype(np.int32)
-        self.indptr = np.searchsorted(row, np.arange(self.n + 1)).astype(np.int32)
+        self.indptr = np.searchsorted(row, np.arange(n + 1)).astype(np.int32)
         # Transpose map: data[transpose] is the data of A^T in this pattern (the pattern is
-        # structurally symmetric: element blocks are square in the same dofs).
-        self._transpose = np.searchsorted(unique, col * self.n + row)
+        # structurally symmetric: element blocks are square in the same dofs, rectangular groups
+        # come with their transposed partner, mirrored groups hold both).
+        self._transpose = np.searchsorted(unique, col * n + row)
         upper = col >= row
+        self._canonical = np.where(upper, np.arange(self.nnz), self._transpose)   # position of (min, max)
         self._upper = np.flatnonzero(upper)
         self._upper_indices = self.indices[upper]
-        self._upper_indptr = np.searchsorted(row[upper], np.arange(self.n + 1)).astype(np.int32)
+        self._upper_indptr = np.searchsorted(row[upper], np.arange(n + 1)).astype(np.int32)
+
+    def new_values(self) -> np.ndarray:
+        """An uninitialised flat value array for all groups (fill it through `views`)."""
+        return np.empty(self.size)
+
+    def views(self, values: np.ndarray) -> list[np.ndarray]:
+        """The value array of every group (in the order of the groups given) inside `values`."""
+        out, start = [None] * len(self.shapes), 0
+        for g in self._order:
+            stop = start + int(np.prod(self.shapes[g]))
+            out[g] = values[start:stop].reshape(self.shapes[g])
+            start = stop
+        return out
 
     def assemble(self, blocks: list[np.ndarray]) -> sp.csr_matrix:
-        """`blocks[g]` has shape (n_items, n_local, n_local) for group g (items first, so element
-        matrices are written in place without a transposed copy)."""
-        values = np.concatenate([b.reshape(-1) for b in blocks])
-        data = np.bincount(self._inverse, weights=values, minlength=self.nnz + 1)[: self.nnz]
+        """`blocks[g]` has the value shape of group g: (n_items, n_rows, n_cols) for blocks (items
+        first, so element matrices are written in place without a transposed copy), (n_items,
+        n_entries) for `Mirrored` groups."""
+        return self.assemble_values(np.concatenate([blocks[g].reshape(-1) for g in self._order]))
+
+    def assemble_values(self, values: np.ndarray) -> sp.csr_matrix:
+        """CSR matrix of a flat value array (all groups; see `views`)."""
+        m = self._n_mirrored
+        if m:
+            upper = np.bincount(self._inverse_mirrored, weights=values[:m], minlength=self.nnz + 1)
+            data = upper[self._canonical]
+        else:
+            data = np.zeros(self.nnz)
+        if self.size > m:
+            sums = np.bincount(self._inverse, weights=values[m:], minlength=self._plain_positions.size)
+            keep = self._plain_positions < self.nnz     # drop the discard bin
+            data[self._plain_positions[keep]] += sums[keep]
         A = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
         A.pattern = self
         return A

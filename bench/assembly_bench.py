@@ -1,0 +1,117 @@
+"""Time the parts of one assembly on the solver benchmark's ~19k-DOF tube (bench/solver_bench.py).
+
+    PYTHONPATH=. python bench/assembly_bench.py [--repeat 7] [--state state.npy]
+    SOFTCRAWL_THREADS=1 PYTHONPATH=. python bench/assembly_bench.py    # assembly on one thread
+
+The state is the converged one at 4 kPa (saved to --state and reused, so runs compare on the same
+x). Each part is timed best-of --repeat, round robin (the machine is shared: the minimum is
+the cleanest figure), and one PARDISO symmetric factorisation + solve for scale.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+
+def build_model():
+    import skfem
+
+    from fem.meshes import _curve, _tag
+    from fem.mechanics import Dirichlet, SolidModel
+    from fem.neohooke import NeoHookean
+    from solver_bench import A, K_OVER_MU, LENGTH, MESHES, MU, linear_mesh
+
+    points, tets = linear_mesh(MESHES["~20k DOF"])
+    mesh = skfem.MeshTet(points.T, tets.T)
+    tol = 1e-6
+    r = lambda x: np.hypot(x[0], x[1])  # noqa: E731
+    mesh = _curve(_tag(mesh, {
+        "inner": lambda x: np.abs(r(x) - A) < tol * A, "sym_x": lambda x: np.abs(x[0]) < tol,
+        "sym_y": lambda x: np.abs(x[1]) < tol, "bottom": lambda x: np.abs(x[2]) < tol,
+        "top": lambda x: np.abs(x[2] - LENGTH) < tol * LENGTH}), "cylinder")
+    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
+           Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
+    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, K_OVER_MU), dirichlet=bcs,
+                      chamber=("inner",), volume_weights=(1, 1, 0))
+
+
+def best_of(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return min(times)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--state", default=None, help="npy file of the state (created if missing)")
+    args = ap.parse_args(argv)
+    from fem.linsolve import LinearSolver
+    from fem.path import load_path
+
+    model = build_model()
+    P = 0.004
+    if args.state and os.path.exists(args.state):
+        x = np.load(args.state)
+    else:
+        x = load_path(model, [(P, 0.0)]).steps[-1].x
+        if args.state:
+            np.save(args.state, x)
+    print(f"cpus={os.cpu_count()} load={os.getloadavg()[0]:.2f} elements={model.dx.shape[0]} "
+          f"dofs={model.n_dofs} SOFTCRAWL_THREADS={os.environ.get('SOFTCRAWL_THREADS', '-')}")
+    parts = {}
+    stress = model._stress(x)
+    parts["_stress"] = lambda: model._stress(x)
+    if hasattr(model.pattern, "assemble_values"):          # element matrices into one flat array
+        values = model.pattern.new_values()
+        blocks = model.pattern.views(values)
+        parts["_element_residual"] = lambda: model._element_residual(stress)
+        parts["_element_tangent"] = lambda: model._element_tangent(stress, blocks)
+        parts["new_values"] = model.pattern.new_values
+        assemble = lambda: model.pattern.assemble_values(values)  # noqa: E731
+    else:                                                   # before issue 3
+        parts["_element_residual"] = lambda: model._element_residual(x, stress)
+        parts["_element_tangent"] = lambda: model._element_tangent(x, stress)
+        blocks = [model._element_tangent(x, stress), -P * model._chamber_load(x, True)[1]]
+        assemble = lambda: model.pattern.assemble(blocks)  # noqa: E731
+    parts["_chamber_load(tangent)"] = lambda: model._chamber_load(x, True)
+    parts["pattern scatter"] = assemble
+
+    def fresh(fn):                        # forget the state remembered from the last call
+        def run():
+            model._memo = None
+            return fn()
+        return run
+    parts["residual"] = fresh(lambda: model.residual(x, P))
+    parts["residual_and_tangent"] = fresh(lambda: model.residual_and_tangent(x, P))
+    if hasattr(model, "_memo"):
+        parts["  same x as a residual"] = lambda: model.residual_and_tangent(x, P)
+    R, K = model.residual_and_tangent(x, P)
+    solver = LinearSolver()
+    solver.factor(K)
+
+    def solve():
+        solver.factor(K)
+        solver.solve(R[model.free_dofs])
+    parts["factor+solve"] = solve
+    best = dict.fromkeys(parts, np.inf)
+    for _ in range(args.repeat):          # round robin: every part sees the same load
+        for name, fn in parts.items():
+            best[name] = min(best[name], best_of(fn, 1))
+    for name, t in best.items():
+        print(f"{name:<24}{1e3 * t:9.1f} ms")
+
+
+if __name__ == "__main__":
+    main()
