@@ -87,14 +87,15 @@ def _flag(v) -> bool:
 
 def plot_pareto(rows: Sequence[Mapping[str, Any]], path: str | Path, *, title: str = "",
                 reference: Mapping[str, float] | None = None) -> Path:
-    """Extension against radial expansion at the target pressure, coloured by fiber length;
+    """Extension against the radius change |dR| at the target pressure, coloured by fiber length;
     the Pareto front is outlined and the ``reference`` design (Table 1) is starred if present."""
     plt = _pyplot()
     done = [r for r in rows if r.get("trial_status") == "completed"
             and _num(r.get("extension_mm")) is not None]
     fig, ax = plt.subplots(figsize=(6.5, 4.8))
     if done:
-        x = [_num(r["radial_expansion_mm"]) for r in done]
+        x = [_num(r["radius_change_mm"]) if _num(r.get("radius_change_mm")) is not None
+             else abs(_num(r["radial_expansion_mm"])) for r in done]
         y = [_num(r["extension_mm"]) for r in done]
         c = [_num(r.get("fiber_length_mm")) or 0.0 for r in done]
         sc = ax.scatter(x, y, c=c, cmap="viridis", s=22, zorder=2)
@@ -103,7 +104,7 @@ def plot_pareto(rows: Sequence[Mapping[str, Any]], path: str | Path, *, title: s
                   if not any(a2 <= a and b2 >= b and (a2, b2) != (a, b) for a2, b2 in zip(x, y))]
         if len(front2) > 1:
             ax.step(*zip(*sorted(front2)), where="post", color="0.4", lw=1, zorder=1,
-                    label="front of extension vs radial expansion")
+                    label="front of extension vs radius change")
         front = sorted((a, b) for a, b, r in zip(x, y, done) if _flag(r.get("pareto")))
         if front:
             ax.scatter(*zip(*front), facecolors="none", edgecolors="r", s=70, zorder=3,
@@ -117,7 +118,7 @@ def plot_pareto(rows: Sequence[Mapping[str, Any]], path: str | Path, *, title: s
                                .format(**reference))
                     break
     n_failed = sum(1 for r in rows if r.get("trial_status") == "failed")
-    ax.set_xlabel("radial expansion at the target pressure (mm)")
+    ax.set_xlabel("radius change |dR| at the target pressure (mm)")
     ax.set_ylabel("extension at the target pressure (mm)")
     ax.set_title((title + "\n" if title else "") + f"{len(done)} designs, {n_failed} failed "
                  "(not shown)", fontsize=9)

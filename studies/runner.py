@@ -1023,7 +1023,9 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
             return Evaluation(ok=False, attrs=_packed(attrs), message=(
                 f"does not reach {target:g} kPa (limit pressure "
                 f"{attrs['limit_pressure_kpa']} kPa)"))
-        values = (at["length_mm"] - length0, at["outer_radius_mm"] - radius0,
+        # the radius should stay at its design value: growing presses on a pipe wall, shrinking
+        # loosens the robot's body; so the objective is the size of the change, |dR|
+        values = (at["length_mm"] - length0, abs(at["outer_radius_mm"] - radius0),
                   attrs["fiber_length_mm"])
         return Evaluation(ok=True, values=values, attrs=_packed(attrs))
     return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=_packed(attrs))

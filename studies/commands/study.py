@@ -10,8 +10,9 @@ chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig
 N = 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1
 ePSA under weights W = 0, 0.5, 1 N on its guided top at 10-100 kPa; k_p(P) and f_p(P) fitted as the
 paper does and compared with eqs. 19-24 (studies/identify.py). optimise-actuator: NSGA-II (or TPE) over
-r in [2, 6] mm and N in 0..50 for three objectives at 100 kPa: maximise extension, minimise radial
-expansion, minimise the Kevlar thread length of the double helix (the fabrication cost: winding is
+r in [2, 6] mm and N in 0..50 for three objectives at 100 kPa: maximise extension, minimise the radius
+change |dR| (the radius should stay at its design value: fibered designs shrink slightly, and a
+plain "minimise dR" would reward shrinking), minimise the Kevlar thread length of the double helix (the fabrication cost: winding is
 done by hand, turn by turn, so thread length ~ winding work; the body mass depends on r only and is
 reported as ``mass_g``). The Table 1 design (r = 3, N = 20) is evaluated first and marked.
 
@@ -37,7 +38,7 @@ GRIDS = {
 #: Search space and budget of optimise-actuator.
 SPACE = {"chamber_radius": ("float", 2.0, 6.0), "fiber_turns": ("int", 0, 50)}
 TABLE1_DESIGN = {"chamber_radius": 3.0, "fiber_turns": 20}
-OBJECTIVES = ("extension_mm", "radial_expansion_mm", "fiber_length_mm")
+OBJECTIVES = ("extension_mm", "radius_change_mm", "fiber_length_mm")
 DIRECTIONS = ("maximize", "minimize", "minimize")
 DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 DEFAULT_MATERIAL = "ecoflex-00-50"
