@@ -201,6 +201,13 @@ def _deflated_pressure(a: EPSAParams, length, g):
     return a.pressure_for_length(length, g)
 
 
+def _elbow_roll(pipe: Pipe) -> np.ndarray:
+    """Roll ePSA 1 (psi = 90 deg, local +y) to the inside of an elbow's bend (world +x)."""
+    if pipe.kind == "elbow":
+        return np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    return np.eye(3)
+
+
 def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
          body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
          stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper", body: str = "tube",
@@ -236,8 +243,7 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     goal = pipe.goal()
     # Roll the robot so that ePSA 1 (psi = 90 deg, local +y) faces the inside of the bend (world +x):
     # bends in the bend plane are then the P2 = P3 family, as in the paper's gait 2.
-    rot0 = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]) if pipe.kind == "elbow" \
-        else np.eye(3)
+    rot0 = _elbow_roll(pipe)
 
     p0 = np.zeros(3)
     l0 = _lengths(acts, p0, g)
@@ -353,6 +359,68 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     return Plan(pipe, success, tuple(best_final.cycles), body_radius, d, actuators, step_kpa, body,
                 tuple(map(float, start.pos)), tuple(map(float, p0)), message,
                 tuple(tuple(map(float, r)) for r in rot0))
+
+
+def replay(pipe: Pipe, triples, actuators: str = "nominal", body_radius: float = BODY_RADIUS_MM,
+           d: float = D_MM, stages: int = 4, samples: int = 21, tol: float = 1e-9,
+           deflation: str = "paper", body: str = "tube", step_kpa: float = 0.0) -> Plan:
+    """Run a given gait (inflated triples, kPa) through the cycle model of `plan`.
+
+    Same statics, roll, inflation stages, containment check and deflation as `plan`; the gait is
+    not searched but checked: the plan stops, unsuccessful, at the first cycle whose body leaves
+    the pipe (its message says by how much) and succeeds when the rear foot passes the goal.
+    `step_kpa` is only recorded (0 = continuous pressures).
+    """
+    acts: tuple[EPSAParams, ...] = actuator_set(actuators)
+    if body not in ("tube", "epsa"):
+        raise ModelInputError("body", f"must be 'tube' or 'epsa', got {body!r}")
+    if deflation not in ("paper", "held"):
+        raise ModelInputError("deflation", f"must be 'paper' or 'held', got {deflation!r}")
+    epsa_body = body == "epsa"
+    if epsa_body:
+        body_radius = EPSA_RADIUS_MM
+    allow = pipe.diameter / 2.0 - body_radius
+    if allow < 0:
+        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
+                                          f"{pipe.diameter:g} mm pipe")
+    triples = np.asarray(triples, dtype=float).reshape(-1, 3)
+    if np.any(~np.isfinite(triples)) or np.any(triples < 0) or np.any(triples > P_MAX_KPA + 1e-9):
+        raise ModelInputError("pressure", f"pressures must be in [0, {P_MAX_KPA:g}] kPa")
+    g = G_STANDARD if pipe.kind == "vertical" else 0.0
+    goal = pipe.goal()
+    rot0 = _elbow_roll(pipe)
+    lam = np.linspace(0.0, 1.0, stages + 1)[1:]
+    pos, rot = np.zeros(3), rot0.copy()
+    l_cur = _lengths(acts, np.zeros(3), g)
+    progress, cycles, success = 0.0, [], False
+    message = f"gait of {len(triples)} cycles ends before s = {goal:.1f} mm"
+    for n, P in enumerate(triples, start=1):
+        Lg = _lengths(acts, P, g)
+        L = l_cur + lam[:, None] * (Lg - l_cur)
+        dist, _ = pipe.locate(_body_points(pos, rot, L, d, samples, epsa_body))
+        worst = float(dist.max())
+        if worst > allow + tol:
+            message = f"cycle {n} leaves the pipe by {worst - allow:.4f} mm"
+            break
+        k, t, ph, lc = (float(v) for v in kin.forward(Lg, d))
+        ldef = float(_deflated_length(acts, k, ph, d, g, deflation))
+        step = max(lc - ldef, 0.0)
+        new_pos = pos + kin.arc_point(k * step, ph, step) @ rot.T
+        _, s_new = pipe.locate(new_pos)
+        ldef_i = ldef * (1.0 - k * d * np.cos(kin.PSI - ph))
+        p_def = tuple(float(_deflated_pressure(acts[i], ldef_i[i], g)) for i in range(3))
+        front = pos + rot @ kin.arc_point(t, ph, lc)
+        progress = float(s_new)
+        cycles.append(Cycle(n, tuple(map(float, P)), p_def, tuple(map(float, Lg)),
+                            tuple(map(float, ldef_i)), k, t, ph, lc, ldef, tuple(map(float, pos)),
+                            tuple(map(float, front)), tuple(map(float, new_pos)), progress,
+                            allow - worst))
+        pos, rot, l_cur = new_pos, rot @ kin.arc_rotation(k * step, ph), ldef_i
+        if progress >= goal:
+            success, message = True, f"rear foot passed s = {goal:.1f} mm"
+            break
+    return Plan(pipe, success, tuple(cycles), body_radius, d, actuators, step_kpa, body,
+                (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), message, tuple(tuple(map(float, r)) for r in rot0))
 
 
 def scan_bend_radius(radii, diameter: float = 70.0, **kwargs) -> list[tuple[float, Plan]]:

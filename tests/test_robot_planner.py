@@ -4,7 +4,7 @@ import pytest
 
 from robot import kinematics as kin
 from robot.pipe import Pipe
-from robot.planner import plan
+from robot.planner import plan, replay
 
 
 def _check_inside(result, samples=41):
@@ -65,6 +65,20 @@ def test_elbow_r40_acceptance():
     result = plan(Pipe("elbow", 70.0, 40.0), step_kpa=10.0, beam=8, cell_mm=1.0, cell_deg=1.0)
     assert result.success
     _check_inside(result)
+
+
+def test_replay_reproduces_the_planned_cycles():
+    pipe = Pipe("elbow", 70.0, 80.0)
+    planned = plan(pipe, step_kpa=10.0)
+    again = replay(pipe, [c.pressures_inflated for c in planned.cycles])
+    assert again.success and len(again.cycles) == len(planned.cycles)
+    for a, b in zip(planned.cycles, again.cycles):
+        np.testing.assert_allclose(b.rear_after, a.rear_after, atol=1e-9)
+        np.testing.assert_allclose(b.pressures_deflated, a.pressures_deflated, atol=1e-9)
+        assert b.clearance == pytest.approx(a.clearance, abs=1e-9)
+    # a gait that hits the wall stops there, reported
+    bent = replay(pipe, [(0.0, 100.0, 100.0)] * 3)
+    assert not bent.success and "leaves the pipe" in bent.message and not bent.cycles
 
 
 def test_failed_plan_is_reported_not_raised():
