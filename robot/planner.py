@@ -50,16 +50,31 @@ the states kept. The plan ends when the rear foot passes the goal (pipe end, or 
 fails (reported, not raised) when no triple advances the robot.
 
 Limits found (see the package report): a straight or vertical pipe is crossed with (100, 100, 100)
-/ (0, 0, 0) in ceil(L / 54 mm) cycles. Passing an elbow is NOT monotone in its radius for a rigid
-arc body, and a 70 mm pipe leaves the 23 mm-radius body a 12 mm corridor: R = 80 mm passes greedily
-in 7 cycles (10 kPa grid), R = 60 mm needs the beam (9 cycles, 5 kPa grid) or the exhaustive planar
-breadth-first search of `robot.planar` (10 kPa grid: R = 60, 55, 50 mm in 10, 11, 14 cycles; the
-smallest radius passed), and R = 45 and 40 mm are not passed at all:
-the exhaustive search runs dry with the rear foot ~25 mm before the bend (the corner-cutting arcs
-that exist need the rear foot ~8 mm off-centre and tilted away from the bend, which the straight
-leg does not let the robot reach). The paper's 38.2 mm minimum turning radius belongs to a soft
-body that the pipe deforms, which this model does not have; its own smallest body bending radius
-is 45.1 mm (prototype ePSAs, `softcrawl model workspace`).
+/ (0, 0, 0) in ceil(L / 54 mm) cycles. In an elbow the 70 mm pipe leaves the 23 mm-radius body a
+12 mm corridor, and near a tight bend the gaits that pass are thinner than a pressure grid (a
+10 kPa step moves an ePSA by 2-10 mm). On the grid: R = 80 mm passes greedily in 7 cycles (10 kPa), R = 60 mm
+needs the beam (9 cycles, 5 kPa), and the exhaustive planar breadth-first search of `robot.planar`
+passes R = 60, 55, 50 mm in 10, 11, 14 cycles (10 kPa) but not 45 or 40 mm: at R = 40 it runs dry
+with the rear foot at s = 118 mm (10 kPa) / 123 mm (5 kPa, 4.7 min), ~30 mm before the bend; with a
+22 mm body instead of 23 mm it still does, with 21.5 mm it passes R = 40 in 13 cycles.
+With continuous pressures, `robot.refine.continuous_plan` (SLSQP on the ePSA lengths of a fixed
+number of cycles, maximising the wall clearance, replayed through this cycle model) passes
+R = 40 mm: 25 cycles from a straight seed in ~8 s, stopping at 0.045 mm of clearance to spare
+(maximised: 0.066 mm with 25 cycles, 0.096 mm with 29; 0.054 / 0.084 mm on a 64-stage x 161-sample
+check of the inflation path); straight seeds of 23-28 cycles pass too. R = 45 and 50 mm pass with
+0.75 and 1.42 mm to spare (25 cycles, maximised), 60 and 80 mm as well. It does not find
+R = 39 mm (best -0.034 mm, i.e. the body 34 um into the wall, 30 cycles), 38.2 mm (-0.19 mm) or
+37 mm (-0.35 mm): the smallest radius passed is 40 mm, by a hair. (SLSQP is a local method: 39 mm
+is not proven impossible.) The manoeuvre is an S:
+the first cycles bend slightly away from the elbow (P1 > P2 = P3), which puts the rear foot ~4.5 mm
+towards the outer wall and tilts it ~4 deg away from the bend by s ~ 60-100 mm; then the curvature
+grows cycle by cycle (P1 -> 0) and the last strides cut the corner. No single-arc argument rules
+the tight bends out: at every rear-foot position along an R = 40 mm elbow some arc of the deflated
+length (99.25 mm) with a curvature the actuators reach fits with ~9 mm to spare; what limits the
+robot is reaching the rear-foot offsets and headings that such arcs need, cycle after cycle.
+The paper's 38.2 mm minimum turning radius belongs to a soft body that the pipe deforms, which this
+model does not have; its own smallest body bending radius is 45.1 mm (prototype ePSAs, `softcrawl
+model workspace`).
 
 Gravity: only the "vertical" pipe applies g along the body axis (climbing). Straight and elbow plans
 are made without gravity, as the paper's kinematics are (assumption (d)).

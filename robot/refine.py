@@ -1,7 +1,7 @@
 """Continuous gait refinement through an elbow: ePSA lengths as free variables, SLSQP minimax.
 
 The grid searches (`robot.planner`, `robot.planar`) pick pressures on a 5-10 kPa grid, i.e. ePSA
-lengths about 5 mm apart, for a body whose centreline has a 12 mm corridor (70 mm pipe, 23 mm body
+lengths 1-10 mm apart, for a body whose centreline has a 12 mm corridor (70 mm pipe, 23 mm body
 tube). Near a tight bend the feasible gaits are thinner than that grid: R = 40 mm is passed only
 by gaits that no grid search contains. Here the gait is a fixed number of cycles whose inflated
 lengths (l1, l23) are continuous (any pressure in 0-100 kPa), and
@@ -10,8 +10,11 @@ lengths (l1, l23) are continuous (any pressure in 0-100 kPa), and
                               every inflation stage of every cycle,
                               s(rear foot after the last cycle) >= goal,
 
-solved with SLSQP (finite-difference Jacobians, batched). t > 0 means a gait with t mm of wall
-clearance to spare. Same cycle model as the planner (DESIGN.md section 5, eqs. 16-18): the robot
+solved with SLSQP (forward-difference Jacobians, batched; per cycle and stage only the largest
+sample distance enters, an order statistic and so continuous in the lengths). t > 0 means a gait
+with t mm of wall clearance to spare; by default SLSQP stops once t >= 0.02 mm. Lengths in the
+upward 0.17 mm gap of the nominal l(P) at 60 kPa are reached by no pressure and are pinned to its
+ends. Same cycle model as the planner (DESIGN.md section 5, eqs. 16-18): the robot
 is rolled so that ePSA 1 faces the inside of the bend, triples (P1, P23, P23) bend in the bend
 plane with signed curvature k (> 0 towards the bend)
 
@@ -27,7 +30,7 @@ statics and re-run by `robot.planner.replay`, which applies the planner's own ch
 returned `Plan` does not depend on this module's simulator being right.
 
 Only the nominal actuators (identical ePSAs 2 and 3 make P2 = P3 a planar family) and the paper
-deflation are supported.
+deflation are supported. Radii passed and clearances: see `robot.planner`.
 """
 from __future__ import annotations
 

@@ -143,3 +143,18 @@ def test_planar_bfs_10kpa_r40_none_r60_through():
     r60 = bfs_plan(Pipe("elbow", 70.0, 60.0), step_kpa=10.0)
     assert r60.success and len(r60.cycles) == 10
     _check_inside(r60)
+
+
+@pytest.mark.slow
+def test_continuous_elbows_clearance_grows_with_the_radius():
+    """Maximised clearance to spare: R = 40 mm by a hair (~0.05 mm), R = 45, 50 mm comfortably."""
+    spare = {}
+    for radius in (40.0, 45.0, 50.0):
+        result = continuous_plan(Pipe("elbow", 70.0, radius), cycles=25, margin=None, attempts=1)
+        assert result.success, result.message
+        _check_inside(result)
+        fine = replay(result.pipe, [c.pressures_inflated for c in result.cycles], stages=64,
+                      samples=161)
+        assert fine.success
+        spare[radius] = min(c.clearance for c in fine.cycles)
+    assert 0.03 < spare[40.0] < 0.2 < spare[45.0] < spare[50.0]
