@@ -50,16 +50,31 @@ the states kept. The plan ends when the rear foot passes the goal (pipe end, or 
 fails (reported, not raised) when no triple advances the robot.
 
 Limits found (see the package report): a straight or vertical pipe is crossed with (100, 100, 100)
-/ (0, 0, 0) in ceil(L / 54 mm) cycles. Passing an elbow is NOT monotone in its radius for a rigid
-arc body, and a 70 mm pipe leaves the 23 mm-radius body a 12 mm corridor: R = 80 mm passes greedily
-in 7 cycles (10 kPa grid), R = 60 mm needs the beam (9 cycles, 5 kPa grid) or the exhaustive planar
-breadth-first search of `robot.planar` (10 kPa grid: R = 60, 55, 50 mm in 10, 11, 14 cycles; the
-smallest radius passed), and R = 45 and 40 mm are not passed at all:
-the exhaustive search runs dry with the rear foot ~25 mm before the bend (the corner-cutting arcs
-that exist need the rear foot ~8 mm off-centre and tilted away from the bend, which the straight
-leg does not let the robot reach). The paper's 38.2 mm minimum turning radius belongs to a soft
-body that the pipe deforms, which this model does not have; its own smallest body bending radius
-is 45.1 mm (prototype ePSAs, `softcrawl model workspace`).
+/ (0, 0, 0) in ceil(L / 54 mm) cycles. In an elbow the 70 mm pipe leaves the 23 mm-radius body a
+12 mm corridor, and near a tight bend the gaits that pass are thinner than a pressure grid (a
+10 kPa step moves an ePSA by 2-10 mm). On the grid: R = 80 mm passes greedily in 7 cycles (10 kPa), R = 60 mm
+needs the beam (9 cycles, 5 kPa), and the exhaustive planar breadth-first search of `robot.planar`
+passes R = 60, 55, 50 mm in 10, 11, 14 cycles (10 kPa) but not 45 or 40 mm: at R = 40 it runs dry
+with the rear foot at s = 118 mm (10 kPa) / 123 mm (5 kPa, 4.7 min), ~30 mm before the bend; with a
+22 mm body instead of 23 mm it still does, with 21.5 mm it passes R = 40 in 13 cycles.
+With continuous pressures, `robot.refine.continuous_plan` (SLSQP on the ePSA lengths of a fixed
+number of cycles, maximising the wall clearance, replayed through this cycle model) passes
+R = 40 mm: 25 cycles from a straight seed in ~8 s, stopping at 0.045 mm of clearance to spare
+(maximised: 0.066 mm with 25 cycles, 0.096 mm with 29; 0.054 / 0.084 mm on a 64-stage x 161-sample
+check of the inflation path); straight seeds of 23-28 cycles pass too. R = 45 and 50 mm pass with
+0.75 and 1.42 mm to spare (25 cycles, maximised), 60 and 80 mm as well. It does not find
+R = 39 mm (best -0.034 mm, i.e. the body 34 um into the wall, 30 cycles), 38.2 mm (-0.19 mm) or
+37 mm (-0.35 mm): the smallest radius passed is 40 mm, by a hair. (SLSQP is a local method: 39 mm
+is not proven impossible.) The manoeuvre is an S:
+the first cycles bend slightly away from the elbow (P1 > P2 = P3), which puts the rear foot ~4.5 mm
+towards the outer wall and tilts it ~4 deg away from the bend by s ~ 60-100 mm; then the curvature
+grows cycle by cycle (P1 -> 0) and the last strides cut the corner. No single-arc argument rules
+the tight bends out: at every rear-foot position along an R = 40 mm elbow some arc of the deflated
+length (99.25 mm) with a curvature the actuators reach fits with ~9 mm to spare; what limits the
+robot is reaching the rear-foot offsets and headings that such arcs need, cycle after cycle.
+The paper's 38.2 mm minimum turning radius belongs to a soft body that the pipe deforms, which this
+model does not have; its own smallest body bending radius is 45.1 mm (prototype ePSAs, `softcrawl
+model workspace`).
 
 Gravity: only the "vertical" pipe applies g along the body axis (climbing). Straight and elbow plans
 are made without gravity, as the paper's kinematics are (assumption (d)).
@@ -201,6 +216,13 @@ def _deflated_pressure(a: EPSAParams, length, g):
     return a.pressure_for_length(length, g)
 
 
+def _elbow_roll(pipe: Pipe) -> np.ndarray:
+    """Roll ePSA 1 (psi = 90 deg, local +y) to the inside of an elbow's bend (world +x)."""
+    if pipe.kind == "elbow":
+        return np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    return np.eye(3)
+
+
 def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
          body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
          stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper", body: str = "tube",
@@ -236,8 +258,7 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     goal = pipe.goal()
     # Roll the robot so that ePSA 1 (psi = 90 deg, local +y) faces the inside of the bend (world +x):
     # bends in the bend plane are then the P2 = P3 family, as in the paper's gait 2.
-    rot0 = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]) if pipe.kind == "elbow" \
-        else np.eye(3)
+    rot0 = _elbow_roll(pipe)
 
     p0 = np.zeros(3)
     l0 = _lengths(acts, p0, g)
@@ -353,6 +374,68 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     return Plan(pipe, success, tuple(best_final.cycles), body_radius, d, actuators, step_kpa, body,
                 tuple(map(float, start.pos)), tuple(map(float, p0)), message,
                 tuple(tuple(map(float, r)) for r in rot0))
+
+
+def replay(pipe: Pipe, triples, actuators: str = "nominal", body_radius: float = BODY_RADIUS_MM,
+           d: float = D_MM, stages: int = 4, samples: int = 21, tol: float = 1e-9,
+           deflation: str = "paper", body: str = "tube", step_kpa: float = 0.0) -> Plan:
+    """Run a given gait (inflated triples, kPa) through the cycle model of `plan`.
+
+    Same statics, roll, inflation stages, containment check and deflation as `plan`; the gait is
+    not searched but checked: the plan stops, unsuccessful, at the first cycle whose body leaves
+    the pipe (its message says by how much) and succeeds when the rear foot passes the goal.
+    `step_kpa` is only recorded (0 = continuous pressures).
+    """
+    acts: tuple[EPSAParams, ...] = actuator_set(actuators)
+    if body not in ("tube", "epsa"):
+        raise ModelInputError("body", f"must be 'tube' or 'epsa', got {body!r}")
+    if deflation not in ("paper", "held"):
+        raise ModelInputError("deflation", f"must be 'paper' or 'held', got {deflation!r}")
+    epsa_body = body == "epsa"
+    if epsa_body:
+        body_radius = EPSA_RADIUS_MM
+    allow = pipe.diameter / 2.0 - body_radius
+    if allow < 0:
+        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
+                                          f"{pipe.diameter:g} mm pipe")
+    triples = np.asarray(triples, dtype=float).reshape(-1, 3)
+    if np.any(~np.isfinite(triples)) or np.any(triples < 0) or np.any(triples > P_MAX_KPA + 1e-9):
+        raise ModelInputError("pressure", f"pressures must be in [0, {P_MAX_KPA:g}] kPa")
+    g = G_STANDARD if pipe.kind == "vertical" else 0.0
+    goal = pipe.goal()
+    rot0 = _elbow_roll(pipe)
+    lam = np.linspace(0.0, 1.0, stages + 1)[1:]
+    pos, rot = np.zeros(3), rot0.copy()
+    l_cur = _lengths(acts, np.zeros(3), g)
+    progress, cycles, success = 0.0, [], False
+    message = f"gait of {len(triples)} cycles ends before s = {goal:.1f} mm"
+    for n, P in enumerate(triples, start=1):
+        Lg = _lengths(acts, P, g)
+        L = l_cur + lam[:, None] * (Lg - l_cur)
+        dist, _ = pipe.locate(_body_points(pos, rot, L, d, samples, epsa_body))
+        worst = float(dist.max())
+        if worst > allow + tol:
+            message = f"cycle {n} leaves the pipe by {worst - allow:.4f} mm"
+            break
+        k, t, ph, lc = (float(v) for v in kin.forward(Lg, d))
+        ldef = float(_deflated_length(acts, k, ph, d, g, deflation))
+        step = max(lc - ldef, 0.0)
+        new_pos = pos + kin.arc_point(k * step, ph, step) @ rot.T
+        _, s_new = pipe.locate(new_pos)
+        ldef_i = ldef * (1.0 - k * d * np.cos(kin.PSI - ph))
+        p_def = tuple(float(_deflated_pressure(acts[i], ldef_i[i], g)) for i in range(3))
+        front = pos + rot @ kin.arc_point(t, ph, lc)
+        progress = float(s_new)
+        cycles.append(Cycle(n, tuple(map(float, P)), p_def, tuple(map(float, Lg)),
+                            tuple(map(float, ldef_i)), k, t, ph, lc, ldef, tuple(map(float, pos)),
+                            tuple(map(float, front)), tuple(map(float, new_pos)), progress,
+                            allow - worst))
+        pos, rot, l_cur = new_pos, rot @ kin.arc_rotation(k * step, ph), ldef_i
+        if progress >= goal:
+            success, message = True, f"rear foot passed s = {goal:.1f} mm"
+            break
+    return Plan(pipe, success, tuple(cycles), body_radius, d, actuators, step_kpa, body,
+                (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), message, tuple(tuple(map(float, r)) for r in rot0))
 
 
 def scan_bend_radius(radii, diameter: float = 70.0, **kwargs) -> list[tuple[float, Plan]]:

@@ -48,6 +48,9 @@ def test_statics_and_load(capsys):
     (["fk", "--lengths", "100", "0", "100"], "lengths"),
     (["plan", "--pipe", "elbow", "--out", "unused"], "bend-radius"),
     (["plan", "--pipe", "straight", "--diameter", "40", "--out", "unused"], "diameter"),
+    (["plan", "--pipe", "straight", "--search", "continuous", "--out", "unused"], "search"),
+    (["plan", "--pipe", "elbow", "--bend-radius", "40", "--search", "continuous", "--cycles", "0",
+      "--out", "unused"], "cycles"),
 ])
 def test_user_errors_exit_2_naming_the_parameter(capsys, argv, parameter, tmp_path):
     argv = [a if a != "unused" else str(tmp_path) for a in argv]
@@ -88,3 +91,13 @@ def test_identify_from_csv(capsys, tmp_path):
     assert data["f_p_n"]["high"] == pytest.approx([0.1463, -6.534], rel=1e-6)
     code, out, err = run(capsys, "identify", "--table", str(tmp_path / "missing.csv"))
     assert code == 2 and "table" in err
+
+
+def test_continuous_elbow_plan(capsys, tmp_path):
+    code, out, _ = run(capsys, "plan", "--pipe", "elbow", "--bend-radius", "80", "--search",
+                       "continuous", "--cycles", "12", "--out", str(tmp_path), "--json")
+    data = json.loads(out)
+    assert code == 0 and data["success"] and data["search"] == "continuous"
+    assert all(g["pressures_kpa"][1] == g["pressures_kpa"][2] for g in data["gait"]
+               if g["phase"] == "inflate")
+    assert (tmp_path / "gait.csv").exists()

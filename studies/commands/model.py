@@ -190,6 +190,16 @@ def _plan(args) -> int:
         if args.body != "tube" or args.deflation != "paper":
             raise _ArgError("search", "bfs supports --body tube and --deflation paper only")
         result = bfs_plan(pipe, actuators=args.actuators, step_kpa=args.step)
+    elif args.search == "continuous":
+        from robot.refine import continuous_plan
+
+        if (args.pipe != "elbow" or args.body != "tube" or args.deflation != "paper"
+                or args.actuators != "nominal"):
+            raise _ArgError("search", "continuous supports --pipe elbow, --body tube, "
+                                      "--deflation paper and --actuators nominal only")
+        if args.cycles < 1:
+            raise _ArgError("cycles", "must be >= 1")
+        result = continuous_plan(pipe, cycles=args.cycles)
     else:
         result = plan(pipe, actuators=args.actuators, step_kpa=args.step, beam=args.beam,
                       deflation=args.deflation, body=args.body, cell_mm=1.0, cell_deg=1.0)
@@ -213,9 +223,10 @@ def _plan(args) -> int:
     text = [f"{pipe.kind}: {'through' if result.success else 'NOT through'} in {len(cycles)} "
             f"cycles ({result.message}); files in {out}"]
     for c in result.cycles:
-        text.append(f"  cycle {c.index:2d}: inflate {c.pressures_inflated} kPa, deflate to "
+        inflate = ", ".join(f"{v:.2f}" for v in c.pressures_inflated)
+        text.append(f"  cycle {c.index:2d}: inflate ({inflate}) kPa, deflate to "
                     f"({', '.join(f'{v:.1f}' for v in c.pressures_deflated)}) kPa, rear foot at "
-                    f"s = {c.progress:.1f} mm, clearance {c.clearance:.2f} mm")
+                    f"s = {c.progress:.1f} mm, clearance {c.clearance:.3f} mm")
     _emit(args, payload, "\n".join(text))
     return 0 if result.success else 1
 
@@ -232,6 +243,13 @@ def _elbow_scan(args) -> int:
             from robot.planar import bfs_plan
 
             result = bfs_plan(Pipe("elbow", args.diameter, r), step_kpa=args.step)
+        elif args.search == "continuous":
+            from robot.pipe import Pipe
+            from robot.refine import continuous_plan
+
+            if args.body != "tube":
+                raise _ArgError("search", "continuous supports --body tube only")
+            result = continuous_plan(Pipe("elbow", args.diameter, r), cycles=args.cycles)
         else:
             (_, result), = scan_bend_radius([r], args.diameter, step_kpa=args.step,
                                              beam=args.beam, body=args.body, cell_mm=1.0,
@@ -319,8 +337,11 @@ def register(subparsers) -> None:
     s.add_argument("--beam", type=int, default=1, help="beam width of the search (1 = greedy)")
     s.add_argument("--body", choices=["tube", "epsa"], default="tube",
                    help="clearance of a 23 mm tube, or of the three 9 mm ePSA tubes")
-    s.add_argument("--search", choices=["beam", "bfs"], default="beam",
-                   help="beam search (any pipe), or exhaustive planar breadth-first (elbow)")
+    s.add_argument("--search", choices=["beam", "bfs", "continuous"], default="beam",
+                   help="beam search (any pipe), exhaustive planar breadth-first on the pressure "
+                        "grid (elbow), or continuous pressures refined by SLSQP (elbow)")
+    s.add_argument("--cycles", type=int, default=25,
+                   help="number of cycles of the continuous search")
     s.add_argument("--out", required=True)
     s.set_defaults(func=_plan)
 
@@ -330,5 +351,6 @@ def register(subparsers) -> None:
     s.add_argument("--beam", type=int, default=32)
     s.add_argument("--step", type=float, default=5.0, help="pressure grid step, kPa")
     s.add_argument("--body", choices=["tube", "epsa"], default="tube")
-    s.add_argument("--search", choices=["beam", "bfs"], default="beam")
+    s.add_argument("--search", choices=["beam", "bfs", "continuous"], default="beam")
+    s.add_argument("--cycles", type=int, default=25, help="cycles of the continuous search")
     s.set_defaults(func=_elbow_scan)
