@@ -7,7 +7,7 @@ DIR/vtu/step_NNN.vtu (+ steps.pvd for ParaView) and DIR/epsa.png (length and rad
 pressure, and the deformed shape). Pressures are entered in kPa.
 
 The free actuator is a slender pressurised column: with soft silicone it can bend over sideways
-at high pressure (tip_lateral_mm grows, and the run prints a note); --guided keeps its top on the
+at high pressure (tip_lateral_mm grows past 5 % of the length, and the run prints a note); --guided keeps its top on the
 axis, as the rings and the other actuators do in the robot.
 """
 from __future__ import annotations
