@@ -22,25 +22,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 
 def build_model():
-    import skfem
+    """The solver bench's ~19k-DOF tube (`solver_bench.tube_model`)."""
+    from solver_bench import MESHES, linear_mesh, tube_model
 
-    from fem.meshes import _curve, _tag
-    from fem.mechanics import Dirichlet, SolidModel
-    from fem.neohooke import NeoHookean
-    from solver_bench import A, K_OVER_MU, LENGTH, MESHES, MU, linear_mesh
-
-    points, tets = linear_mesh(MESHES["~20k DOF"])
-    mesh = skfem.MeshTet(points.T, tets.T)
-    tol = 1e-6
-    r = lambda x: np.hypot(x[0], x[1])  # noqa: E731
-    mesh = _curve(_tag(mesh, {
-        "inner": lambda x: np.abs(r(x) - A) < tol * A, "sym_x": lambda x: np.abs(x[0]) < tol,
-        "sym_y": lambda x: np.abs(x[1]) < tol, "bottom": lambda x: np.abs(x[2]) < tol,
-        "top": lambda x: np.abs(x[2] - LENGTH) < tol * LENGTH}), "cylinder")
-    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
-           Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
-    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, K_OVER_MU), dirichlet=bcs,
-                      chamber=("inner",), volume_weights=(1, 1, 0))
+    return tube_model(*linear_mesh(MESHES["~20k DOF"]))
 
 
 def best_of(fn, repeat):

@@ -47,16 +47,14 @@ def analytic_inner_radius():
     return tube_inner_stretch(MU, PRESSURES[-1], A, B) * A
 
 
-def run_softcrawl(points, tets, queue):
+def tube_model(points, tets):
+    """The softcrawl model of the benchmark tube on the given linear mesh (midside nodes curved)."""
     import skfem
 
     from fem.meshes import _curve, _tag
     from fem.mechanics import Dirichlet, SolidModel
     from fem.neohooke import NeoHookean
-    from fem.path import load_path
-    from fem.verification import mean_radius
 
-    t0 = time.perf_counter()
     mesh = skfem.MeshTet(points.T, tets.T)
     tol = 1e-6
     r = lambda x: np.hypot(x[0], x[1])  # noqa: E731
@@ -66,8 +64,16 @@ def run_softcrawl(points, tets, queue):
         "top": lambda x: np.abs(x[2] - LENGTH) < tol * LENGTH}), "cylinder")
     bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
            Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
-    model = SolidModel(mesh, NeoHookean.nearly_incompressible(MU, K_OVER_MU), dirichlet=bcs,
-                       chamber=("inner",), volume_weights=(1, 1, 0))
+    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, K_OVER_MU), dirichlet=bcs,
+                      chamber=("inner",), volume_weights=(1, 1, 0))
+
+
+def run_softcrawl(points, tets, queue):
+    from fem.path import load_path
+    from fem.verification import mean_radius
+
+    t0 = time.perf_counter()
+    model = tube_model(points, tets)
     setup = time.perf_counter() - t0
     res = load_path(model, [(p, 0.0) for p in PRESSURES])
     s = res.stats

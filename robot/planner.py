@@ -223,6 +223,20 @@ def _elbow_roll(pipe: Pipe) -> np.ndarray:
     return np.eye(3)
 
 
+def _body_allowance(pipe: Pipe, body: str, body_radius: float):
+    """(ePSA-only body?, body radius, allowed centreline offset D/2 - radius) after checking them."""
+    if body not in ("tube", "epsa"):
+        raise ModelInputError("body", f"must be 'tube' or 'epsa', got {body!r}")
+    epsa_body = body == "epsa"
+    if epsa_body:
+        body_radius = EPSA_RADIUS_MM
+    allow = pipe.diameter / 2.0 - body_radius
+    if allow < 0:
+        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
+                                          f"{pipe.diameter:g} mm pipe")
+    return epsa_body, body_radius, allow
+
+
 def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
          body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
          stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper", body: str = "tube",
@@ -238,15 +252,7 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
     acts: tuple[EPSAParams, ...] = actuator_set(actuators)
     if body_radius <= 0:
         raise ModelInputError("body-radius", "must be > 0 mm")
-    if body not in ("tube", "epsa"):
-        raise ModelInputError("body", f"must be 'tube' or 'epsa', got {body!r}")
-    epsa_body = body == "epsa"
-    if epsa_body:
-        body_radius = EPSA_RADIUS_MM
-    allow = pipe.diameter / 2.0 - body_radius
-    if allow < 0:
-        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
-                                          f"{pipe.diameter:g} mm pipe")
+    epsa_body, body_radius, allow = _body_allowance(pipe, body, body_radius)
     if beam < 1:
         raise ModelInputError("beam", "must be >= 1")
     if deflation not in ("paper", "held"):
@@ -387,17 +393,9 @@ def replay(pipe: Pipe, triples, actuators: str = "nominal", body_radius: float =
     `step_kpa` is only recorded (0 = continuous pressures).
     """
     acts: tuple[EPSAParams, ...] = actuator_set(actuators)
-    if body not in ("tube", "epsa"):
-        raise ModelInputError("body", f"must be 'tube' or 'epsa', got {body!r}")
     if deflation not in ("paper", "held"):
         raise ModelInputError("deflation", f"must be 'paper' or 'held', got {deflation!r}")
-    epsa_body = body == "epsa"
-    if epsa_body:
-        body_radius = EPSA_RADIUS_MM
-    allow = pipe.diameter / 2.0 - body_radius
-    if allow < 0:
-        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
-                                          f"{pipe.diameter:g} mm pipe")
+    epsa_body, body_radius, allow = _body_allowance(pipe, body, body_radius)
     triples = np.asarray(triples, dtype=float).reshape(-1, 3)
     if np.any(~np.isfinite(triples)) or np.any(triples < 0) or np.any(triples > P_MAX_KPA + 1e-9):
         raise ModelInputError("pressure", f"pressures must be in [0, {P_MAX_KPA:g}] kPa")
