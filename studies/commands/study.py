@@ -28,12 +28,14 @@ from __future__ import annotations
 import argparse
 import sys
 
+from studies.identify import LOADS_N, PRESSURES_KPA
+
 STUDIES = ("chamber-radius", "fiber-turns", "identify", "optimise-actuator")
 #: Grids of the paper's sweeps (Section V-A) and the fixed parameters of each.
 GRIDS = {
     "chamber-radius": ({"chamber_radius": (2.0, 3.0, 4.0, 5.0, 6.0)}, {"fiber_turns": 0}),
     "fiber-turns": ({"fiber_turns": (0, 10, 20, 25, 50)}, {"chamber_radius": 3.0}),
-    "identify": ({"end_load_n": (0.0, 0.5, 1.0)}, {}),      # studies.identify.LOADS_N, Table 1 ePSA
+    "identify": ({"end_load_n": LOADS_N}, {}),                # the Table 1 ePSA under weights
 }
 #: Search space and budget of optimise-actuator.
 SPACE = {"chamber_radius": ("float", 2.0, 6.0), "fiber_turns": ("int", 0, 50)}
@@ -90,8 +92,6 @@ def study_folder(out, name: str, material: str, quick: bool, mesh_size: float | 
 
 def _settings(args) -> dict:
     from studies import runner
-
-    from studies.identify import PRESSURES_KPA
 
     pressures = PRESSURES_KPA if args.name == "identify" else runner.PAPER_PRESSURES_KPA
     settings = {"material": args.material, "quick": bool(args.quick), "pressures_kpa": list(pressures)}
