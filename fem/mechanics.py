@@ -63,6 +63,7 @@ from fem.neohooke import NeoHookean, cofactor3, det3
 from fem.fibers import element_arrays as fiber_arrays
 from fem.fibers import embed as embed_fibers
 from fem.fibers import segment_dofs as fiber_segment_dofs
+from fem import sheets
 from fem.parallel import for_chunks
 from fem.pattern import Mirrored, Pattern
 
@@ -146,6 +147,8 @@ class SolidModel:
     chamber: boundary tags that form the pressurised chamber surface (None: no pressure load).
     fibers: polylines (reference positions, mm) of embedded truss fibers (`fem.fibers`), with
         `fiber_youngs` (MPa) and `fiber_diameter` (mm); None or empty: no fibers.
+    fiber_sheets: `fem.sheets.FiberSheet` families smeared over boundary surfaces (the
+        homogenised alternative to line fibers, which converges under mesh refinement).
     dead_loads: mapping boundary tag -> total force (Fx, Fy, Fz) in N, spread uniformly over the
         tag's reference area (a dead traction: it keeps its direction and magnitude as the body
         deforms, like a weight). It is scaled by the load factor f of the path, like the
@@ -154,7 +157,7 @@ class SolidModel:
 
     def __init__(self, mesh, materials, *, dirichlet=(), chamber=None, formulation="p2p1",
                  intorder=2, volume_weights=(1.0, 1.0, 1.0), fibers=None, fiber_youngs=None,
-                 fiber_diameter=None, fiber_tension_only=False, dead_loads=None):
+                 fiber_diameter=None, fiber_tension_only=False, dead_loads=None, fiber_sheets=()):
         if formulation not in FORMULATIONS:
             raise SolverInputError("formulation", f"{formulation!r} is not one of {FORMULATIONS}")
         self.mesh = mesh
@@ -260,6 +263,10 @@ class SolidModel:
                                        tension_only=fiber_tension_only)
             self.fiber_dofs = fiber_segment_dofs(self.fibers)
             groups.append(self.fiber_dofs)
+        self.sheets = sheets.build(mesh, fiber_sheets) if fiber_sheets else None
+        if self.sheets is not None:
+            self.sheet_dofs = self.sheets.dofs
+            groups.append(self.sheet_dofs)
         self.pattern = Pattern(self.free_index, groups)
         self._memo = None                  # see `_at`
         self.dead_load = self._dead_load_vector(dead_loads or {})
@@ -477,6 +484,9 @@ class SolidModel:
         if self.fibers is not None:
             Rf, _ = fiber_arrays(self.fibers, x[: self.n_u].reshape(-1, 3), with_tangent=False)
             f += self._scatter(Rf, self.fiber_dofs)
+        if self.sheets is not None:
+            Rs, _ = sheets.element_arrays(self.sheets, x[: self.n_u].reshape(-1, 3), False)
+            f += self._scatter(Rs, self.sheet_dofs)
         return f
 
     def pressure_load(self, x: np.ndarray) -> np.ndarray:
@@ -514,16 +524,25 @@ class SolidModel:
             Rf, Kf = fiber_arrays(self.fibers, x[: self.n_u].reshape(-1, 3))
             R += self._scatter(Rf, self.fiber_dofs)
             blocks[k][...] = Kf
+            k += 1
+        if self.sheets is not None:
+            Rs, Ks = sheets.element_arrays(self.sheets, x[: self.n_u].reshape(-1, 3))
+            R += self._scatter(Rs, self.sheet_dofs)
+            blocks[k][...] = Ks
         return R, self.pattern.assemble_values(values)
 
     def fiber_tension(self, x: np.ndarray) -> np.ndarray:
-        """Axial force (N) of every fiber segment; empty without fibers."""
-        if self.fibers is None:
-            return np.zeros(0)
+        """Axial force (N) of one fiber: per segment of the line fibers, then per quadrature point
+        of the fiber sheets, E A (lam - 1); empty without fibers."""
         from fem.fibers import fiber_state, segment_forces
 
-        N, *_ = segment_forces(self.fibers, fiber_state(self.fibers, x[: self.n_u].reshape(-1, 3)))
-        return N
+        u = x[: self.n_u].reshape(-1, 3)
+        out = [np.zeros(0)]
+        if self.fibers is not None:
+            out.append(segment_forces(self.fibers, fiber_state(self.fibers, u))[0])
+        if self.sheets is not None:
+            out.append(sheets.fiber_forces(self.sheets, u).reshape(-1))
+        return np.concatenate(out)
 
     def reaction(self, x: np.ndarray, tag: str, pressure: float = 0.0, factor: float = 0.0) -> np.ndarray:
         """Total support force (N) on the constrained dofs of boundary `tag`, per component.

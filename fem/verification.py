@@ -12,6 +12,12 @@ Cases
   displacement): the axial stretch against the exact homogeneous solution of the compressible
   material (P_zz = F/A, P_xx = P_yy = 0, solved with scipy), and against the incompressible
   uniaxial stretch of mu (lam - lam^-2) = F/A.
+- sheet-bar: the patch-test box with axial fiber sheets (`fem.sheets`, stiffness c) on two lateral
+  faces of width W, stretched to 1.5: the homogeneous state still holds, so the reaction exceeds
+  the bare box's by exactly c (2 W) (lam - 1) at any stretch (relative error).
+- sheet-tube: the plane-strain tube A = 3, B = 9 mm wrapped in a hoop fiber sheet (c = 2 N/mm,
+  about as stiff as the tube at la = 1.5), P = 0.5 mu and 1 mu; radii against the analytic
+  solution with the sheet's hoop force as an outer pressure (`fem.analytic`).
 - tube: 1/4 plane-strain thick tube, A = 1, B = 20 mm, K/mu = 1000, P = 0.5 mu and 2 mu; inner
   and outer radius against the analytic ones. (The A = 3, B = 9 tube cannot carry 2 mu: its
   pressure tends to mu ln(B/A) = 1.10 mu as la -> infinity.)
@@ -116,6 +122,64 @@ def dead_load_test(stretch=1.5, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
         "force_N": force, "stretch": axial, "exact_stretch": float(exact), "lateral": float(lateral),
         "incompressible_stretch": stretch, "incompressible_error": abs(axial - stretch) / (stretch - 1),
         "top_flatness": spread, "iterations": res.stats.iterations})
+
+
+def sheet_bar_test(stretch=1.5, stiffness=0.1, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
+    from fem.sheets import FiberSheet
+
+    size = (2.0, 2.0, 4.0)
+    mat = NeoHookean.nearly_incompressible(MU, k_over_mu)
+    bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2),
+           Dirichlet.prescribed("z1", 2, (stretch - 1) * size[2])]
+
+    def axial(X):
+        return np.vstack([np.zeros((2, X.shape[1])), np.ones((1, X.shape[1]))])
+
+    forces = []
+    for sheets in ((), [FiberSheet(tag, axial, stiffness, 1.0) for tag in ("x1", "y1")]):
+        model = SolidModel(box(size, (2, 2, 3)), mat, dirichlet=bcs, fiber_sheets=sheets)
+        res = load_path(model, [(0.0, f) for f in np.linspace(0.25, 1.0, 4)], control="displacement")
+        if not res.converged:
+            return CaseResult("sheet-bar", np.inf, tolerance, {"message": res.message})
+        forces.append(model.reaction(res.steps[-1].x, "z1")[2])
+        tension = model.fiber_tension(res.steps[-1].x)
+    exact = stiffness * (size[0] + size[1]) * (stretch - 1)
+    err = abs(forces[1] - forces[0] - exact) / exact
+    return CaseResult("sheet-bar", err, tolerance, {
+        "bare_force_N": forces[0], "sheeted_force_N": forces[1], "sheet_force_exact_N": exact,
+        "fiber_tension_spread": float(np.ptp(tension) / tension.mean())})
+
+
+def sheet_tube_test(pressures_over_mu=(0.5, 1.0), stiffness=2.0, inner=3.0, outer=9.0, n_radial=6,
+                    n_angle=8, tolerance=0.01) -> CaseResult:
+    from fem.sheets import FiberSheet
+
+    def hoop(X):
+        return np.vstack([-X[1], X[0], np.zeros(X.shape[1])])
+
+    mesh = tube_sector(inner, outer, height=1.0, n_radial=n_radial, n_angle=n_angle, n_height=1,
+                       geometric=True)
+    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
+           Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
+    model = SolidModel(mesh, NeoHookean.nearly_incompressible(MU, 1000.0), dirichlet=bcs,
+                       chamber=("inner",), volume_weights=(1, 1, 0),
+                       fiber_sheets=[FiberSheet("outer", hoop, stiffness, 1.0)])
+    targets = [(r * MU, 0.0) for r in pressures_over_mu]
+    res = load_path(model, targets)
+    details = {"dofs": model.n_dofs, "iterations": res.stats.iterations, "message": res.message}
+    if not res.converged or len(res.steps) != len(targets):
+        return CaseResult("sheet-tube", np.inf, tolerance, details)
+    worst = 0.0
+    for step, r in zip(res.steps, pressures_over_mu):
+        la = analytic.tube_inner_stretch(MU, step.pressure, inner, outer, hoop_sheet=stiffness)
+        a, b = la * inner, analytic.tube_outer_stretch(la, inner, outer) * outer
+        bare = analytic.tube_inner_stretch(MU, step.pressure, inner, outer) * inner
+        ea = abs(mean_radius(model, step.x, "inner") - a) / (a - inner)
+        eb = abs(mean_radius(model, step.x, "outer") - b) / (b - outer)
+        details[f"P={r}mu"] = {"inner_mm": a, "inner_err": ea, "outer_mm": b, "outer_err": eb,
+                               "bare_tube_inner_mm": bare}
+        worst = max(worst, ea, eb)
+    return CaseResult("sheet-tube", worst, tolerance, details)
 
 
 def tube_model(inner=1.0, outer=20.0, n_radial=12, n_angle=8, k_over_mu=1000.0, formulation="p2p1"):
@@ -224,6 +288,8 @@ def newton_test(tolerance=10.0) -> CaseResult:
 CASES = {
     "patch": patch_test,
     "dead-load": dead_load_test,
+    "sheet-bar": sheet_bar_test,
+    "sheet-tube": sheet_tube_test,
     "tube": tube_test,
     "sphere-volume": sphere_volume_test,
     "sphere-limit": sphere_limit_test,

@@ -100,6 +100,29 @@ def fiber_helices(design: EPSADesign, points_per_turn: int = 48, theta0: float =
     return tuple(out)
 
 
+def helix_families(design: EPSADesign) -> tuple[tuple[object, float], ...]:
+    """The double helix smeared over the outer surface: one (direction, density) per hand.
+
+    direction(X) maps reference points (3, n) to the helix tangents (3, n),
+    e_z +- tan(alpha) e_theta with tan(alpha) = 2 pi R0 N / L; density is the number of fibers
+    per unit width, N / (L sin(alpha)) (one fiber of length N 2 pi R0 / sin(alpha) per hand over
+    the area 2 pi R0 L). Empty for N = 0. See `fem.sheets` for the mechanics."""
+    N = design.fiber_turns
+    if N == 0:
+        return ()
+    tan_alpha = 2 * np.pi * design.outer_radius * N / design.length
+    density = N / (design.length * np.sin(np.arctan(tan_alpha)))
+
+    def hand(sign):
+        def direction(X):
+            rho = np.hypot(X[0], X[1])
+            e_theta = np.vstack([-X[1] / rho, X[0] / rho, np.zeros_like(rho)])
+            return np.vstack([np.zeros((2, X.shape[1])), np.ones((1, X.shape[1]))]) + sign * tan_alpha * e_theta
+        return direction
+
+    return ((hand(+1.0), density), (hand(-1.0), density))
+
+
 def fiber_polydata(fibers):
     """pyvista lines of the fibers (for plotting)."""
     import pyvista as pv

@@ -983,6 +983,8 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
     kwargs = {"material": settings.get("material", "ecoflex-00-50"), "pressures_kpa": pressures,
               "mesh_size": settings.get("mesh_size"), "quick": bool(settings.get("quick", False))}
     kwargs |= {k: float(v) for k, v in load.items()}
+    if "fibers" in settings and "fibers" in _parameters(simulate):
+        kwargs["fibers"] = settings["fibers"]
     vtu_path = None
     if settings.get("vtu_dir") and "keep_model" in _parameters(simulate):
         kwargs["keep_model"] = True

@@ -105,8 +105,8 @@ def test_guided_top_stays_on_the_axis():
     from geometry.design import EPSADesign
     from studies.actuator import simulate_epsa
 
-    free = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,))
-    guided = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), guided=True)
+    free = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), fibers="lines")
+    guided = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), guided=True, fibers="lines")
     assert free.converged and guided.converged
     assert free.rows[-1].tip_lateral_mm > 0.05             # the helix ends are not symmetric
     # the seal head's top is held; the body's top, 3 mm below it, only follows its small tilt
@@ -114,3 +114,22 @@ def test_guided_top_stays_on_the_axis():
     # the guide holds the top sideways only: the extension barely changes at 20 kPa
     ext = [c.rows[-1].length_mm - c.rows[0].length_mm for c in (free, guided)]
     assert abs(ext[0] - ext[1]) < 0.02 * ext[0]
+
+
+def test_side_load_probe_moves_the_free_top_and_is_checked():
+    """The smeared winding is symmetric: without a probe the top stays near the axis (the swept
+    mesh's triangulation leaves 0.007 mm at 20 kPa), with a small sideways force it moves, in
+    proportion at low pressure."""
+    import pytest
+
+    from geometry.design import DesignError, EPSADesign
+    from studies.actuator import simulate_epsa
+
+    sway = [simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), side_load_n=f).rows[-1].tip_lateral_mm
+            for f in (None, 1e-4, 2e-4)]
+    assert sway[0] < 0.2 * sway[1]
+    assert sway[2] == pytest.approx(2 * sway[1], rel=0.1)     # the baseline adds a little
+    for bad in (dict(side_load_n=-1.0), dict(side_load_n=1e-4, guided=True)):
+        with pytest.raises(DesignError) as err:
+            simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), **bad)
+        assert err.value.parameter == "side_load"

@@ -55,7 +55,7 @@ def short_tubes():
     """A 40 mm actuator without fibers and with 40 turns (1 mm pitch: dense, nearly hoop), 8 kPa.
     (Between strands the silicone still bulges: with 16 turns, 2.5 mm pitch, the wound tube keeps
     2.6-4.7 % of the bare expansion, growing as the axial cells resolve the bulges.)"""
-    kw = dict(pressures_kpa=(4.0, 8.0), mesh=COARSE)
+    kw = dict(pressures_kpa=(4.0, 8.0), mesh=COARSE, fibers="lines")
     bare = simulate_epsa(EPSADesign(fiber_turns=0, **SHORT), **kw)
     wound = simulate_epsa(EPSADesign(fiber_turns=40, **SHORT), **kw)
     assert bare.converged and wound.converged, (bare.message, wound.message)
@@ -76,7 +76,8 @@ def test_fiber_discretisation_changes_results_by_less_than_one_percent(short_tub
     16-point chords sag 0.17 mm inside the surface)."""
     _, wound = short_tubes
     finer = MeshSettings(n_around=12, n_radial=1, axial_size=4.0, fiber_points_per_turn=64)
-    fine = simulate_epsa(EPSADesign(fiber_turns=40, **SHORT), pressures_kpa=(4.0, 8.0), mesh=finer)
+    fine = simulate_epsa(EPSADesign(fiber_turns=40, **SHORT), pressures_kpa=(4.0, 8.0), mesh=finer,
+                         fibers="lines")
     ext_c, ext_f = wound.rows[-1].length_mm - 40.0, fine.rows[-1].length_mm - 40.0
     assert ext_f == pytest.approx(ext_c, rel=0.01)
     assert fine.rows[-1].outer_radius_mm == pytest.approx(wound.rows[-1].outer_radius_mm, rel=0.01)
@@ -105,7 +106,7 @@ def test_table1_epsa_bends_over_on_the_default_mesh_with_tensile_modulus():
     bending of the inflated tube; the tip leaves the axis by tens of mm) instead of extending
     straight to 100 kPa. Measured (2026-11-21): tip 3.6 mm off axis at 40 kPa, 34.5 mm at 60 kPa,
     limit point 69.1 kPa."""
-    curve = simulate_epsa(EPSADesign(), pressures_kpa=(20, 40, 60))
+    curve = simulate_epsa(EPSADesign(), pressures_kpa=(20, 40, 60), fibers="lines")
     rows = {round(r.pressure_kpa): r for r in curve.rows if r.status == "converged"}
     assert rows[40].tip_lateral_mm < 0.1 * (rows[40].length_mm - 100.0)
     assert rows[60].tip_lateral_mm > 10.0

@@ -7,8 +7,10 @@ DIR/vtu/step_NNN.vtu (+ steps.pvd for ParaView) and DIR/epsa.png (length and rad
 pressure, and the deformed shape). Pressures are entered in kPa.
 
 The free actuator is a slender pressurised column: with soft silicone it can bend over sideways
-at high pressure (tip_lateral_mm grows past 5 % of the length, and the run prints a note); --guided keeps its top on the
-axis, as the rings and the other actuators do in the robot.
+at high pressure (tip_lateral_mm grows past 5 % of the length, and the run prints a note). The
+default smeared winding (--fibers sheet) is mirror-symmetric, so --side-load N (say 1e-4) adds the
+small sideways imperfection that reveals such bending; --guided keeps the top on the axis, as the
+rings and the other actuators do in the robot.
 """
 from __future__ import annotations
 
@@ -33,6 +35,11 @@ def register(subparsers) -> None:
     p.add_argument("--blocked", action="store_true", help="fix both ends: blocked force (paper Fig. 19)")
     p.add_argument("--guided", action="store_true",
                    help="keep the top on the axis (u_x = u_y = 0): no sideways bending of the free end")
+    p.add_argument("--fibers", choices=("lines", "sheet"), default=None,
+                   help="Kevlar winding as embedded truss lines or as a smeared two-family sheet on the "
+                        "outer surface (default: studies.actuator.DEFAULT_FIBERS)")
+    p.add_argument("--side-load", type=float, default=None, metavar="N",
+                   help="small sideways force on the free top (N), an imperfection that shows bending over")
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
     p.add_argument("--convergence", metavar="SIZES", default=None,
                    help="mesh study instead: element sizes in mm, coarse to fine (e.g. 10,5,2.5); "
@@ -66,20 +73,22 @@ def write_curve_csv(path: Path, curve, blocked: bool) -> None:
 
 
 def run(args) -> int:
-    from studies.actuator import parse_pressures, simulate_epsa
+    from studies.actuator import DEFAULT_FIBERS, parse_pressures, simulate_epsa
     from studies.plots_epsa import plot_epsa
 
     design = design_from_args(args)
     pressures = parse_pressures(args.pressures)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    args.fibers = args.fibers or DEFAULT_FIBERS
     if args.convergence:
         return run_convergence(args, design, pressures, out)
     print(f"ePSA {design.short_hash()}: r0 = {design.chamber_radius} mm, N = {design.fiber_turns}, "
-          f"material {args.material}, {'blocked' if args.blocked else 'guided top' if args.guided else 'free end'}, "
+          f"material {args.material}, {args.fibers} fibers, {'blocked' if args.blocked else 'guided top' if args.guided else 'free end'}, "
           f"{len(pressures)} pressure targets up to {pressures[-1]:g} kPa", flush=True)
     solved = simulate_epsa(design, material=args.material, pressures_kpa=pressures, quick=args.quick,
                            mesh_size=args.mesh_size, blocked=args.blocked, guided=args.guided, keep_model=True,
+                           fibers=args.fibers, side_load_n=args.side_load,
                            progress=lambda msg: print("  " + msg, flush=True))
     curve = solved.curve
     write_curve_csv(out / "curve.csv", curve, args.blocked)
@@ -112,7 +121,7 @@ def run_convergence(args, design, pressures, out) -> int:
     except ValueError:
         raise DesignError("convergence", f"{args.convergence!r}: give element sizes in mm, e.g. 10,5,2.5") from None
     rows = mesh_convergence(design, material=args.material, pressure_kpa=pressures[-1], sizes=sizes,
-                            steps=len(pressures), progress=lambda m: print("  " + m, flush=True))
+                            steps=len(pressures), fibers=args.fibers, progress=lambda m: print("  " + m, flush=True))
     finest = rows[-1]
     with open(out / "convergence.csv", "w", newline="") as fh:
         w = csv.writer(fh)

@@ -63,6 +63,8 @@ def register(subparsers) -> None:
                              "output folder)")
     parser.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     parser.add_argument("--mesh-size", type=float, default=None, help="element size (mm)")
+    parser.add_argument("--fibers", choices=("lines", "sheet"), default=None,
+                        help="Kevlar winding model (default: studies.actuator.DEFAULT_FIBERS; see softcrawl epsa)")
     parser.add_argument("--trials", type=int, default=None,
                         help=f"optimise-actuator: total trials (default {DEFAULT_TRIALS}, "
                              f"{QUICK_TRIALS} with --quick)")
@@ -92,9 +94,11 @@ def study_folder(out, name: str, material: str, quick: bool, mesh_size: float | 
 
 def _settings(args) -> dict:
     from studies import runner
+    from studies.actuator import DEFAULT_FIBERS
 
     pressures = PRESSURES_KPA if args.name == "identify" else runner.PAPER_PRESSURES_KPA
-    settings = {"material": args.material, "quick": bool(args.quick), "pressures_kpa": list(pressures)}
+    settings = {"material": args.material, "quick": bool(args.quick), "pressures_kpa": list(pressures),
+                "fibers": args.fibers or DEFAULT_FIBERS}
     if args.mesh_size is not None:
         settings["mesh_size"] = args.mesh_size
     if args.simulator:
