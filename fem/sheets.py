@@ -125,24 +125,29 @@ def build(mesh, sheets, intorder: int = 4) -> SheetQuadrature:
 
 
 def stretch(sq: SheetQuadrature, u_nodes: np.ndarray):
-    """F a (F, Q, 3) and the fiber stretch lam = |F a| (F, Q) from nodal displacements (n, 3)."""
-    Fa = sq.a + np.matmul(sq.s, u_nodes[sq.nodes])                   # (F, Q, 10) @ (F, 10, 3)
-    return Fa, np.linalg.norm(Fa, axis=-1)
+    """F a (F, Q, 3), the fiber stretch lam = |F a| and the strain lam - 1 (F, Q) from nodal
+    displacements (n, 3). With g = grad u . a, lam^2 - 1 = 2 a.g + g.g, so the strain is
+    (lam^2 - 1) / (lam + 1): exactly zero in the undeformed state (|a| = 1 only to round-off,
+    and a round-off force would be a residual that Newton cannot remove under zero load)."""
+    g = np.matmul(sq.s, u_nodes[sq.nodes])                           # (F, Q, 10) @ (F, 10, 3)
+    lam2_minus_1 = 2.0 * np.einsum("fqi,fqi->fq", sq.a, g) + np.einsum("fqi,fqi->fq", g, g)
+    lam = np.sqrt(1.0 + lam2_minus_1)
+    return sq.a + g, lam, lam2_minus_1 / (lam + 1.0)
 
 
 def fiber_forces(sq: SheetQuadrature, u_nodes: np.ndarray) -> np.ndarray:
     """Force of one fiber, E A (lam - 1), at every quadrature point (F, Q) (N)."""
-    _, lam = stretch(sq, u_nodes)
-    force = sq.axial[:, None] * (lam - 1.0)
+    _, _, strain = stretch(sq, u_nodes)
+    force = sq.axial[:, None] * strain
     return np.where(sq.tension_only[:, None], np.maximum(force, 0.0), force)
 
 
 def element_arrays(sq: SheetQuadrature, u_nodes: np.ndarray, with_tangent: bool = True):
     """Facet residual (30, F) and tangent (F, 30, 30), local dof 3 a + i."""
-    Fa, lam = stretch(sq, u_nodes)
+    Fa, lam, strain = stretch(sq, u_nodes)
     n = Fa / lam[..., None]
-    slack = sq.tension_only[:, None] & (lam < 1.0)
-    T_dx = np.where(slack, 0.0, sq.c_dx * (lam - 1.0))               # T dA
+    slack = sq.tension_only[:, None] & (strain < 0.0)
+    T_dx = np.where(slack, 0.0, sq.c_dx * strain)                    # T dA
     R = np.einsum("fqa,fq,fqi->fai", sq.s, T_dx, n).reshape(-1, 30).T
     if not with_tangent:
         return R, None
