@@ -34,6 +34,7 @@ class Calibration:
     base_material: str
     evaluations: tuple[tuple[float, float], ...] = field(default_factory=tuple)   # (mu, rms)
     mesh: str = "quick"
+    fibers: str = ""          # the winding model of the FE runs (studies.actuator.FIBER_MODELS)
 
 
 def prototype_lengths(pressures_kpa) -> np.ndarray:
@@ -48,7 +49,7 @@ def calibrate_mu(design: EPSADesign | None = None, *, base_material="ecoflex-00-
     from scipy.optimize import minimize_scalar
 
     from fem.materials import get_material
-    from studies.actuator import same_pressure, simulate_epsa
+    from studies.actuator import DEFAULT_FIBERS, same_pressure, simulate_epsa
 
     design = design or EPSADesign()
     base = get_material(base_material)
@@ -74,4 +75,4 @@ def calibrate_mu(design: EPSADesign | None = None, *, base_material="ecoflex-00-
     err, lengths = cache[mu_best]
     return Calibration(mu_best, err, tuple(pressures_kpa), tuple(target.tolist()), tuple(lengths.tolist()),
                        base.name, tuple(sorted((m, e) for m, (e, _) in cache.items())),
-                       mesh if isinstance(mesh, str) else "custom")
+                       mesh if isinstance(mesh, str) else "custom", DEFAULT_FIBERS)
