@@ -29,7 +29,8 @@ def plot_epsa(path, curve, model=None, path_result=None):
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
     axes[0].set_title(f"{curve.material}, mu = {curve.mu_mpa:.4g} MPa")
-    axes[1].set_title(f"r0 = {curve.design.get('chamber_radius')} mm, N = {curve.design.get('fiber_turns')}")
+    winding = f" ({curve.fibers})" if curve.fibers and curve.design.get("fiber_turns") else ""
+    axes[1].set_title(f"r0 = {curve.design.get('chamber_radius')} mm, N = {curve.design.get('fiber_turns')}{winding}")
     if shape:
         ax = axes[2]
         outer = model.boundary_nodes("outer")
