@@ -63,10 +63,17 @@ class FiberSheet:
     tension_only: bool = False
 
     def __post_init__(self):
+        if not callable(self.direction):
+            raise SolverInputError("fiber_sheet.direction", "must be a callable of the points (3, n)")
         for name in ("axial_stiffness", "density"):
             value = getattr(self, name)
-            if not np.isfinite(value) or value <= 0:
-                raise SolverInputError(f"fiber_sheet.{name}", f"must be positive, got {value}")
+            try:
+                ok = np.isfinite(float(value)) and float(value) > 0
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise SolverInputError(f"fiber_sheet.{name}", f"must be a positive number, got {value!r}")
+            object.__setattr__(self, name, float(value))
 
     @property
     def stiffness(self) -> float:
@@ -97,12 +104,18 @@ def build(mesh, sheets, intorder: int = 4) -> SheetQuadrature:
     boundaries = mesh.boundaries or {}
     parts = []
     for sheet in sheets:
-        if sheet.tag not in boundaries:
-            raise SolverInputError("fiber_sheet.tag", f"unknown boundary tag {sheet.tag!r}; "
+        if not isinstance(sheet, FiberSheet):
+            raise SolverInputError("fiber_sheets", f"expected FiberSheet items, got {type(sheet).__name__}")
+        if sheet.tag not in boundaries or len(boundaries[sheet.tag]) == 0:
+            raise SolverInputError("fiber_sheet.tag", f"unknown or empty boundary tag {sheet.tag!r}; "
                                    f"known: {sorted(boundaries)}")
         fb = skfem.FacetBasis(mesh, skfem.ElementTetP2(), facets=boundaries[sheet.tag], intorder=intorder)
         X = np.asarray(fb.global_coordinates())                             # (3, F, Q)
-        d = np.asarray(sheet.direction(X.reshape(3, -1)), dtype=float).reshape(X.shape)
+        d = np.asarray(sheet.direction(X.reshape(3, -1)), dtype=float)
+        if d.shape != (3, X[0].size):
+            raise SolverInputError("fiber_sheet.direction", f"{sheet.tag}: the direction field must "
+                                   f"return shape (3, {X[0].size}) for (3, {X[0].size}) points, got {d.shape}")
+        d = d.reshape(X.shape)
         n = fb.normals
         d = d - np.einsum("ifq,ifq->fq", d, n)[None] * n              # on the facet's tangent plane
         norm = np.linalg.norm(d, axis=0)
@@ -145,7 +158,7 @@ def fiber_forces(sq: SheetQuadrature, u_nodes: np.ndarray) -> np.ndarray:
 def element_arrays(sq: SheetQuadrature, u_nodes: np.ndarray, with_tangent: bool = True):
     """Facet residual (30, F) and tangent (F, 30, 30), local dof 3 a + i."""
     Fa, lam, strain = stretch(sq, u_nodes)
-    n = Fa / lam[..., None]
+    n = Fa / np.maximum(lam, 1e-12)[..., None]      # a fiber crushed to a point has no direction
     slack = sq.tension_only[:, None] & (strain < 0.0)
     T_dx = np.where(slack, 0.0, sq.c_dx * strain)                    # T dA
     R = np.einsum("fqa,fq,fqi->fai", sq.s, T_dx, n).reshape(-1, 30).T
@@ -153,6 +166,6 @@ def element_arrays(sq: SheetQuadrature, u_nodes: np.ndarray, with_tangent: bool 
         return R, None
     c_dx = np.where(slack, 0.0, sq.c_dx)
     nn = n[..., :, None] * n[..., None, :]
-    k = c_dx[..., None, None] * nn + (T_dx / lam)[..., None, None] * (np.eye(3) - nn)   # (F, Q, 3, 3)
+    k = c_dx[..., None, None] * nn + (T_dx / np.maximum(lam, 1e-12))[..., None, None] * (np.eye(3) - nn)   # (F, Q, 3, 3)
     K = np.einsum("fqa,fqb,fqik->faibk", sq.s, sq.s, k, optimize=True)
     return R, K.reshape(-1, 30, 30)

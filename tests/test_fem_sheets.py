@@ -23,9 +23,9 @@ def test_axial_sheets_add_exactly_c_width_strain_at_large_stretch():
 def test_hoop_sheet_tube_matches_the_analytic_wrapped_tube():
     res = V.sheet_tube_test()
     assert res.passed, res.details
-    # the sheet matters: the wrapped tube's inner radius moves less than half the bare tube's
+    # the sheet matters: the computed inner radius moves less than half the bare tube's
     d = res.details["P=1.0mu"]
-    assert d["inner_mm"] - 3.0 < 0.5 * (d["bare_tube_inner_mm"] - 3.0)
+    assert d["fe_inner_mm"] - 3.0 < 0.5 * (d["bare_tube_inner_mm"] - 3.0)
 
 
 def test_sheet_tangent_is_the_derivative_of_the_residual():
@@ -44,7 +44,8 @@ def test_sheet_tangent_is_the_derivative_of_the_residual():
     rng = np.random.default_rng(3)
     x = model.apply_dirichlet(np.r_[5e-2 * rng.standard_normal(model.n_u), np.zeros(model.n_p)], 0.0)
     _, lam, strain = sheets.stretch(model.sheets, x[: model.n_u].reshape(-1, 3))
-    assert lam.min() < 1.0 < lam.max()          # both slack and taut points are exercised
+    taut = strain[model.sheets.tension_only] > 0  # the tension-only family has slack and taut points
+    assert taut.any() and not taut.all()
     assert np.allclose(strain, lam - 1.0, atol=1e-14)
     _, K = model.residual_and_tangent(x, 0.01)
     free = model.free_dofs
@@ -75,6 +76,9 @@ def test_helix_families_carry_the_winding_length():
 @pytest.mark.parametrize("kw, name", [(dict(axial_stiffness=-1.0, density=1.0), "fiber_sheet.axial_stiffness"),
                                       (dict(axial_stiffness=1.0, density=0.0), "fiber_sheet.density")])
 def test_unphysical_sheet_is_a_named_error(kw, name):
+    """(Also for numbers that are not numbers.)"""
+    with pytest.raises(SolverInputError):
+        FiberSheet("x1", lambda X: X, axial_stiffness=None, density=1.0)
     with pytest.raises(SolverInputError) as err:
         FiberSheet("x1", lambda X: X, **kw)
     assert err.value.parameter == name
@@ -90,6 +94,13 @@ def test_unknown_tag_and_normal_direction_are_named_errors():
     with pytest.raises(SolverInputError) as err:
         SolidModel(mesh, mat, fiber_sheets=[FiberSheet("x1", normal_x, 1.0, 1.0)])
     assert err.value.parameter == "fiber_sheet.direction"
+    transposed = lambda X: np.zeros((X.shape[1], 3)) + [0.0, 1.0, 0.0]  # noqa: E731
+    with pytest.raises(SolverInputError) as err:
+        SolidModel(mesh, mat, fiber_sheets=[FiberSheet("x1", transposed, 1.0, 1.0)])
+    assert err.value.parameter == "fiber_sheet.direction"
+    with pytest.raises(SolverInputError) as err:
+        SolidModel(mesh, mat, fiber_sheets=[(transposed, 1.0)])
+    assert err.value.parameter == "fiber_sheets"
 
 
 def test_dense_helix_sheet_suppresses_radial_expansion_and_extends_more():
@@ -111,7 +122,8 @@ def test_dense_helix_sheet_suppresses_radial_expansion_and_extends_more():
 
 
 def test_table1_epsa_with_tensile_modulus_runs_to_100_kpa_on_the_default_mesh():
-    """Issue 4 acceptance (default mesh, ~45 s): the Table 1 ePSA (N = 20, Ecoflex 00-50 tensile
+    """Issue 4 acceptance (default mesh, ~45 s; kept in the default run on purpose: it is the one
+    check that the shipped default model reaches the paper's pressure range): the Table 1 ePSA (N = 20, Ecoflex 00-50 tensile
     fit mu = 0.03 MPa, smeared winding) with a 1e-4 N sideways probe on its free top reaches
     100 kPa, its length grows with every step and it does not bend over (the tip stays within
     the 5 % sway limit). Measured: 290.7 mm at 100 kPa, tip 1.4 mm off the axis."""
