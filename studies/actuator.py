@@ -165,6 +165,12 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
 
     from fem.neohooke import NeoHookean
 
+    if fibers not in FIBER_MODELS:
+        raise DesignError("fibers", f"{fibers!r} is not one of {FIBER_MODELS}")
+    if side_load_n is not None and not (math.isfinite(side_load_n) and side_load_n > 0):
+        raise DesignError("side_load", f"must be a small force > 0 N, got {side_load_n}")
+    if side_load_n is not None and (blocked or guided or end_load_n is not None):
+        raise DesignError("side_load", "the sideways probe is for the free actuator (no guide, block or weight)")
     settings = MESH_PRESETS[mesh] if isinstance(mesh, str) else mesh
     mat, neo = solid_material(material)
     tagged = mesh_epsa_swept(design, n_around=settings.n_around, n_radial=settings.n_radial,
@@ -178,26 +184,21 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
     dead_loads = None
     if end_load_n is not None or guided:
         bcs.append(Dirichlet("seal_top", (0, 1), (0.0, 0.0)))
-    if side_load_n is not None and not (math.isfinite(side_load_n) and side_load_n > 0):
-        raise DesignError("side_load", f"must be a small force > 0 N, got {side_load_n}")
-    if side_load_n is not None and (blocked or guided or end_load_n is not None):
-        raise DesignError("side_load", "the sideways probe is for the free actuator (no guide, block or weight)")
     if end_load_n is not None:
         dead_loads = {"seal_top": (0.0, 0.0, -float(end_load_n))}
     if side_load_n is not None:
         dead_loads = {"seal_top": (float(side_load_n), 0.0, 0.0)}
-    if fibers not in FIBER_MODELS:
-        raise DesignError("fibers", f"{fibers!r} is not one of {FIBER_MODELS}")
     kevlar, abs_ = get_material(fiber_material), get_material(seal_material)
     materials = {"epsa": neo, "seal_head": NeoHookean(mu=abs_.mu, bulk=abs_.bulk)}
     axial = kevlar.youngs_modulus * math.pi * design.fiber_diameter ** 2 / 4
-    sheets = [FiberSheet("outer", direction, axial, density) for direction, density in helix_families(design)]
     lines = fibers == "lines"
+    sheets = () if lines else [FiberSheet("outer", direction, axial, density)
+                               for direction, density in helix_families(design)]
     model = SolidModel(tagged.to_skfem(order=2), materials, dirichlet=bcs,
                        chamber=("chamber_wall", "chamber_ends"),
                        fibers=(tagged.fibers or None) if lines else None,
                        fiber_youngs=kevlar.youngs_modulus, fiber_diameter=design.fiber_diameter,
-                       dead_loads=dead_loads, fiber_sheets=() if lines else sheets)
+                       dead_loads=dead_loads, fiber_sheets=sheets)
     return model, mat, settings
 
 

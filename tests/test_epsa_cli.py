@@ -129,7 +129,8 @@ def test_side_load_probe_moves_the_free_top_and_is_checked():
             for f in (None, 1e-4, 2e-4)]
     assert sway[0] < 0.2 * sway[1]
     assert sway[2] == pytest.approx(2 * sway[1], rel=0.1)     # the baseline adds a little
-    for bad in (dict(side_load_n=-1.0), dict(side_load_n=1e-4, guided=True)):
+    for bad, name in ((dict(side_load_n=-1.0), "side_load"), (dict(side_load_n=1e-4, guided=True), "side_load"),
+                      (dict(fibers="braid"), "fibers")):
         with pytest.raises(DesignError) as err:
             simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), **bad)
-        assert err.value.parameter == "side_load"
+        assert err.value.parameter == name
