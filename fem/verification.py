@@ -200,10 +200,11 @@ def _tube_case(name, model, pressures_over_mu, inner, outer, tolerance, hoop_she
     for step, r in zip(res.steps, pressures_over_mu):
         la = analytic.tube_inner_stretch(MU, step.pressure, inner, outer, hoop_sheet)
         a, b = la * inner, analytic.tube_outer_stretch(la, inner, outer) * outer
-        ea = abs(mean_radius(model, step.x, "inner") - a) / ((a - inner) if per_displacement else a)
-        eb = abs(mean_radius(model, step.x, "outer") - b) / ((b - outer) if per_displacement else b)
+        fe_a, fe_b = mean_radius(model, step.x, "inner"), mean_radius(model, step.x, "outer")
+        ea = abs(fe_a - a) / ((a - inner) if per_displacement else a)
+        eb = abs(fe_b - b) / ((b - outer) if per_displacement else b)
         details[f"P={r}mu"] = {"inner_mm": a, "inner_err": ea, "outer_mm": b, "outer_err": eb,
-                               "fe_inner_mm": mean_radius(model, step.x, "inner")}
+                               "fe_inner_mm": fe_a}
         if hoop_sheet:
             details[f"P={r}mu"]["bare_tube_inner_mm"] = analytic.tube_inner_stretch(
                 MU, step.pressure, inner, outer) * inner

@@ -21,6 +21,8 @@ from pathlib import Path
 
 
 def register(subparsers) -> None:
+    from studies.actuator import FIBER_MODELS
+
     p = subparsers.add_parser("epsa", help="simulate one actuator under a pressure ramp",
                               description=__doc__.splitlines()[0])
     p.add_argument("--chamber-radius", type=float, default=None, help="r0 (mm), Table 1: 3")
@@ -35,7 +37,7 @@ def register(subparsers) -> None:
     p.add_argument("--blocked", action="store_true", help="fix both ends: blocked force (paper Fig. 19)")
     p.add_argument("--guided", action="store_true",
                    help="keep the top on the axis (u_x = u_y = 0): no sideways bending of the free end")
-    p.add_argument("--fibers", choices=("lines", "sheet"), default=None,
+    p.add_argument("--fibers", choices=FIBER_MODELS, default=None,
                    help="Kevlar winding as embedded truss lines or as a smeared two-family sheet on the "
                         "outer surface (default: studies.actuator.DEFAULT_FIBERS)")
     p.add_argument("--side-load", type=float, default=None, metavar="N",

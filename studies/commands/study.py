@@ -47,6 +47,8 @@ DEFAULT_MATERIAL = "ecoflex-00-50"
 
 
 def register(subparsers) -> None:
+    from studies.actuator import FIBER_MODELS
+
     parser = subparsers.add_parser("study", help="ePSA finite element studies (sweeps, optimiser)",
                                    description=__doc__.splitlines()[0],
                                    formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -63,7 +65,7 @@ def register(subparsers) -> None:
                              "output folder)")
     parser.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     parser.add_argument("--mesh-size", type=float, default=None, help="element size (mm)")
-    parser.add_argument("--fibers", choices=("lines", "sheet"), default=None,
+    parser.add_argument("--fibers", choices=FIBER_MODELS, default=None,
                         help="Kevlar winding model (default: studies.actuator.DEFAULT_FIBERS; see softcrawl epsa)")
     parser.add_argument("--trials", type=int, default=None,
                         help=f"optimise-actuator: total trials (default {DEFAULT_TRIALS}, "
