@@ -15,7 +15,7 @@ gives or implies (Sections II, V, VI):
   wall of every pipe of the 55-75 mm range the prototype was built for.
 * Foot angle 120 deg (the included angle of the foot's conical skirt, see ``geometry.foot``).
 
-Every invalid value raises :class:`DesignError`, a ``ValueError`` whose ``parameter`` attribute is
+Every invalid value raises :class:`DesignError`, an ``InputError`` whose ``parameter`` attribute is
 the field name (dotted for nested designs, e.g. ``foot.hub_radius``).
 
 Analytic helpers (``EPSADesign``): chamber length l_c = L - 2 c; silicone body volume
@@ -32,19 +32,16 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, ClassVar
 
+from softcrawl.errors import InputError
+
 #: Angular positions psi_i of the three actuators on the circle of radius d (degrees).
 ACTUATOR_ANGLES_DEG: tuple[float, float, float] = (90.0, 210.0, 330.0)
 #: Smallest material ligament accepted between holes or edges of rigid parts (mm).
 MIN_LIGAMENT = 0.5
 
 
-class DesignError(ValueError):
+class DesignError(InputError):
     """An invalid design parameter. ``parameter`` names the offending field."""
-
-    def __init__(self, parameter: str, message: str):
-        self.parameter = parameter
-        self.detail = message
-        super().__init__(f"{parameter}: {message}")
 
 
 def _check_number(obj, name: str, *, positive: bool = True, integer: bool = False,

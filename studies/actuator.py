@@ -12,7 +12,7 @@ impossible design raises `DesignError` (it names the parameter) before anything 
 
 Mesh. `MeshSettings` of the swept mesher; the presets are "default" (the converged mesh of the
 convergence study, `softcrawl epsa --convergence`) and "quick" (coarse, for CI and quick sweeps).
-Material: a preset name of `fem.materials` (Neo-Hookean), converted to MPa constants here.
+Material: a preset name of `materials` (Neo-Hookean), converted to MPa constants here.
 """
 from __future__ import annotations
 
@@ -118,16 +118,13 @@ class Solved:
     path: object
 
 
-def solid_material(name: str):
-    """Neo-Hookean constants of a `fem.materials` preset (or a Material)."""
-    from fem.materials import Material, get_material
-    from fem.neohooke import NeoHookean
+def solid_material(name):
+    """The `materials` preset (or Material) of the body and its solver law."""
+    from materials import Material, get_material
+    from materials.fem_law import solid_law
 
     mat = name if isinstance(name, Material) else get_material(name)
-    if mat.model != "neo-hookean":
-        raise DesignError("material", f"{mat.name} is {mat.model}; the ePSA body needs a Neo-Hookean "
-                          "material (e.g. ecoflex-00-50, ecoflex-00-50-fit)")
-    return mat, NeoHookean(mu=mat.mu, bulk=mat.bulk)
+    return mat, solid_law(mat, hyperelastic_only=True)
 
 
 def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings | str = "default",
@@ -157,13 +154,12 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
     whether the free actuator bends over. The smeared sheet is mirror-symmetric, so without it a
     Newton path can follow the straight (unstable) branch past a bending bifurcation; the helix
     ends of the line fibers are a built-in imperfection of this kind."""
-    from fem.materials import get_material
     from fem.mechanics import Dirichlet, SolidModel
+    from materials import get_material
+    from materials.fem_law import solid_law
     from fem.sheets import FiberSheet
     from geometry.epsa import helix_families
     from geometry.swept import mesh_epsa_swept
-
-    from fem.neohooke import NeoHookean
 
     if fibers not in FIBER_MODELS:
         raise DesignError("fibers", f"{fibers!r} is not one of {FIBER_MODELS}")
@@ -189,7 +185,7 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
     if side_load_n is not None:
         dead_loads = {"seal_top": (float(side_load_n), 0.0, 0.0)}
     kevlar, abs_ = get_material(fiber_material), get_material(seal_material)
-    materials = {"epsa": neo, "seal_head": NeoHookean(mu=abs_.mu, bulk=abs_.bulk)}
+    materials = {"epsa": neo, "seal_head": solid_law(abs_)}
     axial = kevlar.youngs_modulus * math.pi * design.fiber_diameter ** 2 / 4
     lines = fibers == "lines"
     sheets = () if lines else [FiberSheet("outer", direction, axial, density)

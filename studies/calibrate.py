@@ -48,7 +48,7 @@ def calibrate_mu(design: EPSADesign | None = None, *, base_material="ecoflex-00-
                  xatol=0.02, progress=None) -> Calibration:
     from scipy.optimize import minimize_scalar
 
-    from fem.materials import get_material
+    from materials import get_material
     from studies.actuator import DEFAULT_FIBERS, same_pressure, simulate_epsa
 
     design = design or EPSADesign()

@@ -1064,9 +1064,9 @@ def fiber_length_mm(design) -> float:
 
 
 def design_mass_g(design, material: str) -> float | None:
-    """Silicone body plus Kevlar thread (g); None if the material is unknown to fem.materials."""
+    """Silicone body plus Kevlar thread (g); None if the material is unknown to materials."""
     try:
-        from fem.materials import get_material
+        from materials import get_material
 
         rho = get_material(material).density
         kevlar = get_material("kevlar").density

@@ -130,16 +130,16 @@ def _why_not(sel: rules.Selection, paper: float) -> str:
 
 def _mu(material: str) -> float | None:
     try:
-        from fem.materials import get_material
+        from materials import get_material
 
         return float(get_material(material).mu)
-    except Exception:  # noqa: BLE001 - a material unknown to fem.materials
+    except Exception:  # noqa: BLE001 - a material unknown to materials
         return None
 
 
 def _material_label(material: str) -> str:
     try:
-        from fem.materials import get_material
+        from materials import get_material
 
         m = get_material(material)
         return f"{material} (mu = {m.mu:.4g} MPa)"

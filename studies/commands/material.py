@@ -53,7 +53,7 @@ def register(subparsers) -> None:
 def _run_list(args: argparse.Namespace) -> int:
     import json
 
-    from fem import materials
+    import materials
 
     records = [materials.get_material(name) for name in materials.material_names()]
     if args.json:
@@ -78,7 +78,7 @@ def _first_clause(text: str, width: int = 70) -> str:
 def _run_show(args: argparse.Namespace) -> int:
     import json
 
-    from fem import materials
+    import materials
 
     record = materials.get_material(args.name).to_dict()
     if args.json:
@@ -93,13 +93,13 @@ def _run_show(args: argparse.Namespace) -> int:
 
 
 def _max_strain(args: argparse.Namespace) -> float:
-    from fem import materials
+    import materials
 
     return materials.DEFAULT_MAX_STRAIN if args.max_strain is None else args.max_strain
 
 
 def _fit_record(data, fit) -> dict:
-    from fem import materials
+    import materials
 
     record = {"data": data.name, "file": data.path}
     record.update(fit.to_dict())
@@ -117,7 +117,7 @@ def _run_fit(args: argparse.Namespace) -> int:
     import json
     from pathlib import Path
 
-    from fem import materials
+    import materials
 
     data = materials.load_tensile(args.data)
     fit = materials.fit_tensile(data, args.model, _max_strain(args))
@@ -192,7 +192,7 @@ def _params_text(fit) -> str:
 def _run_fit_table(args: argparse.Namespace) -> int:
     import json
 
-    from fem import materials
+    import materials
 
     records = []
     for name in materials.TENSILE_FILES:

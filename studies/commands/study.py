@@ -109,7 +109,7 @@ def _settings(args) -> dict:
 
 
 def _check(args) -> None:
-    from fem.materials import get_material
+    from materials import get_material
     from studies.runner import StudyError
 
     get_material(args.material)  # MaterialError (parameter "material") for an unknown name
