@@ -24,7 +24,7 @@ def newton_matrix(cells=(5, 8, 16)):
     from solver_bench import A, B, LENGTH, MU, K_OVER_MU
 
     from fem.mechanics import Dirichlet, SolidModel
-    from fem.meshes import tube_sector
+    from fem.structured import tube_sector
     from fem.neohooke import NeoHookean
 
     mesh = tube_sector(A, B, height=LENGTH, n_radial=cells[0], n_angle=cells[1], n_height=cells[2])

@@ -20,7 +20,7 @@ def main() -> None:
     args = parser.parse_args()
 
     from geometry.design import EPSADesign
-    from geometry.meshing import mesh_epsa
+    from geometry.tetwild import mesh_epsa
     from geometry.tagging import distance_to_surface
 
     design = EPSADesign()

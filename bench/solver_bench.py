@@ -6,7 +6,7 @@ mu = 0.03 MPa, K = 1000 mu. Follower pressure 0 -> 20 kPa in 5 steps. Error: inn
 against the plane-strain analytic solution (DESIGN.md section 6).
 
 Each solver runs in its own child process (so its peak resident memory is its own) on the same
-linear tetrahedral mesh; softcrawl curves the edge midpoints onto the cylinders (`fem.meshes`),
+linear tetrahedral mesh; softcrawl curves the edge midpoints onto the cylinders (`fem.structured`),
 FElupe does the same radially on r = A and r = B (see bench/felupe_case.py).
 
     python bench/solver_bench.py            # ~20k-DOF mesh and a finer one
@@ -34,7 +34,7 @@ MESHES = {"~20k DOF": (5, 8, 16), "finer": (7, 11, 22)}  # radial, around, along
 
 
 def linear_mesh(cells):
-    from fem.meshes import tube_sector
+    from fem.structured import tube_sector
 
     m = tube_sector(A, B, height=LENGTH, n_radial=cells[0], n_angle=cells[1], n_height=cells[2],
                     quadratic=False)
@@ -51,7 +51,7 @@ def tube_model(points, tets):
     """The softcrawl model of the benchmark tube on the given linear mesh (midside nodes curved)."""
     import skfem
 
-    from fem.meshes import _curve, _tag
+    from fem.structured import _curve, _tag
     from fem.mechanics import Dirichlet, SolidModel
     from fem.neohooke import NeoHookean
 

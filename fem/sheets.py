@@ -32,7 +32,7 @@ Tension-only fibers drop T and c where lam < 1.
 A double helix of N turns per fiber over the length L of a cylinder of radius R is two families,
 a_pm = (e_z +- tan(alpha) e_theta) cos(alpha) with tan(alpha) = 2 pi R N / L, each of density
 rho = N / (L sin(alpha)): one fiber of length N 2 pi R / sin(alpha) per family over the area
-2 pi R L (`geometry.epsa.helix_sheet`).
+2 pi R L (`geometry.epsa_shape.helix_sheet`).
 
 The direction field is given on the exact surface; on the discrete (curved P2) facets it is
 projected on the facet's tangent plane and normalised at each quadrature point.

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fem import analytic
-from fem.meshes import box, sphere_octant, tube_sector
+from fem.structured import box, sphere_octant, tube_sector
 from fem.mechanics import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import NewtonOptions, load_path, volume_path

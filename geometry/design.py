@@ -32,16 +32,13 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, ClassVar
 
-from softcrawl.errors import InputError
+from geometry.design_files import read_design_file, to_toml
+from geometry.errors import DesignError
 
 #: Angular positions psi_i of the three actuators on the circle of radius d (degrees).
 ACTUATOR_ANGLES_DEG: tuple[float, float, float] = (90.0, 210.0, 330.0)
 #: Smallest material ligament accepted between holes or edges of rigid parts (mm).
 MIN_LIGAMENT = 0.5
-
-
-class DesignError(InputError):
-    """An invalid design parameter. ``parameter`` names the offending field."""
 
 
 def _check_number(obj, name: str, *, positive: bool = True, integer: bool = False,
@@ -130,40 +127,6 @@ class _Design:
     def load(cls, path: str | Path):
         """Read a design from ``.json`` or ``.toml`` (the inverse of :meth:`save`)."""
         return cls.from_dict(read_design_file(path))
-
-
-def read_design_file(path: str | Path) -> dict[str, Any]:
-    path = Path(path)
-    if path.suffix == ".json":
-        return json.loads(path.read_text())
-    if path.suffix == ".toml":
-        import tomllib
-
-        return tomllib.loads(path.read_text())
-    raise DesignError("path", f"unsupported design file type {path.suffix!r} (use .json or .toml)")
-
-
-def _toml_scalar(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        return repr(value)
-    if isinstance(value, str):
-        return json.dumps(value)
-    raise TypeError(f"cannot write {value!r} to TOML")
-
-
-def to_toml(data: dict[str, Any], _table: str = "") -> str:
-    """Minimal TOML writer for nested tables of scalars (enough for the designs)."""
-    lines = [f"{k} = {_toml_scalar(v)}" for k, v in data.items() if not isinstance(v, dict)]
-    text = "\n".join(lines) + ("\n" if lines else "")
-    for key, value in data.items():
-        if isinstance(value, dict):
-            name = f"{_table}.{key}" if _table else key
-            text += f"\n[{name}]\n" + to_toml(value, name)
-    return text
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -1,6 +1,6 @@
 r"""Structured (swept) tetrahedral mesh of the ePSA: deterministic, fast, and lean for P2 elements.
 
-Why a second mesher. pytetwild (`geometry.meshing.mesh_epsa`) meshes any closed surface, but it is
+Why a second mesher. pytetwild (`geometry.tetwild.mesh_epsa`) meshes any closed surface, but it is
 isotropic and follows the surface triangulation: 48 segments around a 3 mm chamber give ~0.4 mm
 edges and ~74k P2 unknowns for the Table 1 actuator, where quadratic elements on the exact
 cylinders need far fewer. The actuator is a solid of revolution, so a swept mesh is exact in
@@ -27,9 +27,9 @@ from __future__ import annotations
 import numpy as np
 
 from geometry.design import DesignError, EPSADesign
-from geometry.epsa import epsa_segments, fiber_helices
-from geometry.mesh import TaggedMesh
-from geometry.meshing import _curved_meta
+from geometry.epsa_shape import epsa_segments, fiber_helices
+from geometry.tagged_mesh import TaggedMesh
+from geometry.tetwild import _curved_meta
 
 
 def cross_section(r0: float, R0: float, n_around: int, n_radial: int):

@@ -1,9 +1,10 @@
 """The paper's analytic models: ePSA statics/dynamics, constant-curvature kinematics, planning.
-Stands alone: imports neither `fem`, `geometry` nor `studies` (matplotlib only in `plotting`).
+Stands alone: imports neither `fem`, `geometry`, `materials` nor `studies` (its plots are drawn in
+`studies.plots.analytic`).
 
 Modules (one job each; units mm, N, s, tonne inside, pressures of the identified laws in kPa):
 
-- `epsa`            statics of one ePSA, eq. (3), piecewise-linear k_p, f_p, b_p (eq. 2), the 60 kPa
+- `statics`         statics of one ePSA, eq. (3), piecewise-linear k_p, f_p, b_p (eq. 2), the 60 kPa
                     jump, inverse statics (length -> pressure)
 - `prototype`       the identified parameters of the three prototype ePSAs (eqs. 19-24), units
                     boundary N/m -> N/mm, mass / damping decisions, robot constants
@@ -16,6 +17,5 @@ Modules (one job each; units mm, N, s, tonne inside, pressures of the identified
 - `planner`         gait planning through a pipe (Section IV, eqs. 16-18), replay of a given gait
 - `planar`          exhaustive breadth-first elbow search on the pressure grid (bend plane)
 - `refine`          elbow gaits with continuous pressures (SLSQP maximises the wall clearance)
-- `plotting`        PNG plots (Agg)
-- `errors`          `ModelInputError(ValueError)` with a `parameter` attribute
+- `errors`          `ModelInputError`, the input error of this package
 """

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from robot.epsa import G_STANDARD, EPSAParams
+from robot.statics import G_STANDARD, EPSAParams
 from robot.errors import ModelInputError
 
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from robot.epsa import G_STANDARD, EPSAParams, Line, PiecewiseLinear
+from robot.statics import G_STANDARD, EPSAParams, Line, PiecewiseLinear
 from robot.errors import ModelInputError
 
 

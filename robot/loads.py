@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from robot.epsa import EPSAParams
+from robot.statics import EPSAParams
 from robot.errors import ModelInputError
 
 

@@ -86,7 +86,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from robot import kinematics as kin
-from robot.epsa import G_STANDARD, P_MAX_KPA, EPSAParams
+from robot.statics import G_STANDARD, P_MAX_KPA, EPSAParams
 from robot.errors import ModelInputError
 from robot.pipe import Pipe
 from robot.prototype import BODY_RADIUS_MM, D_MM, EPSA_RADIUS_MM, actuator_set

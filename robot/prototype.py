@@ -15,7 +15,7 @@ Printed values (N/m and N, P in kPa, lower line for P <= 60 kPa):
 Consequences worth knowing (g = 0): at P = 0 the fits give small negative extensions
 (f_0/k_0 = -0.25, -0.98, -1.08 mm): the actuator "starts" only above about 2-6 kPa; we keep the
 printed law and do not clamp. At 60 kPa the branches do not meet: the length jumps by
-+0.64 mm (ePSA 1), -3.00 mm (ePSA 2) and +2.58 mm (ePSA 3); see `robot.epsa` for how the jump is
++0.64 mm (ePSA 1), -3.00 mm (ePSA 2) and +2.58 mm (ePSA 3); see `robot.statics` for how the jump is
 handled.
 
 Decisions (not given in the paper):
@@ -33,7 +33,7 @@ Decisions (not given in the paper):
 """
 from __future__ import annotations
 
-from robot.epsa import EPSAParams, Line, PiecewiseLinear
+from robot.statics import EPSAParams, Line, PiecewiseLinear
 
 #: Initial ePSA length (Table 1), mm.
 L0_MM = 100.0

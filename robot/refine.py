@@ -40,7 +40,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 from robot import kinematics as kin
-from robot.epsa import P_MAX_KPA
+from robot.statics import P_MAX_KPA
 from robot.errors import ModelInputError
 from robot.pipe import Pipe
 from robot.planner import Plan, replay

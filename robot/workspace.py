@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robot import kinematics as kin
-from robot.epsa import P_MAX_KPA
+from robot.statics import P_MAX_KPA
 from robot.errors import ModelInputError
 from robot.prototype import D_MM, actuator_set
 

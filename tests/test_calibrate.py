@@ -1,7 +1,8 @@
 """The calibration loop recovers a known modulus (fake evaluator: length = L_proto(P * mu* / mu))."""
 import pytest
 
-from studies import actuator, calibrate
+from studies.catalogue import calibration as calibrate
+from studies.parts import epsa_model as actuator
 
 
 def test_calibration_recovers_a_known_modulus(monkeypatch):

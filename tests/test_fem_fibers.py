@@ -4,11 +4,11 @@ import pytest
 
 from fem.errors import SolverInputError
 from fem.mechanics import Dirichlet, SolidModel
-from fem.meshes import box
+from fem.structured import box
 from fem.neohooke import NeoHookean
 from fem.path import load_path
 from geometry.design import EPSADesign
-from studies.actuator import MeshSettings, simulate_epsa
+from studies.parts.epsa_model import MeshSettings, simulate_epsa
 
 MU = 0.03
 

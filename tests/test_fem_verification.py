@@ -5,7 +5,7 @@ import pytest
 from fem import verification as V
 from fem.errors import SolverInputError
 from fem.mechanics import Dirichlet, SolidModel
-from fem.meshes import box
+from fem.structured import box
 from fem.neohooke import NeoHookean
 from fem.path import NewtonOptions, load_path
 

@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
-from geometry.epsa import epsa_surface, fiber_helices, seal_head_surface
+from geometry.epsa_shape import epsa_surface, fiber_helices, seal_head_surface
 from geometry.foot import foot_profile, foot_segments, foot_surface, foot_volume
 from geometry.ring import ring_surface, ring_volume
-from geometry.robot import robot_surfaces
+from geometry.assembly import robot_surfaces
 from geometry.surfaces import signed_volume
 
 

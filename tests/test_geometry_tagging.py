@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from geometry.mesh import TaggedMesh
-from geometry.meshing import tag_boundary
+from geometry.tagged_mesh import TaggedMesh
+from geometry.tetwild import tag_boundary
 from geometry.tagging import RevolvedSegment, boundary_facets, point_triangle_distance, tet_volumes
 
 R, H = 2.0, 5.0

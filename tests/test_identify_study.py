@@ -4,7 +4,7 @@ import json
 import pytest
 
 from studies.cli import main
-from studies import runner
+from studies.sweeps import engine as runner
 from tests.test_study_fakes import fake_f_p, fake_k_p
 
 FAKE = "tests.test_study_fakes:loaded_simulate"
@@ -53,7 +53,7 @@ def test_identify_leaves_out_pressures_a_weight_did_not_reach(tmp_path, monkeypa
 def test_fe_weight_shortens_the_actuator_linearly():
     """Real FE (quick mesh): a heavier weight shortens the ePSA, and about linearly in W (eq. 3)."""
     from geometry.design import EPSADesign
-    from studies.actuator import simulate_epsa
+    from studies.parts.epsa_model import simulate_epsa
 
     y = {}
     for w in (0.0, 0.25, 0.5):
@@ -66,7 +66,7 @@ def test_fe_weight_shortens_the_actuator_linearly():
 
 def test_landed_targets_are_grouped_with_their_pressure():
     """Volume control lands on a target to 1e-5: 79.9995 kPa is the 80 kPa state of that weight."""
-    from studies.identify import identify_from_rows
+    from studies.catalogue.fe_identification import identify_from_rows
 
     rows = []
     for w, p80 in ((0.0, 79.9995), (1.0, 80.0)):
@@ -80,7 +80,7 @@ def test_landed_targets_are_grouped_with_their_pressure():
 
 
 def test_rules_read_a_landed_100_kpa_state_as_100_kpa():
-    from studies.rules import design_curves
+    from studies.review.rules import design_curves
 
     rows = [{"fiber_turns": 10, "pressure_kpa": p, "length_mm": 100 + p / 2, "outer_radius_mm": 9.0,
              "row_status": s, "trial_status": "completed", "limit_pressure_kpa": ""}
@@ -90,7 +90,7 @@ def test_rules_read_a_landed_100_kpa_state_as_100_kpa():
 
 
 def test_pressures_past_the_longest_state_of_a_weight_are_left_out():
-    from studies.identify import identify_from_rows
+    from studies.catalogue.fe_identification import identify_from_rows
 
     rows = []
     for w in (0.0, 1.0):

@@ -2,7 +2,7 @@
 from pathlib import Path
 
 from geometry.design import EPSADesign
-from geometry.meshing import _cache_path, default_cache_dir
+from geometry.tetwild import _cache_path, default_cache_dir
 
 
 def test_cache_key_depends_on_design_and_settings(tmp_path):

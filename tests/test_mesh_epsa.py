@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from geometry.design import EPSADesign
-from geometry.epsa import epsa_analytic_areas
-from geometry.mesh import TaggedMesh
-from geometry.meshing import mesh_epsa
+from geometry.epsa_shape import epsa_analytic_areas
+from geometry.tagged_mesh import TaggedMesh
+from geometry.tetwild import mesh_epsa
 from geometry.tagging import boundary_facets, distance_to_surface
 
 EPSA_TAGS = {"chamber_wall", "chamber_ends", "outer", "end_bottom", "end_top"}

@@ -4,9 +4,10 @@ import pytest
 
 from geometry.design import FootDesign, RingDesign, RobotDesign
 from geometry.foot import foot_segments, foot_volume
-from geometry.meshing import mesh_foot, mesh_ring, mesh_robot
+from geometry.assembly import mesh_robot
+from geometry.tetwild import mesh_foot, mesh_ring
 from geometry.ring import ring_volume
-from geometry.robot import actuator_clearance
+from geometry.assembly import actuator_clearance
 from geometry.tagging import boundary_facets
 
 pytestmark = pytest.mark.slow

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from robot import dynamics, loads
-from robot.epsa import G_STANDARD
+from robot.statics import G_STANDARD
 from robot.errors import ModelInputError
 from robot.prototype import (EPSA_MASS_T, F_EPSA_MAX_N, ROBOT_MASS_T, actuator_set, nominal_epsa,
                              prototype_epsa)

@@ -12,8 +12,8 @@ import pytest
 optuna = pytest.importorskip("optuna")
 from optuna.trial import TrialState  # noqa: E402
 
-from studies import runner  # noqa: E402
-from studies.runner import SweepSpec, point_key  # noqa: E402
+from studies.sweeps import engine as runner  # noqa: E402
+from studies.sweeps.engine import SweepSpec, point_key  # noqa: E402
 
 FAKE = "tests.test_study_fakes:fake_simulate"
 

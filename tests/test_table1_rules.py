@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from studies import rules
+from studies.review import rules
 
 
 def _rows(param, value, lengths, radii, *, status="completed", limit=None, reason="",

@@ -17,29 +17,15 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from studies.calibrate import calibrate_mu
+    from studies.catalogue.calibration import calibrate_mu
+    from studies.plots.calibration import plot_calibration
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     cal = calibrate_mu(base_material=args.material, mesh="default" if args.full_mesh else "quick",
                        progress=lambda m: print("  " + m, flush=True))
     (out / "calibration.json").write_text(json.dumps(asdict(cal), indent=2))
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    ax.plot(cal.pressures_kpa, cal.prototype_length_mm, "ko-", label="prototype statics (eqs. 19-24, mean, g = 0)")
-    ax.plot(cal.pressures_kpa, cal.fe_length_mm, "s--", color="C3", label=f"FE, mu = {cal.mu_mpa:.4f} MPa")
-    ax.set_xlabel("pressure P (kPa)")
-    ax.set_ylabel("ePSA length (mm)")
-    ax.set_title(f"calibrated mu: RMS error {cal.rms_error_mm:.2f} mm ({cal.mesh} mesh)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "calibration.png", dpi=110)
-    plt.close(fig)
+    plot_calibration(cal, out / "calibration.png")
     print(f"calibrated mu = {cal.mu_mpa:.4f} MPa (base {cal.base_material}), RMS length error "
           f"{cal.rms_error_mm:.3g} mm -> {out}")
     return 0

@@ -21,7 +21,7 @@ from pathlib import Path
 
 
 def register(subparsers) -> None:
-    from studies.actuator import FIBER_MODELS
+    from studies.parts.epsa_model import FIBER_MODELS
 
     p = subparsers.add_parser("epsa", help="simulate one actuator under a pressure ramp",
                               description=__doc__.splitlines()[0])
@@ -39,7 +39,7 @@ def register(subparsers) -> None:
                    help="keep the top on the axis (u_x = u_y = 0): no sideways bending of the free end")
     p.add_argument("--fibers", choices=FIBER_MODELS, default=None,
                    help="Kevlar winding as embedded truss lines or as a smeared two-family sheet on the "
-                        "outer surface (default: studies.actuator.DEFAULT_FIBERS)")
+                        "outer surface (default: studies.parts.epsa_model.DEFAULT_FIBERS)")
     p.add_argument("--side-load", type=float, default=None, metavar="N",
                    help="small sideways force on the free top (N), an imperfection that shows bending over")
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
@@ -75,8 +75,8 @@ def write_curve_csv(path: Path, curve, blocked: bool) -> None:
 
 
 def run(args) -> int:
-    from studies.actuator import DEFAULT_FIBERS, parse_pressures, simulate_epsa
-    from studies.plots_epsa import plot_epsa
+    from studies.parts.epsa_model import DEFAULT_FIBERS, parse_pressures, simulate_epsa
+    from studies.plots.epsa_run import plot_epsa
 
     design = design_from_args(args)
     pressures = parse_pressures(args.pressures)
@@ -116,7 +116,7 @@ def run(args) -> int:
 
 def run_convergence(args, design, pressures, out) -> int:
     from geometry.design import DesignError
-    from studies.actuator import mesh_convergence
+    from studies.parts.epsa_model import mesh_convergence
 
     try:
         sizes = [float(v) for v in args.convergence.split(",")]

@@ -118,6 +118,7 @@ def _run_fit(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     import materials
+    from studies.plots.material_fit import plot_fit
 
     data = materials.load_tensile(args.data)
     fit = materials.fit_tensile(data, args.model, _max_strain(args))
@@ -126,7 +127,7 @@ def _run_fit(args: argparse.Namespace) -> int:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         (out / "fit.json").write_text(json.dumps(record, indent=2) + "\n")
-        _plot_fit(data, fit, out / "fit.png")
+        plot_fit(data, fit, out / "fit.png")
         record["outputs"] = [str(out / "fit.json"), str(out / "fit.png")]
     if args.json:
         print(json.dumps(record, indent=2))
@@ -149,44 +150,6 @@ def _print_fit(record: dict) -> None:
     for path in record.get("outputs", []):
         print(f"  wrote {path}")
     print(f"  {record['attribution']}")
-
-
-def _plot_fit(data, fit, path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    strain, stress = data.strain, data.nominal_stress
-    fig, (near, full) = plt.subplots(1, 2, figsize=(11, 4.2))
-    zoom = min(2.0 * fit.max_strain, float(strain.max()))
-    for axis, upper in ((near, zoom), (full, float(strain.max()))):
-        shown = strain <= upper
-        axis.plot(strain[shown], stress[shown], ".", ms=3, color="0.4", label="data")
-        curve = np.linspace(0.0, upper, 300)
-        axis.plot(curve, fit.predict(1.0 + curve), "-", color="C3",
-                  label=f"{fit.model} fit ({_params_text(fit)})")
-        axis.axvspan(fit.strain_range[0], fit.strain_range[1], color="C0", alpha=0.12,
-                     label="fitted range")
-        axis.set_xlabel("engineering strain [-]")
-        axis.set_ylabel("nominal stress [MPa]")
-        axis.set_ylim(min(0.0, float(stress[shown].min())), 1.15 * float(stress[shown].max()))
-        axis.grid(alpha=0.3)
-    near.set_title(f"{data.name}: fitted range and beyond")
-    full.set_title("whole pull-to-failure test")
-    near.legend(fontsize=8, loc="upper left")
-    fig.text(0.01, 0.01, f"RMS error {fit.rms_error:.2g} MPa ({100 * fit.relative_rms_error:.1f} %),"
-             f" strain {fit.strain_range[0]:.2f}-{fit.strain_range[1]:.2f}. "
-             + ("Data: Soft Robotics Materials Database (Marechal et al. 2021), ODbL/DbCL."
-                if data.attribution else "Data: user-supplied file."), fontsize=7)
-    fig.tight_layout(rect=(0, 0.04, 1, 1))
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def _params_text(fit) -> str:
-    return ", ".join(f"{k}={v:.3g}" for k, v in fit.params.items()) + " MPa"
 
 
 def _run_fit_table(args: argparse.Namespace) -> int:

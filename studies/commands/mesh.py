@@ -107,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from geometry.design import EPSADesign, load_design
-    from geometry.meshing import MESHERS
+    from geometry.assembly import MESHERS
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
     base = load_design(args.design) if args.design else None
@@ -131,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
         summary["analytic"] = {"volume_mm3": design.body_volume, "helix_length_mm": design.helix_length,
                                "chamber_wall_area_mm2": design.chamber_wall_area}
     if not args.no_png:
-        from geometry.render import render_png
+        from studies.plots.mesh_render import render_png
 
         summary["png_renderer"] = render_png(mesh, out / "mesh.png")
     (out / "mesh.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")

@@ -152,7 +152,7 @@ def _out_dir(path) -> Path:
 
 
 def _workspace(args) -> int:
-    from robot.plotting import plot_workspace
+    from studies.plots.analytic import plot_workspace
     from robot.workspace import sample, save_csv
 
     out = _out_dir(args.out)
@@ -177,7 +177,7 @@ def _plan(args) -> int:
 
     from robot.pipe import Pipe
     from robot.planner import plan
-    from robot.plotting import plot_plan
+    from studies.plots.analytic import plot_plan
 
     if args.pipe == "elbow" and args.bend_radius is None:
         raise _ArgError("bend-radius", "required for --pipe elbow")

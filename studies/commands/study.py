@@ -9,7 +9,7 @@
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm,
 N = 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1
 ePSA under weights W = 0, 0.5, 1 N on its guided top at 10-100 kPa; k_p(P) and f_p(P) fitted as the
-paper does and compared with eqs. 19-24 (studies/identify.py). optimise-actuator: NSGA-II (or TPE) over
+paper does and compared with eqs. 19-24 (studies/catalogue/fe_identification.py). optimise-actuator: NSGA-II (or TPE) over
 r in [2, 6] mm and N in 0..50 for three objectives at 100 kPa: maximise extension, minimise the radius
 change |dR| (the radius should stay at its design value: fibered designs shrink slightly, and a
 plain "minimise dR" would reward shrinking), minimise the Kevlar thread length of the double helix (the fabrication cost: winding is
@@ -28,7 +28,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from studies.identify import LOADS_N, PRESSURES_KPA
+from studies.catalogue.epsa_evaluator import PAPER_PRESSURES_KPA
+from studies.catalogue.fe_identification import LOADS_N, PRESSURES_KPA
 
 STUDIES = ("chamber-radius", "fiber-turns", "identify", "optimise-actuator")
 #: Grids of the paper's sweeps (Section V-A) and the fixed parameters of each.
@@ -47,7 +48,7 @@ DEFAULT_MATERIAL = "ecoflex-00-50"
 
 
 def register(subparsers) -> None:
-    from studies.actuator import FIBER_MODELS
+    from studies.parts.epsa_model import FIBER_MODELS
 
     parser = subparsers.add_parser("study", help="ePSA finite element studies (sweeps, optimiser)",
                                    description=__doc__.splitlines()[0],
@@ -66,7 +67,7 @@ def register(subparsers) -> None:
     parser.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     parser.add_argument("--mesh-size", type=float, default=None, help="element size (mm)")
     parser.add_argument("--fibers", choices=FIBER_MODELS, default=None,
-                        help="Kevlar winding model (default: studies.actuator.DEFAULT_FIBERS; see softcrawl epsa)")
+                        help="Kevlar winding model (default: studies.parts.epsa_model.DEFAULT_FIBERS; see softcrawl epsa)")
     parser.add_argument("--trials", type=int, default=None,
                         help=f"optimise-actuator: total trials (default {DEFAULT_TRIALS}, "
                              f"{QUICK_TRIALS} with --quick)")
@@ -74,7 +75,7 @@ def register(subparsers) -> None:
                         help="optimise-actuator: optuna sampler (default nsga2)")
     parser.add_argument("--seed", type=int, default=0, help="optimise-actuator: sampler seed")
     parser.add_argument("--simulator", default=None, metavar="MODULE:FUNCTION",
-                        help="replace studies.actuator:simulate_epsa (same signature), e.g. a "
+                        help="replace studies.parts.epsa_model:simulate_epsa (same signature), e.g. a "
                              "surrogate or a test fake")
     parser.add_argument("--retry-failed", action="store_true",
                         help="sweeps: evaluate the failed points again (after an evaluator fix); "
@@ -95,10 +96,10 @@ def study_folder(out, name: str, material: str, quick: bool, mesh_size: float | 
 
 
 def _settings(args) -> dict:
-    from studies import runner
-    from studies.actuator import DEFAULT_FIBERS
+    from studies.sweeps import engine as runner
+    from studies.parts.epsa_model import DEFAULT_FIBERS
 
-    pressures = PRESSURES_KPA if args.name == "identify" else runner.PAPER_PRESSURES_KPA
+    pressures = PRESSURES_KPA if args.name == "identify" else PAPER_PRESSURES_KPA
     settings = {"material": args.material, "quick": bool(args.quick), "pressures_kpa": list(pressures),
                 "fibers": args.fibers or DEFAULT_FIBERS}
     if args.mesh_size is not None:
@@ -110,7 +111,7 @@ def _settings(args) -> dict:
 
 def _check(args) -> None:
     from materials import get_material
-    from studies.runner import StudyError
+    from studies.sweeps.engine import StudyError
 
     get_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
@@ -134,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
-    from studies.runner import SweepSpec
+    from studies.sweeps.engine import SweepSpec
 
     grid, fixed = GRIDS[name]
     tag = run_tag(settings.get("material", ""), settings.get("quick", False),
@@ -146,7 +147,7 @@ def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
 def _run_sweep(args) -> int:
     import json
 
-    from studies import runner
+    from studies.sweeps import engine as runner
 
     folder = study_folder(args.out, args.name, args.material, args.quick, args.mesh_size)
     folder.mkdir(parents=True, exist_ok=True)
@@ -167,12 +168,15 @@ def write_identify_outputs(spec, rows, folder) -> int:
     identification.png (k_p, f_p against eqs. 19-24)."""
     import json
 
-    from studies import identify, plots, runner
+    from studies.sweeps import engine as runner
+    from studies.catalogue import fe_identification as identify
+    from studies.plots.curves import plot_curves
+    from studies.plots.identification import plot_identification
 
     runner.write_csv(rows, folder / "curves.csv")
     material = spec.settings.get("material")
     quick = " (quick mesh)" if spec.settings.get("quick") else ""
-    plots.plot_curves(rows, "end_load_n", folder / "identify.png", label="W", unit=" N",
+    plot_curves(rows, "end_load_n", folder / "identify.png", label="W", unit=" N",
                       title=f"identify: Table 1 ePSA under weights W; material {material}{quick}")
     ident = identify.identify_from_rows(rows)
     table = identify.comparison_rows(ident)
@@ -186,7 +190,7 @@ def write_identify_outputs(spec, rows, folder) -> int:
         print("wrote " + ", ".join(map(str, written)))
         return 1
     runner.write_csv(table, folder / "identification.csv")
-    plots.plot_identification(table, folder / "identification.png",
+    plot_identification(table, folder / "identification.png",
                               title=f"FE identification (material {material}{quick}) vs the prototype")
     written += [folder / "identification.csv", folder / "identification.png"]
     for name, key in (("k_p (N/m)", "k_p_n_per_m"), ("f_p (N)", "f_p_n")):
@@ -202,7 +206,9 @@ def write_identify_outputs(spec, rows, folder) -> int:
 
 def write_sweep_outputs(name: str, spec, rows, folder) -> int:
     """curves.csv, summary.csv and the PNG of a finished (or partial) sweep."""
-    from studies import plots, rules, runner
+    from studies.sweeps import engine as runner
+    from studies.plots.curves import plot_curves
+    from studies.review import rules
 
     if name == "identify":
         return write_identify_outputs(spec, rows, folder)
@@ -222,7 +228,7 @@ def write_sweep_outputs(name: str, spec, rows, folder) -> int:
     runner.write_csv(summary, folder / "summary.csv")
     label, unit = ("r", " mm") if param == "chamber_radius" else ("N", "")
     fixed = ", ".join(f"{k} = {v:g}" for k, v in spec.fixed.items())
-    plots.plot_curves(rows, param, folder / f"{name}.png", label=label, unit=unit,
+    plot_curves(rows, param, folder / f"{name}.png", label=label, unit=unit,
                       title=f"{name}: {fixed}; material {spec.settings.get('material')}"
                             + (" (quick mesh)" if spec.settings.get("quick") else ""))
     counts = {}
@@ -239,7 +245,8 @@ def write_sweep_outputs(name: str, spec, rows, folder) -> int:
 def _run_optimise(args) -> int:
     import json
 
-    from studies import plots, runner
+    from studies.sweeps import engine as runner
+    from studies.plots.pareto import plot_pareto
 
     folder = study_folder(args.out, args.name, args.material, args.quick, args.mesh_size)
     folder.mkdir(parents=True, exist_ok=True)
@@ -254,7 +261,7 @@ def _run_optimise(args) -> int:
     rows = runner.run_search(spec, workers=args.workers, progress=not args.no_progress)
     runner.write_csv(rows, folder / "trials.csv")
     runner.write_csv([r for r in rows if r["pareto"]], folder / "pareto.csv")
-    plots.plot_pareto(rows, folder / "pareto.png", reference=TABLE1_DESIGN,
+    plot_pareto(rows, folder / "pareto.png", reference=TABLE1_DESIGN,
                       title=f"optimise-actuator, material {args.material}"
                             + (" (quick mesh)" if args.quick else ""))
     n_ok = sum(r["trial_status"] == "completed" for r in rows)

@@ -148,7 +148,7 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
 
     `fibers` (see FIBER_MODELS): "lines", the paper's embedded trusses on the helix polylines
     (`fem.fibers`), or "sheet", the double helix smeared over the outer surface as two fiber
-    families (`fem.sheets`, `geometry.epsa.helix_families`).
+    families (`fem.sheets`, `geometry.epsa_shape.helix_families`).
 
     `side_load_n` (N): a small dead force +x on the seal head's top, an imperfection that shows
     whether the free actuator bends over. The smeared sheet is mirror-symmetric, so without it a
@@ -158,7 +158,7 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
     from materials import get_material
     from materials.fem_law import solid_law
     from fem.sheets import FiberSheet
-    from geometry.epsa import helix_families
+    from geometry.epsa_shape import helix_families
     from geometry.swept import mesh_epsa_swept
 
     if fibers not in FIBER_MODELS:

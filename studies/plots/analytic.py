@@ -1,17 +1,15 @@
-"""PNG plots (matplotlib, Agg backend): workspace cloud, gait plan, dynamic response."""
+"""Figures of the paper's analytic models (package `robot`): the workspace cloud and a gait plan."""
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from robot import kinematics as kin  # noqa: E402
+from robot import kinematics as kin
+from studies.plots.style import pyplot, save
 
 
 def plot_workspace(ws, path) -> None:
     """3D tip cloud and its x-y, x-z, y-z projections (cf. the paper's Fig. 11(d))."""
+    plt = pyplot()
     fig = plt.figure(figsize=(11, 9))
     c = ws.theta
     ax = fig.add_subplot(2, 2, 1, projection="3d")
@@ -24,8 +22,7 @@ def plot_workspace(ws, path) -> None:
         a.set_xlabel("xyz"[i] + " [mm]"), a.set_ylabel("xyz"[j] + " [mm]")
         a.set_aspect("equal"), a.set_title(name + " projection"), a.grid(alpha=0.3)
     fig.colorbar(sc, ax=fig.axes, shrink=0.6, label="bending angle theta [rad]")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save(fig, path, tight=False)
 
 
 def _arc_world(pos, rot, theta, phi, length, n=40):
@@ -36,6 +33,7 @@ def _arc_world(pos, rot, theta, phi, length, n=40):
 
 def plot_plan(plan, path) -> None:
     """Bend-plane (x-z) view of the pipe, the inflated body of every cycle, the feet, and the gait."""
+    plt = pyplot()
     pipe = plan.pipe
     fig, (ax, ag) = plt.subplots(1, 2, figsize=(13, 6), gridspec_kw=dict(width_ratios=[1.2, 1]))
     s_max = max([c.progress for c in plan.cycles] + [0.0]) + 200.0
@@ -76,6 +74,4 @@ def plot_plan(plan, path) -> None:
                     label=f"P{i + 1}")
         ag.set_xlabel("phase (inflate, deflate, ...)"), ag.set_ylabel("pressure [kPa]")
         ag.set_ylim(-5, 105), ag.legend(), ag.grid(alpha=0.3), ag.set_title("gait sequence")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save(fig, path)

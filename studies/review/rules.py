@@ -26,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
-from studies.actuator import same_pressure
+from studies.parts.epsa_model import same_pressure
 
 #: The studies' highest pressure and the one a design must withstand (kPa), paper Section V-A.
 TARGET_PRESSURE_KPA = 100.0

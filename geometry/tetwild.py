@@ -1,8 +1,8 @@
 """Tetrahedral meshing with pytetwild, tagging after meshing, and a disk cache.
 
-``mesh_epsa``, ``mesh_foot``, ``mesh_ring``, ``mesh_robot`` return a :class:`geometry.mesh.TaggedMesh`.
+``mesh_epsa``, ``mesh_seal_head``, ``mesh_foot`` and ``mesh_ring`` return a :class:`geometry.tagged_mesh.TaggedMesh`.
 
-Pipeline per part: closed surface (``geometry.epsa``/``foot``/``ring``) -> pytetwild at the target edge
+Pipeline per part: closed surface (``geometry.epsa_shape``/``foot``/``ring``) -> pytetwild at the target edge
 length -> tets reoriented positively, unused nodes dropped -> boundary facets classified against the
 part's exact surfaces (``geometry.tagging``) with tolerance ``tol = 2 eps diag + sagitta`` (fTetWild
 keeps the boundary within eps * diag of the input surface, eps = 1e-3, diag = bounding box diagonal;
@@ -29,8 +29,9 @@ from pathlib import Path
 import numpy as np
 
 from geometry.design import EPSADesign
-from geometry.epsa import DEFAULT_N_THETA, epsa_segments, epsa_surface, fiber_helices
-from geometry.mesh import TaggedMesh
+from geometry.epsa_shape import (DEFAULT_N_THETA, epsa_segments, epsa_surface, fiber_helices,
+                                  seal_head_segments, seal_head_surface)
+from geometry.tagged_mesh import TaggedMesh
 from geometry.tagging import (RevolvedSegment, boundary_facets, classify_facets, snap_to_surfaces,
                               tet_volumes)
 
@@ -164,7 +165,6 @@ def mesh_epsa(design: EPSADesign | None = None, edge_length: float | None = None
 def mesh_seal_head(design: EPSADesign | None = None, edge_length: float | None = None, cache_dir=None,
                    n_theta: int = DEFAULT_N_THETA) -> TaggedMesh:
     """The ABS seal head disk of an ePSA, z in [L, L + t_s] (region ``seal_head``)."""
-    from geometry.epsa import seal_head_segments, seal_head_surface
 
     design = design or EPSADesign()
     sagitta = design.outer_radius * (1 - np.cos(np.pi / n_theta))
@@ -196,13 +196,3 @@ def mesh_ring(design=None, edge_length: float | None = None, cache_dir=None) -> 
     sagitta = spacing**2 / (8 * design.hole_radius)
     return mesh_part("ring", lambda: surface, ring_segments(design), design.short_hash(), "ring",
                      edge_length, cache_dir, 0, sagitta)
-
-
-def mesh_robot(design=None, edge_length: float | None = None, cache_dir=None) -> TaggedMesh:
-    """The assembled robot, see :func:`geometry.robot.assemble_robot`."""
-    from geometry.robot import assemble_robot
-
-    return assemble_robot(design, edge_length=edge_length, cache_dir=cache_dir)
-
-
-MESHERS = {"epsa": mesh_epsa, "foot": mesh_foot, "ring": mesh_ring, "robot": mesh_robot}

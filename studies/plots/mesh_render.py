@@ -9,7 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from geometry.mesh import TaggedMesh
+from geometry.tagged_mesh import TaggedMesh
+from studies.plots.style import pyplot, save
 
 
 def _group(mesh: TaggedMesh, tag: str) -> str:
@@ -65,12 +66,9 @@ def _tab20(n: int):
 
 
 def _render_matplotlib(mesh: TaggedMesh, path: Path) -> str:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+    plt = pyplot()
     fig = plt.figure(figsize=(8, 6))
     ax = fig.add_subplot(projection="3d")
     groups = sorted({_group(mesh, t) for t in mesh.facets})
@@ -84,6 +82,5 @@ def _render_matplotlib(mesh: TaggedMesh, path: Path) -> str:
     c, r = (lo + hi) / 2, (hi - lo).max() / 2
     ax.set(xlim=(c[0] - r, c[0] + r), ylim=(c[1] - r, c[1] + r), zlim=(c[2] - r, c[2] + r),
            xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path, tight=False)
     return "matplotlib"

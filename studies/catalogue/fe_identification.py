@@ -1,7 +1,7 @@
 r"""The paper's static identification (Section VII-A) run on finite element results.
 
 FE experiment (one sweep point per weight W in `LOADS_N`): the Table 1 ePSA with its base fixed and
-a weight W on the guided seal head (a dead force -W e_z, see `studies.actuator.build_model`) is
+a weight W on the guided seal head (a dead force -W e_z, see `studies.parts.epsa_model.build_model`) is
 ramped through `PRESSURES_KPA` (10 to 100 kPa in 10 kPa steps, as the paper's step (2)). The weight
 goes on first, at 0 kPa. The extension y is the FE length minus the unloaded 0 kPa length.
 

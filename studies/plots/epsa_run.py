@@ -1,15 +1,14 @@
-"""Plots of one actuator's response: length and outer radius against pressure, deformed shape."""
+"""One actuator's run (`softcrawl epsa`): length and outer radius against pressure, deformed shape."""
 from __future__ import annotations
 
 import numpy as np
 
+from studies.plots.style import pyplot, save
+
 
 def plot_epsa(path, curve, model=None, path_result=None):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    """Length and radius against P (volume-controlled branch dashed), and the outer silhouette."""
+    plt = pyplot()
     shape = model is not None and path_result is not None and bool(path_result.steps)
     fig, axes = plt.subplots(1, 3 if shape else 2, figsize=(13, 4.6),
                              gridspec_kw={"width_ratios": [1, 1, 0.6] if shape else [1, 1]})
@@ -49,6 +48,4 @@ def plot_epsa(path, curve, model=None, path_result=None):
         ax.set_ylabel("z (mm)")
         ax.set_title("outer silhouette (x-z plane)")
         ax.legend(fontsize=8, loc="lower center")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return save(fig, path)

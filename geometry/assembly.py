@@ -22,7 +22,8 @@ from __future__ import annotations
 import numpy as np
 
 from geometry.design import RobotDesign
-from geometry.mesh import TaggedMesh
+from geometry.tagged_mesh import TaggedMesh
+from geometry.tetwild import mesh_epsa, mesh_foot, mesh_ring, mesh_seal_head
 
 
 def _on_disk(mesh: TaggedMesh, tris: np.ndarray, centre, radius: float, tol: float) -> np.ndarray:
@@ -31,8 +32,6 @@ def _on_disk(mesh: TaggedMesh, tris: np.ndarray, centre, radius: float, tol: flo
 
 
 def assemble_robot(design: RobotDesign | None = None, edge_length: float | None = None, cache_dir=None) -> TaggedMesh:
-    from geometry.meshing import mesh_epsa, mesh_foot, mesh_ring, mesh_seal_head
-
     design = design or RobotDesign()
     e, f, r = design.epsa, design.foot, design.ring
     L, ts = e.length, e.seal_head_thickness
@@ -141,7 +140,7 @@ def actuator_clearance(mesh: TaggedMesh, design: RobotDesign) -> dict:
 
 def robot_surfaces(design: RobotDesign | None = None, n_theta: int = 48) -> dict:
     """Watertight surfaces of every part, placed as in the assembly ({part name: pyvista.PolyData})."""
-    from geometry.epsa import epsa_surface, seal_head_surface
+    from geometry.epsa_shape import epsa_surface, seal_head_surface
     from geometry.foot import foot_surface
     from geometry.ring import ring_surface
 
@@ -160,3 +159,13 @@ def robot_surfaces(design: RobotDesign | None = None, n_theta: int = 48) -> dict
     out["foot_rear"] = foot
     out["foot_front"] = foot.translate((0.0, 0.0, e.length + e.seal_head_thickness + f.hub_thickness), inplace=False)
     return out
+
+
+def mesh_robot(design: RobotDesign | None = None, edge_length: float | None = None,
+               cache_dir=None) -> TaggedMesh:
+    """The assembled robot, see :func:`assemble_robot`."""
+    return assemble_robot(design, edge_length=edge_length, cache_dir=cache_dir)
+
+
+#: The mesher of each part kind of `softcrawl mesh`.
+MESHERS = {"epsa": mesh_epsa, "foot": mesh_foot, "ring": mesh_ring, "robot": mesh_robot}
