@@ -145,3 +145,41 @@ def fitted_laws(ident: FEIdentification) -> dict:
             "pressures_kpa": list(ident.pressures_kpa),
             "skipped": [{"pressure_kpa": p, "reason": why} for p, why in ident.skipped],
             "message": ident.message}
+
+
+def write_outputs(spec, rows, folder) -> "StudyOutcome":
+    """curves.csv, identify.png (length per weight), identification.csv/.json and
+    identification.png (k_p, f_p against eqs. 19-24)."""
+    import json
+
+    from studies.catalogue.outcome import StudyOutcome
+    from studies.plots.curves import plot_curves
+    from studies.plots.identification import plot_identification
+    from studies.sweeps.engine import write_csv
+
+    write_csv(rows, folder / "curves.csv")
+    material = spec.settings.get("material")
+    quick = " (quick mesh)" if spec.settings.get("quick") else ""
+    plot_curves(rows, "end_load_n", folder / "identify.png", label="W", unit=" N",
+                title=f"identify: Table 1 ePSA under weights W; material {material}{quick}")
+    ident = identify_from_rows(rows)
+    table = comparison_rows(ident)
+    laws = fitted_laws(ident) | {"material": material, "quick": bool(spec.settings.get("quick"))}
+    (folder / "identification.json").write_text(json.dumps(laws, indent=2) + "\n")
+    written = [folder / "curves.csv", folder / "identify.png", folder / "identification.json"]
+    lines = [f"  P = {p:g} kPa not used: {why}" for p, why in ident.skipped]
+    if not table:
+        return StudyOutcome(tuple(lines), tuple(written), False,
+                            (f"identify: no identification: {ident.message}",))
+    write_csv(table, folder / "identification.csv")
+    plot_identification(table, folder / "identification.png",
+                        title=f"FE identification (material {material}{quick}) vs the prototype")
+    written += [folder / "identification.csv", folder / "identification.png"]
+    for name, key in (("k_p (N/m)", "k_p_n_per_m"), ("f_p (N)", "f_p_n")):
+        text = "; ".join(f"{b['slope']:.4g} P {'-' if b['intercept'] < 0 else '+'} {abs(b['intercept']):.4g}"
+                         + ("" if b["p_max_kpa"] is None else f" (P <= {b['p_max_kpa']:g})")
+                         for b in laws[key])
+        lines.append(f"identify: FE {name} = {text}")
+    if ident.message:
+        lines.append(f"identify: {ident.message}")
+    return StudyOutcome(tuple(lines), tuple(written), True)

@@ -14,7 +14,6 @@ rings and the other actuators do in the robot.
 """
 from __future__ import annotations
 
-import csv
 import json
 import sys
 from pathlib import Path
@@ -59,24 +58,10 @@ def design_from_args(args):
     return base.replace(**changes) if changes else base
 
 
-def write_curve_csv(path: Path, curve, blocked: bool) -> None:
-    cols = ["pressure_kPa", "length_mm", "outer_radius_mm", "chamber_volume_mm3", "max_principal_stretch",
-            "max_fiber_tension_N", "status", "tip_lateral_mm"] + (["blocked_force_N"] if blocked else [])
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(cols)
-        for r in curve.rows:
-            vals = [r.pressure_kpa, r.length_mm, r.outer_radius_mm, r.chamber_volume_mm3,
-                    r.max_principal_stretch, r.max_fiber_tension_n]
-            vals = [f"{float(v):.6g}" for v in vals] + [r.status, f"{r.tip_lateral_mm:.6g}"]
-            if blocked:
-                vals.append(f"{r.blocked_force_n:.6g}")
-            w.writerow(vals)
-
-
 def run(args) -> int:
     from studies.parts.epsa_model import DEFAULT_FIBERS, parse_pressures, simulate_epsa
     from studies.plots.epsa_run import plot_epsa
+    from studies.sweeps.engine import write_csv
 
     design = design_from_args(args)
     pressures = parse_pressures(args.pressures)
@@ -93,7 +78,7 @@ def run(args) -> int:
                            fibers=args.fibers, side_load_n=args.side_load,
                            progress=lambda msg: print("  " + msg, flush=True))
     curve = solved.curve
-    write_curve_csv(out / "curve.csv", curve, args.blocked)
+    write_csv(curve.table(args.blocked), out / "curve.csv")
     summary = curve.to_dict()
     summary["limit_point"] = (f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa"
                               if curve.limit_pressure_kpa is not None else None)
@@ -116,7 +101,8 @@ def run(args) -> int:
 
 def run_convergence(args, design, pressures, out) -> int:
     from geometry.design import DesignError
-    from studies.parts.epsa_model import mesh_convergence
+    from studies.parts.epsa_convergence import convergence_table, mesh_convergence
+    from studies.sweeps.engine import write_csv
 
     try:
         sizes = [float(v) for v in args.convergence.split(",")]
@@ -124,14 +110,6 @@ def run_convergence(args, design, pressures, out) -> int:
         raise DesignError("convergence", f"{args.convergence!r}: give element sizes in mm, e.g. 10,5,2.5") from None
     rows = mesh_convergence(design, material=args.material, pressure_kpa=pressures[-1], sizes=sizes,
                             steps=len(pressures), fibers=args.fibers, progress=lambda m: print("  " + m, flush=True))
-    finest = rows[-1]
-    with open(out / "convergence.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["mesh_size_mm", "dofs", "extension_mm", "outer_radius_mm", "change_vs_finest_pct",
-                    "wall_s", "status"])
-        for r in rows:
-            change = 100 * (r.extension_mm - finest.extension_mm) / finest.extension_mm
-            w.writerow([r.mesh_size_mm, r.n_dofs, f"{r.extension_mm:.6g}", f"{r.outer_radius_mm:.6g}",
-                        f"{change:.3g}", f"{r.wall_s:.1f}", r.status])
+    write_csv(convergence_table(rows), out / "convergence.csv")
     print(f"-> {out / 'convergence.csv'}")
     return 0

@@ -11,10 +11,7 @@ import sys
 from pathlib import Path
 
 
-class _ArgError(ValueError):
-    def __init__(self, parameter: str, message: str) -> None:
-        super().__init__(f"{parameter}: {message}")
-        self.parameter = parameter
+from robot.errors import ModelInputError as _ArgError
 
 
 def _emit(args, payload: dict, text: str) -> None:

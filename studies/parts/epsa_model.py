@@ -108,6 +108,21 @@ class ActuatorCurve:
     def column(self, name: str) -> np.ndarray:
         return np.array([getattr(r, name) for r in self.rows], dtype=float)
 
+    def table(self, blocked: bool = False) -> list[dict[str, str]]:
+        """curve.csv rows: numbers to 6 significant digits; the blocked force when `blocked`."""
+        out = []
+        for r in self.rows:
+            row = {"pressure_kPa": r.pressure_kpa, "length_mm": r.length_mm,
+                   "outer_radius_mm": r.outer_radius_mm, "chamber_volume_mm3": r.chamber_volume_mm3,
+                   "max_principal_stretch": r.max_principal_stretch,
+                   "max_fiber_tension_N": r.max_fiber_tension_n}
+            row = {k: f"{float(v):.6g}" for k, v in row.items()}
+            row |= {"status": r.status, "tip_lateral_mm": f"{r.tip_lateral_mm:.6g}"}
+            if blocked:
+                row["blocked_force_N"] = f"{r.blocked_force_n:.6g}"
+            out.append(row)
+        return out
+
 
 @dataclass(frozen=True)
 class Solved:
@@ -307,36 +322,3 @@ def _sway_events(rows) -> tuple[str, ...]:
                     "an inflated tube); the length is then the axial projection. --guided keeps "
                     "the top on the axis",)
     return ()
-
-
-@dataclass(frozen=True)
-class ConvergenceRow:
-    mesh_size_mm: float
-    n_dofs: int
-    extension_mm: float
-    outer_radius_mm: float
-    wall_s: float
-    status: str
-
-
-def mesh_convergence(design: EPSADesign, *, material="ecoflex-00-50", pressure_kpa=100.0,
-                     sizes=(10.0, 5.0, 2.5), steps: int = 5, progress=None,
-                     fibers: str = DEFAULT_FIBERS) -> list[ConvergenceRow]:
-    """Extension and outer radius at `pressure_kpa` against the element size (coarse to fine).
-
-    The ramp to `pressure_kpa` uses `steps` equal targets. The relative change against the finest
-    mesh is the discretisation error estimate; `softcrawl epsa --convergence` writes the table.
-    """
-    rows = []
-    targets = tuple(pressure_kpa * (k + 1) / steps for k in range(steps))
-    for h in sizes:
-        curve = simulate_epsa(design, material=material, pressures_kpa=targets,
-                              mesh=MeshSettings.from_size(h, design), fibers=fibers)
-        last = curve.rows[-1]
-        ok = curve.converged and abs(last.pressure_kpa - pressure_kpa) < 1e-6 * pressure_kpa
-        rows.append(ConvergenceRow(h, curve.n_dofs, last.length_mm - design.length, last.outer_radius_mm,
-                                   curve.wall_s, "converged" if ok else f"failed: {curve.message}"))
-        if progress is not None:
-            progress(f"h = {h:g} mm: {curve.n_dofs} DOFs, extension {rows[-1].extension_mm:.4g} mm, "
-                     f"{curve.wall_s:.1f} s ({rows[-1].status})")
-    return rows
