@@ -5,9 +5,9 @@ import pytest
 
 from studies.cli import main
 from studies.sweeps import engine as runner
-from tests.test_study_fakes import fake_f_p, fake_k_p
+from tests.studies.fakes import fake_f_p, fake_k_p
 
-FAKE = "tests.test_study_fakes:loaded_simulate"
+FAKE = "tests.studies.fakes:loaded_simulate"
 
 
 def _folder(tmp_path):

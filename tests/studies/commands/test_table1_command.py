@@ -8,8 +8,8 @@ import pytest
 pytest.importorskip("optuna")
 from studies.cli import main  # noqa: E402
 
-PAPER_LIKE = "tests.test_study_fakes:paper_like_simulate"
-FAKE = "tests.test_study_fakes:fake_simulate"
+PAPER_LIKE = "tests.studies.fakes:paper_like_simulate"
+FAKE = "tests.studies.fakes:fake_simulate"
 
 
 def _study(tmp_path, name, material, simulator):

@@ -8,7 +8,7 @@ import pytest
 pytest.importorskip("optuna")
 from studies.cli import main  # noqa: E402
 
-FAKE = "tests.test_study_fakes:fake_simulate"
+FAKE = "tests.studies.fakes:fake_simulate"
 
 
 def test_sweep_outputs_every_grid_point_with_status(tmp_path, monkeypatch, capsys):
@@ -62,7 +62,7 @@ def test_input_errors_exit_2(tmp_path, capsys, argv, parameter):
 
 def test_optimiser_failed_trials_are_results_not_tracebacks(tmp_path, capfd):
     assert main(["study", "optimise-actuator", "--quick", "--trials", "10", "--simulator",
-                 "tests.test_study_fakes:limited_simulate", "--out", str(tmp_path), "--no-progress"]) == 0
+                 "tests.studies.fakes:limited_simulate", "--out", str(tmp_path), "--no-progress"]) == 0
     rows = list(csv.DictReader(open(tmp_path / "optimise-actuator" / "ecoflex-00-50-quick" / "trials.csv")))
     failed = [r for r in rows if r["trial_status"] == "failed"]
     assert failed and all("does not reach 100 kPa" in r["reason"] for r in failed)

@@ -15,7 +15,7 @@ from optuna.trial import TrialState  # noqa: E402
 from studies.sweeps import engine as runner  # noqa: E402
 from studies.sweeps.engine import SweepSpec, point_key  # noqa: E402
 
-FAKE = "tests.test_study_fakes:fake_simulate"
+FAKE = "tests.studies.fakes:fake_simulate"
 
 
 def _spec(tmp_path, radii=(2.0, 3.0, 4.0, 5.0, 6.0), turns=(0,), simulate=FAKE, **kw):
@@ -50,7 +50,7 @@ def test_sweep_completes_every_point_once(tmp_path, monkeypatch):
 
 def test_failed_and_invalid_designs_do_not_stop_the_sweep(tmp_path, monkeypatch):
     monkeypatch.setenv("SOFTCRAWL_FAKE_DIVERGE", "1")
-    spec = _spec(tmp_path, simulate="tests.test_study_fakes:raising_simulate")
+    spec = _spec(tmp_path, simulate="tests.studies.fakes:raising_simulate")
     rows = runner.run_sweep(spec, progress=False)
     by_r = {}
     for r in rows:
@@ -188,7 +188,7 @@ def test_terminated_worker_hands_its_point_back_at_once(tmp_path, monkeypatch):
 
 
 def test_limit_point_below_the_first_pressure_is_a_result(tmp_path):
-    spec = _spec(tmp_path, radii=(3.0, 6.0), simulate="tests.test_study_fakes:early_limit_simulate")
+    spec = _spec(tmp_path, radii=(3.0, 6.0), simulate="tests.studies.fakes:early_limit_simulate")
     rows = runner.run_sweep(spec, progress=False)
     six = [r for r in rows if r["chamber_radius"] == 6.0]
     assert {r["trial_status"] for r in six} == {"completed"}

@@ -1,5 +1,5 @@
 """Fast fake ePSA simulators for the study tests (no FE solver). Importable by spawned workers as
-``tests.test_study_fakes:NAME``; behaviour is steered by environment variables so that worker
+``tests.studies.fakes:NAME``; behaviour is steered by environment variables so that worker
 processes see it too."""
 from __future__ import annotations
 
