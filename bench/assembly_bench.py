@@ -7,6 +7,7 @@ The state is the converged one at 4 kPa (saved to --state and reused, so runs co
 x). Each part is timed best-of --repeat, round robin (the machine is shared: the minimum is
 the cleanest figure), and one PARDISO symmetric factorisation + solve for scale.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -53,19 +54,21 @@ def main(argv=None):
         x = load_path(model, [(P, 0.0)]).steps[-1].x
         if args.state:
             np.save(args.state, x)
-    print(f"cpus={os.cpu_count()} load={os.getloadavg()[0]:.2f} elements={model.dx.shape[0]} "
-          f"dofs={model.n_dofs} SOFTCRAWL_THREADS={os.environ.get('SOFTCRAWL_THREADS', '-')}")
+    print(
+        f"cpus={os.cpu_count()} load={os.getloadavg()[0]:.2f} elements={model.dx.shape[0]} "
+        f"dofs={model.n_dofs} SOFTCRAWL_THREADS={os.environ.get('SOFTCRAWL_THREADS', '-')}"
+    )
     parts = {}
     stress = model._stress(x)
     parts["_stress"] = lambda: model._stress(x)
-    if hasattr(model.pattern, "assemble_values"):          # element matrices into one flat array
+    if hasattr(model.pattern, "assemble_values"):  # element matrices into one flat array
         values = model.pattern.new_values()
         blocks = model.pattern.views(values)
         parts["_element_residual"] = lambda: model._element_residual(stress)
         parts["_element_tangent"] = lambda: model._element_tangent(stress, blocks)
         parts["new_values"] = model.pattern.new_values
         assemble = lambda: model.pattern.assemble_values(values)  # noqa: E731
-    else:                                                   # before issue 3
+    else:  # before issue 3
         parts["_element_residual"] = lambda: model._element_residual(x, stress)
         parts["_element_tangent"] = lambda: model._element_tangent(x, stress)
         blocks = [model._element_tangent(x, stress), -P * model._chamber_load(x, True)[1]]
@@ -73,11 +76,13 @@ def main(argv=None):
     parts["_chamber_load(tangent)"] = lambda: model._chamber_load(x, True)
     parts["pattern scatter"] = assemble
 
-    def fresh(fn):                        # forget the state remembered from the last call
+    def fresh(fn):  # forget the state remembered from the last call
         def run():
             model._memo = None
             return fn()
+
         return run
+
     parts["residual"] = fresh(lambda: model.residual(x, P))
     parts["residual_and_tangent"] = fresh(lambda: model.residual_and_tangent(x, P))
     if hasattr(model, "_memo"):
@@ -89,9 +94,10 @@ def main(argv=None):
     def solve():
         solver.factor(K)
         solver.solve(R[model.free_dofs])
+
     parts["factor+solve"] = solve
     best = dict.fromkeys(parts, np.inf)
-    for _ in range(args.repeat):          # round robin: every part sees the same load
+    for _ in range(args.repeat):  # round robin: every part sees the same load
         for name, fn in parts.items():
             best[name] = min(best[name], best_of(fn, 1))
     for name, t in best.items():

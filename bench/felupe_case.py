@@ -52,9 +52,8 @@ mesh and print the result together with the analytic plane-strain error.
 
 import time
 
-import numpy as np
-
 import felupe as fem
+import numpy as np
 
 try:  # PARDISO for a fair comparison with softcrawl's direct solver
     from pypardiso import spsolve as _linear_solver
@@ -78,9 +77,7 @@ def _orient_positive(points, cells):
     "Return a copy of the tets with positive volume (swap two vertices if needed)."
     cells = np.array(cells, dtype=np.int64, copy=True)
     x = points[cells]
-    vol = np.einsum(
-        "ij,ij->i", np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), x[:, 3] - x[:, 0]
-    )
+    vol = np.einsum("ij,ij->i", np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), x[:, 3] - x[:, 0])
     flip = vol < 0
     cells[flip, 1], cells[flip, 2] = cells[flip, 2], cells[flip, 1].copy()
     return cells
@@ -105,9 +102,7 @@ class _EdgeNumbering:
 def _boundary_faces(cells):
     "Faces that belong to exactly one tet: (tet index, local face index)."
     faces = cells[:, _TET_FACES[:, :3]].reshape(-1, 3)
-    _, index, counts = np.unique(
-        np.sort(faces, axis=1), axis=0, return_index=True, return_counts=True
-    )
+    _, index, counts = np.unique(np.sort(faces, axis=1), axis=0, return_index=True, return_counts=True)
     once = index[counts == 1]
     return once // 4, once % 4
 
@@ -141,9 +136,7 @@ def _build_quadratic_mesh(points, cells, inner, outer, tol):
         sel = on_surface[verts[:, :3]].all(axis=1)
         v = verts[sel, :3]
         mids = np.unique(
-            np.concatenate(
-                [edges.lookup(v[:, a], v[:, b]) for a, b in [(0, 1), (1, 2), (2, 0)]]
-            )
+            np.concatenate([edges.lookup(v[:, a], v[:, b]) for a, b in [(0, 1), (1, 2), (2, 0)]])
         )
         rm = np.hypot(points2[mids, 0], points2[mids, 1])
         points2[mids, :2] *= (r_target / rm)[:, None]
@@ -156,9 +149,7 @@ def _build_quadratic_mesh(points, cells, inner, outer, tol):
     vol = np.einsum("ij,ij->i", np.cross(x[b] - x[a], x[c] - x[a]), x[d] - x[a])
     b, c = np.where(vol > 0, b, c), np.where(vol > 0, c, b)  # keep positive volume
     pairs = [(a, b), (b, c), (c, a), (a, d), (b, d), (c, d)]
-    cells_loaded = np.stack(
-        [a, b, c, d] + [edges.lookup(i, j) for i, j in pairs], axis=1
-    )
+    cells_loaded = np.stack([a, b, c, d] + [edges.lookup(i, j) for i, j in pairs], axis=1)
 
     mesh = fem.Mesh(points2, cells2, cell_type="tetra10")
     return mesh, cells_loaded, on_inner, n_projected
@@ -170,7 +161,8 @@ def _face_region(mesh, cells_loaded, order=5):
     tetra10 cells and carries the outward area vectors like a ``RegionBoundary``."""
     tri = fem.TriangleQuadrature(order=order)
     scheme = fem.quadrature.Scheme(
-        np.pad(tri.points, ((0, 0), (0, 1))), tri.weights  # (r, s, t = 0)
+        np.pad(tri.points, ((0, 0), (0, 1))),
+        tri.weights,  # (r, s, t = 0)
     )
     mesh_faces = fem.Mesh(mesh.points, cells_loaded, cell_type="tetra10")
     region = fem.Region(mesh_faces, fem.QuadraticTetra(), scheme, grad=True)
@@ -292,9 +284,7 @@ def solve_tube_felupe(
         "sym-x": fem.Boundary(u, mask=np.abs(x) < tol_r, skip=(0, 1, 1)),
         "sym-y": fem.Boundary(u, mask=np.abs(y) < tol_r, skip=(1, 0, 1)),
         "sym-z": fem.Boundary(u, mask=np.abs(z) < tol_z, skip=(1, 1, 0)),
-        "plane-strain": fem.Boundary(
-            u, mask=np.abs(z - length) < tol_z, skip=(1, 1, 0)
-        ),
+        "plane-strain": fem.Boundary(u, mask=np.abs(z - length) < tol_z, skip=(1, 1, 0)),
     }
     dof0, dof1 = fem.dof.partition(field, boundaries)
     ext0 = fem.dof.apply(field, boundaries, dof0)  # all zero

@@ -7,6 +7,7 @@ headers), so a fresh `pip install` cannot get it: it is not a candidate here.
 
     python bench/linear_solvers.py
 """
+
 from __future__ import annotations
 
 import sys
@@ -21,17 +22,26 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 
 def newton_matrix(cells=(5, 8, 16)):
-    from solver_bench import A, B, LENGTH, MU, K_OVER_MU
+    from solver_bench import K_OVER_MU, LENGTH, MU, A, B
 
     from fem.mechanics import Dirichlet, SolidModel
-    from fem.structured import tube_sector
     from fem.neohooke import NeoHookean
+    from fem.structured import tube_sector
 
     mesh = tube_sector(A, B, height=LENGTH, n_radial=cells[0], n_angle=cells[1], n_height=cells[2])
-    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
-           Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
-    model = SolidModel(mesh, NeoHookean.nearly_incompressible(MU, K_OVER_MU), dirichlet=bcs,
-                       chamber=("inner",), volume_weights=(1, 1, 0))
+    bcs = [
+        Dirichlet.symmetry("sym_x", 0),
+        Dirichlet.symmetry("sym_y", 1),
+        Dirichlet.symmetry("bottom", 2),
+        Dirichlet.symmetry("top", 2),
+    ]
+    model = SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(MU, K_OVER_MU),
+        dirichlet=bcs,
+        chamber=("inner",),
+        volume_weights=(1, 1, 0),
+    )
     R, K = model.residual_and_tangent(model.initial_state(), 0.004)
     return K, R[model.free_dofs]
 

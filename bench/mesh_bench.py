@@ -5,6 +5,7 @@
 Prints, per run, the wall time of the whole mesh_epsa call (surface, pytetwild, tagging, snapping),
 the tet count (it varies between identical pytetwild calls) and the acceptance figures.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -20,8 +21,8 @@ def main() -> None:
     args = parser.parse_args()
 
     from geometry.design import EPSADesign
-    from geometry.tetwild import mesh_epsa
     from geometry.tagging import distance_to_surface
+    from geometry.tetwild import mesh_epsa
 
     design = EPSADesign()
     print(f"cpus={os.cpu_count()} load={os.getloadavg()[0]:.2f} design={design.short_hash()}")
@@ -35,13 +36,15 @@ def main() -> None:
         fib_err = max((x / design.helix_length - 1 for x in mesh.fiber_lengths()), key=abs)
         fib_dist = max(distance_to_surface(f, mesh.points, mesh.facets["outer"]).max() for f in mesh.fibers)
         q = mesh.quality()
-        print(f"run {run + 1}: {seconds:.1f} s (pytetwild {mesh.meta['mesh_seconds']:.1f} s), "
-              f"edge {mesh.edge_length:.3f} mm, {mesh.n_nodes} nodes, {mesh.n_tets} tets, "
-              f"volume err {100 * vol_err:+.3f} %, chamber-wall area err {100 * wall_err:+.3f} %, "
-              f"fiber length err {100 * fib_err:+.3f} %, fiber-surface dist {fib_dist:.4f} mm, "
-              f"min quality {q['min_quality']:.3f}, min dihedral {q['min_dihedral_deg']:.1f} deg, "
-              f"tags {sorted((t, len(f)) for t, f in mesh.facets.items())}, "
-              f"load {os.getloadavg()[0]:.2f}")
+        print(
+            f"run {run + 1}: {seconds:.1f} s (pytetwild {mesh.meta['mesh_seconds']:.1f} s), "
+            f"edge {mesh.edge_length:.3f} mm, {mesh.n_nodes} nodes, {mesh.n_tets} tets, "
+            f"volume err {100 * vol_err:+.3f} %, chamber-wall area err {100 * wall_err:+.3f} %, "
+            f"fiber length err {100 * fib_err:+.3f} %, fiber-surface dist {fib_dist:.4f} mm, "
+            f"min quality {q['min_quality']:.3f}, min dihedral {q['min_dihedral_deg']:.1f} deg, "
+            f"tags {sorted((t, len(f)) for t, f in mesh.facets.items())}, "
+            f"load {os.getloadavg()[0]:.2f}"
+        )
 
 
 if __name__ == "__main__":

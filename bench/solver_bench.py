@@ -15,6 +15,7 @@ FElupe does the same radially on r = A and r = B (see bench/felupe_case.py).
 
 FElupe is the optional `bench` extra (pip install -e ".[bench]").
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,15 +30,16 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 A, B, LENGTH, MU, K_OVER_MU = 3.0, 9.0, 50.0, 0.03, 1000.0
-PRESSURES = tuple(np.linspace(0.004, 0.02, 5))          # MPa
+PRESSURES = tuple(np.linspace(0.004, 0.02, 5))  # MPa
 MESHES = {"~20k DOF": (5, 8, 16), "finer": (7, 11, 22)}  # radial, around, along cells
 
 
 def linear_mesh(cells):
     from fem.structured import tube_sector
 
-    m = tube_sector(A, B, height=LENGTH, n_radial=cells[0], n_angle=cells[1], n_height=cells[2],
-                    quadratic=False)
+    m = tube_sector(
+        A, B, height=LENGTH, n_radial=cells[0], n_angle=cells[1], n_height=cells[2], quadratic=False
+    )
     return m.p.T.copy(), m.t.T.copy()
 
 
@@ -51,21 +53,39 @@ def tube_model(points, tets):
     """The softcrawl model of the benchmark tube on the given linear mesh (midside nodes curved)."""
     import skfem
 
-    from fem.structured import _curve, _tag
     from fem.mechanics import Dirichlet, SolidModel
     from fem.neohooke import NeoHookean
+    from fem.structured import _curve, _tag
 
     mesh = skfem.MeshTet(points.T, tets.T)
     tol = 1e-6
     r = lambda x: np.hypot(x[0], x[1])  # noqa: E731
-    mesh = _curve(_tag(mesh, {
-        "inner": lambda x: np.abs(r(x) - A) < tol * A, "sym_x": lambda x: np.abs(x[0]) < tol,
-        "sym_y": lambda x: np.abs(x[1]) < tol, "bottom": lambda x: np.abs(x[2]) < tol,
-        "top": lambda x: np.abs(x[2] - LENGTH) < tol * LENGTH}), "cylinder")
-    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
-           Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
-    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, K_OVER_MU), dirichlet=bcs,
-                      chamber=("inner",), volume_weights=(1, 1, 0))
+    mesh = _curve(
+        _tag(
+            mesh,
+            {
+                "inner": lambda x: np.abs(r(x) - A) < tol * A,
+                "sym_x": lambda x: np.abs(x[0]) < tol,
+                "sym_y": lambda x: np.abs(x[1]) < tol,
+                "bottom": lambda x: np.abs(x[2]) < tol,
+                "top": lambda x: np.abs(x[2] - LENGTH) < tol * LENGTH,
+            },
+        ),
+        "cylinder",
+    )
+    bcs = [
+        Dirichlet.symmetry("sym_x", 0),
+        Dirichlet.symmetry("sym_y", 1),
+        Dirichlet.symmetry("bottom", 2),
+        Dirichlet.symmetry("top", 2),
+    ]
+    return SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(MU, K_OVER_MU),
+        dirichlet=bcs,
+        chamber=("inner",),
+        volume_weights=(1, 1, 0),
+    )
 
 
 def run_softcrawl(points, tets, queue):
@@ -77,24 +97,41 @@ def run_softcrawl(points, tets, queue):
     setup = time.perf_counter() - t0
     res = load_path(model, [(p, 0.0) for p in PRESSURES])
     s = res.stats
-    queue.put({"code": "softcrawl P2-P1", "dofs": model.n_dofs, "iterations": s.iterations,
-               "wall_s": s.wall_s, "assembly_s": s.assembly_s, "solve_s": s.solve_s, "setup_s": setup,
-               "inner_radius_mm": mean_radius(model, res.steps[-1].x, "inner") if res.steps else np.nan,
-               "converged": res.converged,
-               "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024})
+    queue.put(
+        {
+            "code": "softcrawl P2-P1",
+            "dofs": model.n_dofs,
+            "iterations": s.iterations,
+            "wall_s": s.wall_s,
+            "assembly_s": s.assembly_s,
+            "solve_s": s.solve_s,
+            "setup_s": setup,
+            "inner_radius_mm": mean_radius(model, res.steps[-1].x, "inner") if res.steps else np.nan,
+            "converged": res.converged,
+            "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        }
+    )
 
 
 def run_felupe(points, tets, queue):
     from felupe_case import solve_tube_felupe
 
-    out = solve_tube_felupe(points, tets, inner=A, outer=B, length=LENGTH, mu=MU,
-                            k_over_mu=K_OVER_MU, pressures=PRESSURES)
-    out = {"code": "FElupe", "dofs": out["dofs"], "iterations": out["newton_iterations"],
-           "wall_s": out["wall_s"], "assembly_s": out.get("assembly_s", np.nan),
-           "solve_s": out.get("solve_s", np.nan), "setup_s": np.nan,
-           "inner_radius_mm": out["inner_radius_mm"], "converged": out["converged"],
-           "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-           "notes": out.get("notes", "")}
+    out = solve_tube_felupe(
+        points, tets, inner=A, outer=B, length=LENGTH, mu=MU, k_over_mu=K_OVER_MU, pressures=PRESSURES
+    )
+    out = {
+        "code": "FElupe",
+        "dofs": out["dofs"],
+        "iterations": out["newton_iterations"],
+        "wall_s": out["wall_s"],
+        "assembly_s": out.get("assembly_s", np.nan),
+        "solve_s": out.get("solve_s", np.nan),
+        "setup_s": np.nan,
+        "inner_radius_mm": out["inner_radius_mm"],
+        "converged": out["converged"],
+        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "notes": out.get("notes", ""),
+    }
     queue.put(out)
 
 
@@ -105,7 +142,7 @@ def in_child(target, points, tets):
     proc.start()
     try:
         result = queue.get(timeout=3600)
-    except Exception as exc:  # the child died: report, do not crash the benchmark
+    except Exception as exc:  # noqa: BLE001 - the child died: report, do not crash the benchmark
         result = {"code": target.__name__, "error": repr(exc)}
     proc.join()
     return result
@@ -119,8 +156,10 @@ def main(argv=None):
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     exact = analytic_inner_radius()
     print(f"analytic inner radius at {PRESSURES[-1] * 1e3:.0f} kPa: {exact:.6f} mm")
-    header = (f"{'mesh':<10}{'code':<17}{'DOFs':>8}{'iters':>6}{'s/iter':>8}{'asm %':>7}"
-              f"{'solve %':>8}{'wall s':>8}{'RSS MB':>8}{'err a %':>9}")
+    header = (
+        f"{'mesh':<10}{'code':<17}{'DOFs':>8}{'iters':>6}{'s/iter':>8}{'asm %':>7}"
+        f"{'solve %':>8}{'wall s':>8}{'RSS MB':>8}{'err a %':>9}"
+    )
     rows = []
     for name, cells in MESHES.items():
         if args.quick and name != "~20k DOF":
@@ -138,17 +177,21 @@ def main(argv=None):
             continue
         it = max(r["iterations"], 1)
         err = (r["inner_radius_mm"] - exact) / (exact - A) * 100
-        print(f"{r['mesh']:<10}{r['code']:<17}{r['dofs']:>8}{r['iterations']:>6}{r['wall_s'] / it:>8.2f}"
-              f"{100 * r['assembly_s'] / r['wall_s']:>7.0f}{100 * r['solve_s'] / r['wall_s']:>8.0f}"
-              f"{r['wall_s']:>8.1f}{r['peak_rss_mb']:>8.0f}{err:>9.3f}")
+        print(
+            f"{r['mesh']:<10}{r['code']:<17}{r['dofs']:>8}{r['iterations']:>6}{r['wall_s'] / it:>8.2f}"
+            f"{100 * r['assembly_s'] / r['wall_s']:>7.0f}{100 * r['solve_s'] / r['wall_s']:>8.0f}"
+            f"{r['wall_s']:>8.1f}{r['peak_rss_mb']:>8.0f}{err:>9.3f}"
+        )
     for name in MESHES:
         ours = [r for r in rows if r.get("mesh") == name and r.get("code", "").startswith("softcrawl")]
         peer = [r for r in rows if r.get("mesh") == name and r.get("code") == "FElupe" and "error" not in r]
         if ours and peer and "error" not in ours[0]:
             o, p = ours[0], peer[0]
             ratio = (p["wall_s"] / max(p["iterations"], 1)) / (o["wall_s"] / max(o["iterations"], 1))
-            print(f"{name}: FElupe / softcrawl time per Newton iteration = {ratio:.2f}x; "
-                  f"total wall = {p['wall_s'] / o['wall_s']:.2f}x")
+            print(
+                f"{name}: FElupe / softcrawl time per Newton iteration = {ratio:.2f}x; "
+                f"total wall = {p['wall_s'] / o['wall_s']:.2f}x"
+            )
     print("err a %: error of the inner-radius displacement a - A against the analytic one")
 
 

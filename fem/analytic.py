@@ -9,6 +9,7 @@ Thick tube, plane strain, radii A < B, inner stretch la = a/A, lb^2 = (la^2 A^2 
 Thick sphere, radii A < B, lb^3 = 1 + (la^3 - 1)(A/B)^3, F(l) = -1/l - 1/(4 l^4):
     P = 2 mu [ F(la) - F(lb) ]                        (has a maximum: the limit point)
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -16,16 +17,16 @@ from scipy.optimize import brentq, minimize_scalar
 
 
 def uniaxial_nominal_stress(mu, stretch):
-    return mu * (stretch - stretch ** -2)
+    return mu * (stretch - stretch**-2)
 
 
 def tube_outer_stretch(la, A, B):
-    return np.sqrt((la ** 2 * A ** 2 + B ** 2 - A ** 2) / B ** 2)
+    return np.sqrt((la**2 * A**2 + B**2 - A**2) / B**2)
 
 
 def tube_pressure(mu, la, A, B, hoop_sheet=0.0):
     lb = tube_outer_stretch(la, A, B)
-    return mu * (np.log(la / lb) + 0.5 * (lb ** -2 - la ** -2)) + hoop_sheet * (lb - 1) / (lb * B)
+    return mu * (np.log(la / lb) + 0.5 * (lb**-2 - la**-2)) + hoop_sheet * (lb - 1) / (lb * B)
 
 
 def tube_inner_stretch(mu, pressure, A, B, hoop_sheet=0.0):
@@ -41,20 +42,24 @@ def tube_inner_stretch(mu, pressure, A, B, hoop_sheet=0.0):
 
 
 def sphere_outer_stretch(la, A, B):
-    return np.cbrt(1 + (la ** 3 - 1) * (A / B) ** 3)
+    return np.cbrt(1 + (la**3 - 1) * (A / B) ** 3)
 
 
 def sphere_pressure(mu, la, A, B):
     def F(l):
-        return -1 / l - 1 / (4 * l ** 4)
+        return -1 / l - 1 / (4 * l**4)
 
     return 2 * mu * (F(la) - F(sphere_outer_stretch(la, A, B)))
 
 
 def sphere_limit(mu, A, B):
     """(inner stretch, pressure) at the pressure maximum."""
-    res = minimize_scalar(lambda la: -sphere_pressure(mu, la, A, B), bounds=(1.0, 5.0),
-                          method="bounded", options={"xatol": 1e-12})
+    res = minimize_scalar(
+        lambda la: -sphere_pressure(mu, la, A, B),
+        bounds=(1.0, 5.0),
+        method="bounded",
+        options={"xatol": 1e-12},
+    )
     return float(res.x), float(-res.fun)
 
 

@@ -4,6 +4,7 @@
 *not* an exception: path-following returns a result whose `converged` flag is False and whose
 `message` names the last converged load.
 """
+
 from __future__ import annotations
 
 from softcrawl.errors import InputError

@@ -29,6 +29,7 @@ fibers do not converge under refinement (Table 1 ePSA at 100 kPa: extension 56.8
 surface, which converges; the lines remain for the paper's embedded-element model and for
 strand-level fiber forces.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -44,13 +45,13 @@ from fem.errors import SolverInputError
 class FiberSet:
     """Fiber polylines embedded in a P2 basis (all arrays concern fiber points or segments)."""
 
-    points: np.ndarray = field(repr=False)      # (n, 3) reference positions
-    segments: np.ndarray = field(repr=False)    # (s, 2) point indices
+    points: np.ndarray = field(repr=False)  # (n, 3) reference positions
+    segments: np.ndarray = field(repr=False)  # (s, 2) point indices
     fiber_of_segment: np.ndarray = field(repr=False)  # (s,) polyline index
     host_nodes: np.ndarray = field(repr=False)  # (n, 10) scalar P2 node numbers
-    weights: np.ndarray = field(repr=False)     # (n, 10) shape-function values
-    youngs: float                                # MPa
-    area: float                                  # mm^2
+    weights: np.ndarray = field(repr=False)  # (n, 10) shape-function values
+    youngs: float  # MPa
+    area: float  # mm^2
     tension_only: bool = False
 
     @property
@@ -63,8 +64,15 @@ class FiberSet:
         return self.segments.shape[0]
 
 
-def embed(basis: skfem.CellBasis, polylines, *, youngs: float, diameter: float,
-          tension_only: bool = False, max_outside: float = 0.05) -> FiberSet:
+def embed(
+    basis: skfem.CellBasis,
+    polylines,
+    *,
+    youngs: float,
+    diameter: float,
+    tension_only: bool = False,
+    max_outside: float = 0.05,
+) -> FiberSet:
     """Locate every polyline point in `basis` (scalar ElementTetP2) and build the fiber set."""
     if not np.isfinite(youngs) or youngs <= 0:
         raise SolverInputError("fiber_youngs", f"must be positive, got {youngs} MPa")
@@ -81,10 +89,17 @@ def embed(basis: skfem.CellBasis, polylines, *, youngs: float, diameter: float,
         owner.append(np.full(len(p) - 1, i))
         start += len(p)
     hosts, xi = _locate(basis, points, max_outside)
-    phi = _shape_values(basis.elem, xi)                       # (10, n)
-    return FiberSet(points, np.vstack(segs), np.concatenate(owner),
-                    basis.element_dofs[:, hosts].T.copy(), phi.T.copy(),
-                    float(youngs), float(np.pi * diameter ** 2 / 4), bool(tension_only))
+    phi = _shape_values(basis.elem, xi)  # (10, n)
+    return FiberSet(
+        points,
+        np.vstack(segs),
+        np.concatenate(owner),
+        basis.element_dofs[:, hosts].T.copy(),
+        phi.T.copy(),
+        float(youngs),
+        float(np.pi * diameter**2 / 4),
+        bool(tension_only),
+    )
 
 
 def _shape_values(elem, xi):
@@ -96,26 +111,33 @@ def _shape_gradients(elem, xi):
 
 
 def _locate(basis, points, max_outside):
-    verts = basis.mesh.p[:, basis.mesh.t]                      # (3, 4, E) straight tets
+    verts = basis.mesh.p[:, basis.mesh.t]  # (3, 4, E) straight tets
     tree = cKDTree(verts.mean(axis=1).T)
     _, cand = tree.query(points, k=min(16, verts.shape[2]))
     hosts, xi, excess = _refine(basis, points, np.atleast_2d(cand))
     lost = np.flatnonzero(excess > 1e-6)
-    if lost.size:   # elongated cells: the nearest centroids can miss the host; search them all
+    if lost.size:  # elongated cells: the nearest centroids can miss the host; search them all
         inside = np.array([_straight_containing(verts, p) for p in points[lost]])
         h2, xi2, ex2 = _refine(basis, points[lost], inside)
         better = ex2 < excess[lost]
-        hosts[lost[better]], xi[:, lost[better]], excess[lost[better]] = h2[better], xi2[:, better], ex2[better]
+        hosts[lost[better]], xi[:, lost[better]], excess[lost[better]] = (
+            h2[better],
+            xi2[:, better],
+            ex2[better],
+        )
     if excess.max() > max_outside:
         k = int(excess.argmax())
-        raise SolverInputError("fibers", f"fiber point {points[k].round(4).tolist()} lies outside the "
-                               f"solid (barycentric excess {excess[k]:.3g} > {max_outside})")
+        raise SolverInputError(
+            "fibers",
+            f"fiber point {points[k].round(4).tolist()} lies outside the "
+            f"solid (barycentric excess {excess[k]:.3g} > {max_outside})",
+        )
     return hosts, xi
 
 
 def _straight_containing(verts, p, n=4):
     """The n tets of all whose straight barycentric coordinates at p are the least negative."""
-    D = np.moveaxis(verts[:, 1:, :] - verts[:, :1, :], -1, 0)    # (E, 3, 3): columns v_j - v0
+    D = np.moveaxis(verts[:, 1:, :] - verts[:, :1, :], -1, 0)  # (E, 3, 3): columns v_j - v0
     lam = np.linalg.solve(D, (p[:, None] - verts[:, 0, :]).T[..., None])[..., 0]
     worst = np.minimum(1 - lam.sum(axis=1), lam.min(axis=1))
     return np.argsort(-worst)[:n]
@@ -126,23 +148,23 @@ def _refine(basis, points, cand):
     point on its quadratic map; returns hosts (n,), xi (3, n) and the barycentric excess (n,)."""
     verts = basis.mesh.p[:, basis.mesh.t]
     # barycentric coordinates in each candidate's straight tetrahedron
-    v0 = verts[:, 0, :][:, cand]                               # (3, n, k)
-    D = verts[:, 1:, :][:, :, cand] - v0[:, None]              # (3, 3, n, k): columns v_j - v0
-    Dm = np.moveaxis(D, (0, 1), (-2, -1))                      # (n, k, 3, 3)
-    rhs = np.moveaxis(points.T[:, :, None] - v0, 0, -1)        # (n, k, 3)
-    lam123 = np.linalg.solve(Dm, rhs[..., None])[..., 0]       # (n, k, 3)
+    v0 = verts[:, 0, :][:, cand]  # (3, n, k)
+    D = verts[:, 1:, :][:, :, cand] - v0[:, None]  # (3, 3, n, k): columns v_j - v0
+    Dm = np.moveaxis(D, (0, 1), (-2, -1))  # (n, k, 3, 3)
+    rhs = np.moveaxis(points.T[:, :, None] - v0, 0, -1)  # (n, k, 3)
+    lam123 = np.linalg.solve(Dm, rhs[..., None])[..., 0]  # (n, k, 3)
     lam = np.concatenate([1 - lam123.sum(-1, keepdims=True), lam123], axis=-1)
     n_try = min(4, cand.shape[1])
-    order = np.argsort(-lam.min(axis=-1), axis=1)[:, :n_try]     # most-inside straight tets first
+    order = np.argsort(-lam.min(axis=-1), axis=1)[:, :n_try]  # most-inside straight tets first
     rows = np.arange(points.shape[0])[:, None]
-    hosts = cand[rows, order].reshape(-1)                        # (n * n_try,)
-    xi = lam123[rows, order].reshape(-1, 3).T.copy()             # (3, n * n_try) initial guesses
+    hosts = cand[rows, order].reshape(-1)  # (n * n_try,)
+    xi = lam123[rows, order].reshape(-1, 3).T.copy()  # (3, n * n_try) initial guesses
     target = np.repeat(points, n_try, axis=0).T
     # Newton on each candidate's quadratic map x(xi) = sum_a X_a N_a(xi)
-    X = basis.doflocs[:, basis.element_dofs[:, hosts]]         # (3, 10, m)
+    X = basis.doflocs[:, basis.element_dofs[:, hosts]]  # (3, 10, m)
     for _ in range(10):
-        N = _shape_values(basis.elem, xi)                      # (10, m)
-        dN = _shape_gradients(basis.elem, xi)                  # (10, 3, m)
+        N = _shape_values(basis.elem, xi)  # (10, m)
+        dN = _shape_gradients(basis.elem, xi)  # (10, 3, m)
         r = target - np.einsum("ian,an->in", X, N)
         Jm = np.einsum("ian,ajn->nij", X, dN)
         step = np.linalg.solve(Jm, r.T[..., None])[..., 0].T
@@ -181,17 +203,17 @@ def element_arrays(fibers: FiberSet, u_nodes: np.ndarray, with_tangent=True):
     N, n, l, L0 = segment_forces(fibers, xp)
     W = np.stack([fibers.weights[fibers.segments[:, 0]], fibers.weights[fibers.segments[:, 1]]])  # (2, s, 10)
     sign = np.array([-1.0, 1.0])
-    f_end = sign[:, None, None] * (N[:, None] * n)[None]                      # (2, s, 3)
+    f_end = sign[:, None, None] * (N[:, None] * n)[None]  # (2, s, 3)
     R = np.einsum("esa,esi->eais", W, f_end).reshape(60, -1)
     if not with_tangent:
         return R, None
     EA = fibers.youngs * fibers.area
     k_axial = np.where(N > 0, EA, 0.0) if fibers.tension_only else np.full_like(N, EA)
     nn = np.einsum("si,sj->sij", n, n)
-    k3 = (k_axial / L0)[:, None, None] * nn + (N / l)[:, None, None] * (np.eye(3) - nn)   # (s, 3, 3)
-    SW = (sign[:, None, None] * W).transpose(1, 0, 2).reshape(-1, 20)        # (s, end a)
+    k3 = (k_axial / L0)[:, None, None] * nn + (N / l)[:, None, None] * (np.eye(3) - nn)  # (s, 3, 3)
+    SW = (sign[:, None, None] * W).transpose(1, 0, 2).reshape(-1, 20)  # (s, end a)
     K = SW[:, :, None, None, None] * SW[:, None, None, :, None] * k3[:, None, :, None, :]
-    K = K.reshape(-1, 60, 60)                                                 # s, (end a i), (end b j)
+    K = K.reshape(-1, 60, 60)  # s, (end a i), (end b j)
     return R, K
 
 

@@ -11,6 +11,7 @@ symbolic analysis (ordering, ~40 % of a factorisation) once per pattern and only
 factorisation per Newton step. Solves take one or several right-hand sides (volume control needs
 two per step).
 """
+
 from __future__ import annotations
 
 import functools
@@ -27,7 +28,7 @@ SOLVERS = ("pardiso", "superlu")
 def pardiso_available() -> bool:
     try:
         import pypardiso  # noqa: F401
-    except Exception:  # pragma: no cover - depends on the machine
+    except Exception:  # noqa: BLE001 - a broken MKL install fails in many ways; fall back to SuperLU
         return False
     return True
 
@@ -53,12 +54,12 @@ def _pardiso_handle(mtype: int):
     import pypardiso
 
     ps = pypardiso.PyPardisoSolver(mtype=mtype)
-    ps.set_iparm(1, 1)                         # user-set iparm
-    ps.set_iparm(2, 2)                         # METIS nested-dissection ordering
-    if mtype == -2:                            # symmetric indefinite (mixed u-p saddle point)
-        ps.set_iparm(10, 8)                    # pivot perturbation 1e-8
-        ps.set_iparm(11, 1)                    # scaling and weighted matching: advised for
-        ps.set_iparm(13, 1)                    # saddle-point systems
+    ps.set_iparm(1, 1)  # user-set iparm
+    ps.set_iparm(2, 2)  # METIS nested-dissection ordering
+    if mtype == -2:  # symmetric indefinite (mixed u-p saddle point)
+        ps.set_iparm(10, 8)  # pivot perturbation 1e-8
+        ps.set_iparm(11, 1)  # scaling and weighted matching: advised for
+        ps.set_iparm(13, 1)  # saddle-point systems
     return ps
 
 
@@ -80,8 +81,12 @@ class LinearSolver:
         pattern = getattr(A, "pattern", None)
         A = A if sp.isspmatrix_csr(A) else sp.csr_matrix(A)
         if self.name == "superlu":
-            self._lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A",
-                                 options=dict(SymmetricMode=True), diag_pivot_thresh=0.01)
+            self._lu = spla.splu(
+                A.tocsc(),
+                permc_spec="MMD_AT_PLUS_A",
+                options=dict(SymmetricMode=True),
+                diag_pivot_thresh=0.01,
+            )
             return
         symmetric = pattern is not None and pattern.asymmetry(A) < SYMMETRY_TOL
         mtype = -2 if symmetric else 11
@@ -93,11 +98,11 @@ class LinearSolver:
         dummy = np.zeros(M.shape[0])
         if _OWNER.get(mtype) is not self or self._analysed_pattern != key:
             ps.free_memory(everything=True)
-            ps.set_phase(11)                    # symbolic analysis, once per pattern
+            ps.set_phase(11)  # symbolic analysis, once per pattern
             ps._call_pardiso(M, dummy)
             self._analysed_pattern = key
             _OWNER[mtype] = self
-        ps.set_phase(22)                        # numeric factorisation
+        ps.set_phase(22)  # numeric factorisation
         ps._call_pardiso(M, dummy)
         self._A, self._mtype = M, mtype
         self.symmetric = symmetric
@@ -110,4 +115,4 @@ class LinearSolver:
         return ps._call_pardiso(self._A, np.asfortranarray(b, dtype=float))
 
 
-_OWNER: dict = {}   # matrix type -> the LinearSolver whose analysis the handle holds
+_OWNER: dict = {}  # matrix type -> the LinearSolver whose analysis the handle holds

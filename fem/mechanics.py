@@ -43,27 +43,30 @@ Why P2-P1 (measured: plane-strain tube A = 1, B = 20 mm, K/mu = 1000, geometric 
     p2p1         6 x 4                    1123   56                  5.5e-4 (0.5 mu), 2.8e-3 (2 mu)
     p2p1         12 x 8                   4059   50                  2.3e-5 (0.5 mu), 1.4e-3 (2 mu)
     p2p1         24 x 16                  15403  37                  4.9e-7 (0.5 mu), 1.6e-3 (2 mu)
-    p2           6 x 4                    1053   317, stalls at 61 kPa ~ 2 mu (and fails at 0.5 mu alone, 182 it.)
+    p2           6 x 4                    1053   317, stalls at 61 kPa ~ 2 mu
+                                                 (and fails at 0.5 mu alone, 182 it.)
     p2           12 x 8                   3825   324, stalls at 62 kPa
 
 The P2-P1 error at 0.5 mu converges at observed orders 4.6 and 5.6 (nodal superconvergence); at
 2 mu it levels off at ~1.5e-3, which is the K/mu = 1000 compressibility against the incompressible
 analytic solution: at K/mu = 1e5 the same meshes give 4.3e-3 and 1.7e-4 (order 4.7).
 """
+
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Mapping, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 import skfem
 
+from fem import sheets
 from fem.errors import SolverInputError
-from fem.neohooke import NeoHookean, cofactor3, det3
 from fem.fibers import element_arrays as fiber_arrays
 from fem.fibers import embed as embed_fibers
 from fem.fibers import segment_dofs as fiber_segment_dofs
-from fem import sheets
+from fem.neohooke import NeoHookean, cofactor3, det3
 from fem.parallel import for_chunks
 from fem.pattern import Mirrored, Pattern
 
@@ -112,27 +115,27 @@ class Dirichlet:
     values: tuple[float, ...] = (0.0, 0.0, 0.0)
 
     @classmethod
-    def fixed(cls, tag: str) -> "Dirichlet":
+    def fixed(cls, tag: str) -> Dirichlet:
         return cls(tag, (0, 1, 2), (0.0, 0.0, 0.0))
 
     @classmethod
-    def symmetry(cls, tag: str, axis: int) -> "Dirichlet":
+    def symmetry(cls, tag: str, axis: int) -> Dirichlet:
         """Symmetry plane normal to coordinate `axis`: zero normal displacement."""
         return cls(tag, (axis,), (0.0,))
 
     @classmethod
-    def prescribed(cls, tag: str, component: int, value: float) -> "Dirichlet":
+    def prescribed(cls, tag: str, component: int, value: float) -> Dirichlet:
         return cls(tag, (component,), (float(value),))
 
 
 class _Stress(NamedTuple):
-    F: np.ndarray       # (3, 3, E, Q)
-    J: np.ndarray       # (E, Q)
-    H: np.ndarray       # F^-T, (3, 3, E, Q)
-    p: np.ndarray       # pressure, (E, Q)
-    c: np.ndarray       # mu J^-2/3, (E, Q)
-    I1: np.ndarray      # F:F, (E, Q)
-    P: np.ndarray       # first Piola stress, (3, 3, E, Q)
+    F: np.ndarray  # (3, 3, E, Q)
+    J: np.ndarray  # (E, Q)
+    H: np.ndarray  # F^-T, (3, 3, E, Q)
+    p: np.ndarray  # pressure, (E, Q)
+    c: np.ndarray  # mu J^-2/3, (E, Q)
+    I1: np.ndarray  # F:F, (E, Q)
+    P: np.ndarray  # first Piola stress, (3, 3, E, Q)
 
 
 class InvertedElement(ArithmeticError):
@@ -155,9 +158,23 @@ class SolidModel:
         prescribed displacements.
     """
 
-    def __init__(self, mesh, materials, *, dirichlet=(), chamber=None, formulation="p2p1",
-                 intorder=2, volume_weights=(1.0, 1.0, 1.0), fibers=None, fiber_youngs=None,
-                 fiber_diameter=None, fiber_tension_only=False, dead_loads=None, fiber_sheets=()):
+    def __init__(
+        self,
+        mesh,
+        materials,
+        *,
+        dirichlet=(),
+        chamber=None,
+        formulation="p2p1",
+        intorder=2,
+        volume_weights=(1.0, 1.0, 1.0),
+        fibers=None,
+        fiber_youngs=None,
+        fiber_diameter=None,
+        fiber_tension_only=False,
+        dead_loads=None,
+        fiber_sheets=(),
+    ):
         if formulation not in FORMULATIONS:
             raise SolverInputError("formulation", f"{formulation!r} is not one of {FORMULATIONS}")
         self.mesh = mesh
@@ -168,16 +185,16 @@ class SolidModel:
         self.basis = skfem.Basis(mesh, skfem.ElementTetP2(), intorder=intorder)
         self.n_nodes = self.basis.N
         self.n_u = 3 * self.n_nodes
-        self.nodes = self.basis.doflocs                         # (3, n_nodes) reference positions
-        self.dN = np.stack([phi[0].grad for phi in self.basis.basis])   # (10, 3, E, Q)
-        self.dx = self.basis.dx                                  # (E, Q)
-        self.node_dofs = self.basis.element_dofs                 # (10, E)
+        self.nodes = self.basis.doflocs  # (3, n_nodes) reference positions
+        self.dN = np.stack([phi[0].grad for phi in self.basis.basis])  # (10, 3, E, Q)
+        self.dx = self.basis.dx  # (E, Q)
+        self.node_dofs = self.basis.element_dofs  # (10, E)
         n_elem, n_qp = self.dx.shape
         # Element-first layouts of the shape-function gradients g[e, q, a, J] = dN_a/dX_J for the
         # batched products of the assembly: g_aqJ[e, a, 3 q + J] and g_qJa[e, q, J, a].
         self._g_aqJ = np.ascontiguousarray(self.dN.transpose(2, 0, 3, 1)).reshape(n_elem, 10, 3 * n_qp)
         self._g_qJa = np.ascontiguousarray(self.dN.transpose(2, 3, 1, 0))
-        self._elem_nodes = np.ascontiguousarray(self.node_dofs.T)              # (E, 10)
+        self._elem_nodes = np.ascontiguousarray(self.node_dofs.T)  # (E, 10)
         # g_a . g_b (a <= b, `np.triu_indices(10)`) at each quadrature point: (E, Q, 55)
         ta, tb = np.triu_indices(10)
         self._gg = np.ascontiguousarray(np.einsum("aJeq,aJeq->eqa", self.dN[ta], self.dN[tb]))
@@ -188,26 +205,27 @@ class SolidModel:
 
         if self.mixed:
             self.pbasis = skfem.Basis(mesh, skfem.ElementTetP1(), quadrature=self.basis.quadrature)
-            self.Np = np.stack([np.asarray(phi[0]) for phi in self.pbasis.basis])   # (4, E, Q)
-            self._Np_qc = np.ascontiguousarray(self.Np.transpose(1, 2, 0))         # (E, Q, 4)
-            self.p_dofs = self.n_u + self.pbasis.element_dofs                # (4, E)
+            self.Np = np.stack([np.asarray(phi[0]) for phi in self.pbasis.basis])  # (4, E, Q)
+            self._Np_qc = np.ascontiguousarray(self.Np.transpose(1, 2, 0))  # (E, Q, 4)
+            self.p_dofs = self.n_u + self.pbasis.element_dofs  # (4, E)
             self.n_p = self.pbasis.N
             # K_pp = -int Np_c Np_d / K dV depends on the mesh and the material only.
             Kpp = -np.einsum("ceq,deq,eq->ecd", self.Np, self.Np, self.dx / self.bulk)
-            self._Kpp_upper = Kpp[(slice(None),) + np.triu_indices(4)]                # (E, 10)
+            self._Kpp_upper = Kpp[(slice(None),) + np.triu_indices(4)]  # (E, 10)
         else:
             self.n_p = 0
         self.n_dofs = self.n_u + self.n_p
-        self.element_dofs = (np.vstack([self.u_dofs, self.p_dofs]) if self.mixed else self.u_dofs)
-        self._elem_dofs = np.ascontiguousarray(self.element_dofs.T)           # (E, n_local)
+        self.element_dofs = np.vstack([self.u_dofs, self.p_dofs]) if self.mixed else self.u_dofs
+        self._elem_dofs = np.ascontiguousarray(self.element_dofs.T)  # (E, n_local)
 
         # Dirichlet conditions -> constrained dofs and their values at factor 1.
         self.dirichlet = tuple(dirichlet)
         fixed, values = [], []
         for bc in self.dirichlet:
             if bc.tag not in boundaries:
-                raise SolverInputError("dirichlet", f"unknown boundary tag {bc.tag!r}; "
-                                       f"known: {sorted(boundaries)}")
+                raise SolverInputError(
+                    "dirichlet", f"unknown boundary tag {bc.tag!r}; known: {sorted(boundaries)}"
+                )
             if len(bc.components) != len(bc.values):
                 raise SolverInputError("dirichlet", f"{bc.tag}: components and values differ in length")
             nodes = self.boundary_nodes(bc.tag)
@@ -232,35 +250,43 @@ class SolidModel:
         # Volume blocks (symmetric element matrices): the upper triangle of K_uu and, for the
         # mixed formulation, K_up (standing for K_pu = K_up^T too) and the upper triangle of K_pp.
         uu = Mirrored(self.u_dofs[_UU_ROWS], self.u_dofs[_UU_COLS])
-        groups = ([uu, Mirrored.block(self.u_dofs, self.p_dofs), Mirrored.upper(self.p_dofs)]
-                  if self.mixed else [uu])
+        groups = (
+            [uu, Mirrored.block(self.u_dofs, self.p_dofs), Mirrored.upper(self.p_dofs)]
+            if self.mixed
+            else [uu]
+        )
         self._n_volume_groups = len(groups)
         if self.chamber:
             for tag in self.chamber:
                 if tag not in boundaries:
-                    raise SolverInputError("chamber", f"unknown boundary tag {tag!r}; "
-                                           f"known: {sorted(boundaries)}")
+                    raise SolverInputError(
+                        "chamber", f"unknown boundary tag {tag!r}; known: {sorted(boundaries)}"
+                    )
             facets = np.concatenate([boundaries[t] for t in self.chamber])
             fb = skfem.FacetBasis(mesh, skfem.ElementTetP2(), facets=facets, intorder=4)
-            self.f_N = np.stack([np.asarray(phi[0]) for phi in fb.basis])     # (10, F, Qf)
-            self.f_dN = np.stack([phi[0].grad for phi in fb.basis])     # (10, 3, F, Qf)
-            self.f_normal = fb.normals                                   # (3, F, Qf) solid outward
+            self.f_N = np.stack([np.asarray(phi[0]) for phi in fb.basis])  # (10, F, Qf)
+            self.f_dN = np.stack([phi[0].grad for phi in fb.basis])  # (10, 3, F, Qf)
+            self.f_normal = fb.normals  # (3, F, Qf) solid outward
             self.f_dx = fb.dx
-            self.f_node_dofs = fb.element_dofs                           # (10, F)
+            self.f_node_dofs = fb.element_dofs  # (10, F)
             n_f = self.f_dx.shape[0]
             self._f_g_aqJ = np.ascontiguousarray(self.f_dN.transpose(2, 0, 3, 1)).reshape(n_f, 10, -1)
-            self._f_g_qaJ = np.ascontiguousarray(self.f_dN.transpose(2, 3, 0, 1))   # (F, Qf, 10, 3)
+            self._f_g_qaJ = np.ascontiguousarray(self.f_dN.transpose(2, 3, 0, 1))  # (F, Qf, 10, 3)
             self._f_nodes = np.ascontiguousarray(self.f_node_dofs.T)
             self._f_Ndx = np.ascontiguousarray((self.f_N * self.f_dx).transpose(1, 0, 2))  # (F, 10, Qf)
-            self.f_u_dofs = (3 * self.f_node_dofs[:, None, :]
-                             + np.arange(3)[None, :, None]).reshape(30, -1)
+            self.f_u_dofs = (3 * self.f_node_dofs[:, None, :] + np.arange(3)[None, :, None]).reshape(30, -1)
             groups.append(self.f_u_dofs)
         self.fibers = None
         if fibers is not None and len(fibers) > 0:
             if fiber_youngs is None or fiber_diameter is None:
                 raise SolverInputError("fibers", "embedded fibers need fiber_youngs and fiber_diameter")
-            self.fibers = embed_fibers(self.basis, fibers, youngs=fiber_youngs, diameter=fiber_diameter,
-                                       tension_only=fiber_tension_only)
+            self.fibers = embed_fibers(
+                self.basis,
+                fibers,
+                youngs=fiber_youngs,
+                diameter=fiber_diameter,
+                tension_only=fiber_tension_only,
+            )
             self.fiber_dofs = fiber_segment_dofs(self.fibers)
             groups.append(self.fiber_dofs)
         self.sheets = sheets.build(mesh, fiber_sheets) if fiber_sheets else None
@@ -268,7 +294,7 @@ class SolidModel:
             self.sheet_dofs = self.sheets.dofs
             groups.append(self.sheet_dofs)
         self.pattern = Pattern(self.free_index, groups)
-        self._memo = None                  # see `_at`
+        self._memo = None  # see `_at`
         self.dead_load = self._dead_load_vector(dead_loads or {})
 
     # ------------------------------------------------------------------ helpers
@@ -278,12 +304,14 @@ class SolidModel:
         boundaries = self.mesh.boundaries or {}
         for tag, force in dead_loads.items():
             if tag not in boundaries:
-                raise SolverInputError("dead_loads", f"unknown boundary tag {tag!r}; known: {sorted(boundaries)}")
+                raise SolverInputError(
+                    "dead_loads", f"unknown boundary tag {tag!r}; known: {sorted(boundaries)}"
+                )
             force = np.asarray(force, dtype=float)
             if force.shape != (3,) or not np.all(np.isfinite(force)):
                 raise SolverInputError("dead_loads", f"{tag}: give a finite total force (Fx, Fy, Fz) in N")
             fb = skfem.FacetBasis(self.mesh, skfem.ElementTetP2(), facets=boundaries[tag], intorder=4)
-            weights = skfem.asm(skfem.LinearForm(lambda v, w: v), fb)      # int N_a dA per node
+            weights = skfem.asm(skfem.LinearForm(lambda v, w: v), fb)  # int N_a dA per node
             out[: self.n_u] += (weights[:, None] * force[None, :] / weights.sum()).reshape(-1)
         return out
 
@@ -317,8 +345,8 @@ class SolidModel:
         """F_iJ = d_iJ + sum_a u_ai dN_a/dX_J, contiguous (3, 3, n, Q), from one (3 x 10) @ (10 x 3Q)
         product per element; g_aqJ is (n, 10, 3Q) and elem_nodes (n, 10)."""
         n, _, m = g_aqJ.shape
-        u = x[: self.n_u].reshape(-1, 3)[elem_nodes]                     # (n, 10, 3)
-        grad_u = np.matmul(u.transpose(0, 2, 1), g_aqJ).reshape(n, 3, m // 3, 3)   # [e, i, q, J]
+        u = x[: self.n_u].reshape(-1, 3)[elem_nodes]  # (n, 10, 3)
+        grad_u = np.matmul(u.transpose(0, 2, 1), g_aqJ).reshape(n, 3, m // 3, 3)  # [e, i, q, J]
         F = np.ascontiguousarray(grad_u.transpose(1, 3, 0, 2))
         F[0, 0] += 1.0
         F[1, 1] += 1.0
@@ -356,7 +384,7 @@ class SolidModel:
         R_u[i a] = int P_iJ g_aJ dV and R_p[c] = int (J - 1 - p/K) Np_c dV."""
         E, Q = self.dx.shape
         Pw = np.ascontiguousarray((stress.P * self.dx).transpose(2, 0, 3, 1)).reshape(E, 3, 3 * Q)
-        Ru = np.matmul(Pw, self._g_aqJ.transpose(0, 2, 1)).reshape(E, 30)   # [e, i, (q, J)] @ [e, (q, J), a]
+        Ru = np.matmul(Pw, self._g_aqJ.transpose(0, 2, 1)).reshape(E, 30)  # [e, i, (q, J)] @ [e, (q, J), a]
         if not self.mixed:
             return Ru
         w = (stress.J - 1.0 - stress.p / self.bulk) * self.dx
@@ -376,8 +404,9 @@ class SolidModel:
         A = stress.F * ((-2.0 / 3.0) * c * dx) + stress.H * (0.5 * w1 * dx)
         A = np.ascontiguousarray(A.transpose(2, 3, 0, 1))
         weights = np.stack([w2 * dx, c * dx, J * dx])
-        for_chunks(lambda s: self._tangent_chunk(s, A[s], H[s], weights[:, s], blocks),
-                   self.dx.shape[0], _CHUNK)
+        for_chunks(
+            lambda s: self._tangent_chunk(s, A[s], H[s], weights[:, s], blocks), self.dx.shape[0], _CHUNK
+        )
 
     def _tangent_chunk(self, s, A, H, weights, blocks):
         r"""Element matrices of the elements `s` (a slice) into blocks[k][s]; A and H are
@@ -402,23 +431,23 @@ class SolidModel:
         G = sum c (g_a . g_b) (precomputed g_a . g_b) is added to the three diagonal blocks,
         which come first.
         """
-        gt = self._g_qJa[s]                                # gt[e, q, J, a] = dN_a/dX_J
+        gt = self._g_qJa[s]  # gt[e, q, J, a] = dN_a/dX_J
         n, Q = H.shape[:2]
         w_sw, w_g, w_p = weights[:, :, :, None]
-        Vh = np.empty((n, 3 * Q, 3, 10))                   # rows [V; h; V]
-        np.matmul(A, gt, out=Vh[:, :Q])                    # V[e, q, i, a] = (A g_a)_i dx
-        np.matmul(H, gt, out=Vh[:, Q:2 * Q])               # h[e, q, i, a]
-        Vh[:, 2 * Q:] = Vh[:, :Q]
+        Vh = np.empty((n, 3 * Q, 3, 10))  # rows [V; h; V]
+        np.matmul(A, gt, out=Vh[:, :Q])  # V[e, q, i, a] = (A g_a)_i dx
+        np.matmul(H, gt, out=Vh[:, Q : 2 * Q])  # h[e, q, i, a]
+        Vh[:, 2 * Q :] = Vh[:, :Q]
         Vh = Vh.reshape(n, 3 * Q, 30)
-        h = Vh[:, Q:2 * Q]                                 # (n, Q, 30)
-        terms = np.empty((n, 1800))                        # [K_fh | M]
-        np.matmul(Vh[:, :2 * Q].transpose(0, 2, 1), Vh[:, Q:], out=_view(terms[:, :900], (n, 30, 30)))
+        h = Vh[:, Q : 2 * Q]  # (n, Q, 30)
+        terms = np.empty((n, 1800))  # [K_fh | M]
+        np.matmul(Vh[:, : 2 * Q].transpose(0, 2, 1), Vh[:, Q:], out=_view(terms[:, :900], (n, 30, 30)))
         np.matmul((h * w_sw).transpose(0, 2, 1), h, out=_view(terms[:, 900:], (n, 30, 30)))
-        picked = np.take(terms, _UU_GATHER, axis=1)        # (n, 465 + 465)
+        picked = np.take(terms, _UU_GATHER, axis=1)  # (n, 465 + 465)
         Kuu = blocks[0][s]
         np.add(picked[:, :465], picked[:, 465:], out=Kuu)
-        G = np.matmul(w_g.transpose(0, 2, 1), self._gg[s])    # (n, 1, 55): c (g_a . g_b), a <= b
-        _view(Kuu[:, :165], (n, 3, 55))[...] += G             # the diagonal blocks' upper triangles
+        G = np.matmul(w_g.transpose(0, 2, 1), self._gg[s])  # (n, 1, 55): c (g_a . g_b), a <= b
+        _view(Kuu[:, :165], (n, 3, 55))[...] += G  # the diagonal blocks' upper triangles
         if self.mixed:
             np.matmul(h.transpose(0, 2, 1), self._Np_qc[s] * w_p, out=_view(blocks[1][s], (n, 30, 4)))
             blocks[2][s] = self._Kpp_upper[s]
@@ -426,7 +455,7 @@ class SolidModel:
     # ----------------------------------------------------------- chamber terms
     def _chamber_kinematics(self, x):
         F = self._deformation_gradient(x, self._f_g_aqJ, self._f_nodes)
-        cofN = -np.einsum("iJfq,Jfq->ifq", cofactor3(F), self.f_normal)   # cavity-outward n da/dA
+        cofN = -np.einsum("iJfq,Jfq->ifq", cofactor3(F), self.f_normal)  # cavity-outward n da/dA
         return F, cofN
 
     def chamber_volume(self, x: np.ndarray) -> float:
@@ -434,7 +463,7 @@ class SolidModel:
         if not self.chamber:
             return 0.0
         _, cofN = self._chamber_kinematics(x)
-        ue = x[: self.n_u].reshape(-1, 3)[self.f_node_dofs]           # (10, F, 3)
+        ue = x[: self.n_u].reshape(-1, 3)[self.f_node_dofs]  # (10, F, 3)
         X = np.einsum("iaf,afq->ifq", self.nodes[:, self.f_node_dofs], self.f_N)
         xq = X + np.einsum("afi,afq->ifq", ue, self.f_N)
         w = self.volume_weights
@@ -452,8 +481,8 @@ class SolidModel:
         # gives E[i, b, k], then one (10 x Qf) @ (Qf x 90) product per facet.
         HN = np.einsum("iJfq,Jfq->ifq", H, self.f_normal)
         D = -J * (HN[:, None, None] * H.transpose(1, 0, 2, 3)[None] - H[:, :, None] * HN[None, None])
-        D = np.ascontiguousarray(D.transpose(3, 4, 0, 1, 2))                   # (F, Qf, 3, 3, 3)
-        E = np.matmul(self._f_g_qaJ[:, :, None], D)                               # (F, Qf, 3, 10, 3)
+        D = np.ascontiguousarray(D.transpose(3, 4, 0, 1, 2))  # (F, Qf, 3, 3, 3)
+        E = np.matmul(self._f_g_qaJ[:, :, None], D)  # (F, Qf, 3, 10, 3)
         n_f, n_q = E.shape[:2]
         dq = np.matmul(self._f_Ndx, E.reshape(n_f, n_q, 90)).reshape(n_f, 30, 30)
         return q, dq

@@ -25,6 +25,7 @@ Displacement-only volumetric part, p = K (J - 1):
 Arrays: F has shape (3, 3, ...) (trailing axes are elements and quadrature points); tangents have
 shape (3, 3, 3, 3, ...). Units: MPa.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -48,10 +49,11 @@ class NeoHookean:
             raise SolverInputError("bulk", f"bulk modulus must be positive, got {self.bulk} MPa")
         if self.bulk < 2.0 / 3.0 * self.mu:
             raise SolverInputError(
-                "bulk", f"K = {self.bulk} MPa < 2/3 mu gives a negative Poisson ratio; use K >= 2/3 mu")
+                "bulk", f"K = {self.bulk} MPa < 2/3 mu gives a negative Poisson ratio; use K >= 2/3 mu"
+            )
 
     @classmethod
-    def nearly_incompressible(cls, mu: float, k_over_mu: float = 1000.0) -> "NeoHookean":
+    def nearly_incompressible(cls, mu: float, k_over_mu: float = 1000.0) -> NeoHookean:
         return cls(mu=mu, bulk=k_over_mu * mu)
 
     @property
@@ -71,14 +73,19 @@ class NeoHookean:
     def tangent(self, F: np.ndarray) -> np.ndarray:
         """A = dP/dF of the full energy."""
         J, H = det3(F), inv_transpose3(F)
-        return (iso_tangent(F, self.mu, J, H) + self.bulk * J * J * _outer(H, H)
-                + pressure_tangent(self.bulk * (J - 1), J, H))
+        return (
+            iso_tangent(F, self.mu, J, H)
+            + self.bulk * J * J * _outer(H, H)
+            + pressure_tangent(self.bulk * (J - 1), J, H)
+        )
 
 
 def det3(F: np.ndarray) -> np.ndarray:
-    return (F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
-            - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])
-            + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]))
+    return (
+        F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
+        - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])
+        + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0])
+    )
 
 
 def cofactor3(F: np.ndarray) -> np.ndarray:

@@ -12,12 +12,13 @@ two when the second core is free; when other jobs keep both cores busy, two thre
 
 Only the assembly runs here: the linear solver (PARDISO) has its own threads.
 """
+
 from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor, wait
 
-_POOL: dict = {}     # pid -> (threads, executor); a forked child makes its own
+_POOL: dict = {}  # pid -> (threads, executor); a forked child makes its own
 
 
 def threads() -> int:

@@ -1,7 +1,8 @@
 r"""Path following: Newton's method under pressure, volume or displacement control.
 
 Load control. The load is the pair (P, f): chamber pressure P (MPa) and the factor f that scales
-the prescribed Dirichlet values and the dead loads. Between two targets the load moves on a straight line in (P, f)
+the prescribed Dirichlet values and the dead loads.
+Between two targets the load moves on a straight line in (P, f)
 in sub-steps; each sub-step starts from the secant predictor (linear extrapolation of the last two
 converged states), a sub-step whose Newton iteration diverges (stalling residual, an inverted
 element, no convergence in `max_iter`) is halved, and an easy one lets the next grow again.
@@ -30,6 +31,7 @@ parabola through the three samples around it), and the path continues for `post_
 volume steps. If volume control cannot advance either, the path ends with `converged=False` and
 a message that names the last converged load. Nothing here raises on divergence.
 """
+
 from __future__ import annotations
 
 import time
@@ -44,19 +46,19 @@ from fem.mechanics import InvertedElement, SolidModel
 
 @dataclass(frozen=True, kw_only=True)
 class NewtonOptions:
-    tol: float = 1e-8                 # relative residual ||R_free|| / ||f_int||
+    tol: float = 1e-8  # relative residual ||R_free|| / ||f_int||
     max_iter: int = 20
-    stall_iter: int = 8               # after this many iterations the residual must keep halving
+    stall_iter: int = 8  # after this many iterations the residual must keep halving
     max_backtracks: int = 6
-    max_cutbacks: int = 4             # halvings of a load sub-step before giving up
-    min_step_fraction: float = 1e-3   # smallest sub-step, as a fraction of a load segment
+    max_cutbacks: int = 4  # halvings of a load sub-step before giving up
+    min_step_fraction: float = 1e-3  # smallest sub-step, as a fraction of a load segment
     post_limit_steps: int = 6
     solver: str | None = None
 
 
 @dataclass(frozen=True)
 class NewtonRecord:
-    residuals: tuple[float, ...]      # relative residual norm at each iteration
+    residuals: tuple[float, ...]  # relative residual norm at each iteration
     converged: bool
 
     @property
@@ -68,14 +70,14 @@ class NewtonRecord:
 class Step:
     """One converged equilibrium state on the path."""
 
-    pressure: float                   # MPa
-    factor: float                     # load factor (Dirichlet values, dead loads)
-    volume: float                     # cavity volume, mm^3
-    x: np.ndarray = field(repr=False) # state vector (u, and p for the mixed formulation)
-    control: str                      # "pressure", "volume" or "displacement"
+    pressure: float  # MPa
+    factor: float  # load factor (Dirichlet values, dead loads)
+    volume: float  # cavity volume, mm^3
+    x: np.ndarray = field(repr=False)  # state vector (u, and p for the mixed formulation)
+    control: str  # "pressure", "volume" or "displacement"
     newton: NewtonRecord = field(repr=False)
     substeps: int = 1
-    past_limit: bool = False          # a volume-controlled state after the limit point
+    past_limit: bool = False  # a volume-controlled state after the limit point
 
 
 @dataclass(frozen=True)
@@ -89,9 +91,9 @@ class SolveStats:
 @dataclass(frozen=True)
 class PathResult:
     steps: tuple[Step, ...]
-    converged: bool                   # every requested target was reached (or passed on volume control)
+    converged: bool  # every requested target was reached (or passed on volume control)
     message: str
-    limit_pressure: float | None      # MPa, None when no limit point was met
+    limit_pressure: float | None  # MPa, None when no limit point was met
     events: tuple[str, ...]
     stats: SolveStats
 
@@ -167,7 +169,7 @@ class _Solver:
         m, free = self.model, self.free
         x = m.apply_dirichlet(x, factor)
         history = []
-        for it in range(self.opt.max_iter + 1):
+        for _it in range(self.opt.max_iter + 1):
             R, K = self._assemble(x, P, factor)
             merit, p_ok = self._merit(R, x, P, factor)
             history.append(merit)
@@ -187,10 +189,9 @@ class _Solver:
         fint = R[: m.n_u] + f * m.dead_load[: m.n_u]
         if m.chamber:
             fint = fint + P * m.pressure_load(x)[: m.n_u]
-        scale = max(np.linalg.norm(fint), abs(P) * self._q0_norm, abs(f) * self._dead_norm,
-                    _force_floor(m))
+        scale = max(np.linalg.norm(fint), abs(P) * self._q0_norm, abs(f) * self._dead_norm, _force_floor(m))
         merit = float(np.linalg.norm(R[self.free_u]) / scale)
-        p_ok = (not m.mixed) or np.linalg.norm(R[m.n_u:]) <= self.opt.tol * self._volume
+        p_ok = (not m.mixed) or np.linalg.norm(R[m.n_u :]) <= self.opt.tol * self._volume
         return merit, p_ok
 
     def _check_progress(self, history):
@@ -258,8 +259,14 @@ def _force_floor(model):
     return float(model.mu.max() * size * size * 1e-14)
 
 
-def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = None,
-              control: str = "pressure", on_step=None) -> PathResult:
+def load_path(
+    model: SolidModel,
+    targets,
+    *,
+    options: NewtonOptions | None = None,
+    control: str = "pressure",
+    on_step=None,
+) -> PathResult:
     """Follow the load through `targets`, a sequence of (pressure MPa, load factor) pairs.
 
     Starts from the undeformed state at (0, 0). See the module docstring for cut-back and limit
@@ -284,11 +291,14 @@ def load_path(model: SolidModel, targets, *, options: NewtonOptions | None = Non
                 return _failed(steps, events, solver, t0, load, str(exc))
             # Pressure control cannot advance: volume control from the last converged state,
             # through the remaining targets (module docstring).
-            events.append(f"pressure control stalled above P = {load[0] * 1e3:.4g} kPa ({exc}); "
-                          "switching to volume control")
+            events.append(
+                f"pressure control stalled above P = {load[0] * 1e3:.4g} kPa ({exc}); "
+                "switching to volume control"
+            )
             return _volume_continuation(solver, history, targets[i:], steps, events, opt, t0)
-        steps.append(Step(target[0], target[1], model.chamber_volume(history.x), history.x, control,
-                          record, n_sub))
+        steps.append(
+            Step(target[0], target[1], model.chamber_volume(history.x), history.x, control, record, n_sub)
+        )
     return PathResult(tuple(steps), True, "all load targets reached", None, tuple(events), solver.stats(t0))
 
 
@@ -352,7 +362,8 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
 
     Volume steps adapt to the Newton effort. When the pressure crosses the next target, a secant
     iteration in V lands on it, and that state is recorded as the target's step (control
-    "volume", `past_limit` False: it is the equilibrium at that target). If the pressure peaks and falls, the peak is the limit point; the path goes on for
+    "volume", `past_limit` False: it is the equilibrium at that target). If the pressure peaks and
+    falls, the peak is the limit point; the path goes on for
     `post_limit_steps` volume steps and ends (targets above the peak are unreachable).
     """
     m = solver.model
@@ -362,7 +373,7 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
     V_prev = m.chamber_volume(history.x_prev) if history.x_prev is not None else V * 0.99
     vh = _History(history.x, (P, f), V)
     vh.x_prev, vh.load_prev, vh.volume_prev = history.x_prev, history.load_prev, V_prev
-    dV = max(0.5 * abs(V - V_prev), 1e-3 * abs(V))     # floor: round-off in P must not look like a peak
+    dV = max(0.5 * abs(V - V_prev), 1e-3 * abs(V))  # floor: round-off in P must not look like a peak
     pending = [t[0] for t in remaining]
     samples = [(V, P)]
     peak, after_peak, cuts = None, 0, 0
@@ -403,7 +414,11 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
             continue
         vh.accept(x_new, (P_new, f), V_new)
         samples.append((V_new, P_new))
-        if peak is None and len(samples) >= 3 and samples[-1][1] < samples[-2][1] - 1e-6 * abs(samples[-2][1]):
+        if (
+            peak is None
+            and len(samples) >= 3
+            and samples[-1][1] < samples[-2][1] - 1e-6 * abs(samples[-2][1])
+        ):
             peak = _parabola_peak(samples[-3:])
             events.append(f"limit point at P ~ {peak * 1e3:.4g} kPa (volume control continues)")
         if peak is not None:
@@ -416,17 +431,30 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
     if peak is not None:
         msg = f"limit point at P ~ {peak * 1e3:.4g} kPa"
         return PathResult(tuple(steps), True, msg, peak, tuple(events), solver.stats(t0))
-    return PathResult(tuple(steps), True, "all load targets reached (the last ones on volume control)",
-                      None, tuple(events), solver.stats(t0))
+    return PathResult(
+        tuple(steps),
+        True,
+        "all load targets reached (the last ones on volume control)",
+        None,
+        tuple(events),
+        solver.stats(t0),
+    )
 
 
 def _end_of_volume_path(solver, vh, steps, events, t0, peak, reason):
     if peak is not None:
         events.append(f"volume control stopped after the limit point ({reason})")
-        return PathResult(tuple(steps), True, f"limit point at P ~ {peak * 1e3:.4g} kPa", peak,
-                          tuple(events), solver.stats(t0))
-    return _failed(steps, events, solver, t0, vh.load, f"volume control could not advance ({reason})",
-                   volume=vh.volume)
+        return PathResult(
+            tuple(steps),
+            True,
+            f"limit point at P ~ {peak * 1e3:.4g} kPa",
+            peak,
+            tuple(events),
+            solver.stats(t0),
+        )
+    return _failed(
+        steps, events, solver, t0, vh.load, f"volume control could not advance ({reason})", volume=vh.volume
+    )
 
 
 def _parabola_peak(samples):
@@ -439,8 +467,9 @@ def _parabola_peak(samples):
     return float(min(max(a * v * v + b * v + c, max(p0, p1, p2)), 1.5 * max(p0, p1, p2)))
 
 
-def volume_path(model: SolidModel, volumes, *, factor: float = 0.0,
-                options: NewtonOptions | None = None) -> PathResult:
+def volume_path(
+    model: SolidModel, volumes, *, factor: float = 0.0, options: NewtonOptions | None = None
+) -> PathResult:
     """Prescribe the cavity volume through `volumes` (mm^3); the pressure is an unknown."""
     opt = options or NewtonOptions()
     if not model.chamber:
@@ -478,8 +507,9 @@ def volume_path(model: SolidModel, volumes, *, factor: float = 0.0,
     if 0 < k < len(ps) - 1:
         limit = _parabola_peak([(steps[j].volume, steps[j].pressure) for j in (k - 1, k, k + 1)])
         events.append(f"limit point at P ~ {limit * 1e3:.4g} kPa")
-    return PathResult(tuple(steps), True, "all volume targets reached", limit, tuple(events),
-                      solver.stats(t0))
+    return PathResult(
+        tuple(steps), True, "all volume targets reached", limit, tuple(events), solver.stats(t0)
+    )
 
 
 def _failed(steps, events, solver, t0, load, reason, volume=None):

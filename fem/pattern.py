@@ -26,6 +26,7 @@ copy of the values, as expensive as the scatter itself).
 The pattern also knows its transpose permutation (a symmetry check costs one gather) and its upper
 triangle (the input of symmetric solvers).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -38,17 +39,17 @@ import scipy.sparse as sp
 class Mirrored:
     """Entries e of item j assembled at (rows[e, j], cols[e, j]) and at the transposed position."""
 
-    rows: np.ndarray            # (n_entries, n_items) global dofs
+    rows: np.ndarray  # (n_entries, n_items) global dofs
     cols: np.ndarray
 
     @classmethod
-    def upper(cls, dofs: np.ndarray) -> "Mirrored":
+    def upper(cls, dofs: np.ndarray) -> Mirrored:
         """The upper triangle (r <= c, row by row, `np.triu_indices`) of square blocks on `dofs`."""
         r, c = np.triu_indices(dofs.shape[0])
         return cls(dofs[r], dofs[c])
 
     @classmethod
-    def block(cls, row_dofs: np.ndarray, col_dofs: np.ndarray) -> "Mirrored":
+    def block(cls, row_dofs: np.ndarray, col_dofs: np.ndarray) -> Mirrored:
         """All entries of (n_rows, n_cols) blocks, row by row; each also stands for its transpose."""
         nr, nc = row_dofs.shape[0], col_dofs.shape[0]
         return cls(np.repeat(row_dofs, nc, axis=0), np.tile(col_dofs, (nr, 1)))
@@ -58,11 +59,11 @@ class Pattern:
     def __init__(self, free_index: np.ndarray, groups: list):
         self.n = int(free_index.max()) + 1
         n = self.n
-        self.shapes = []                 # value shape of each group, in the caller's order
-        mirrored, plain = [], []         # (group index, rows, cols) with rows/cols (n_items, ...)
+        self.shapes = []  # value shape of each group, in the caller's order
+        mirrored, plain = [], []  # (group index, rows, cols) with rows/cols (n_items, ...)
         for g, group in enumerate(groups):
             if isinstance(group, Mirrored):
-                rows, cols = free_index[group.rows].T, free_index[group.cols].T   # (n_items, n_entries)
+                rows, cols = free_index[group.rows].T, free_index[group.cols].T  # (n_items, n_entries)
                 self.shapes.append(rows.shape)
                 mirrored.append((g, rows, cols))
             else:
@@ -70,7 +71,9 @@ class Pattern:
                 r, c = free_index[row_dofs].T, free_index[col_dofs].T
                 shape = (r.shape[0], r.shape[1], c.shape[1])
                 self.shapes.append(shape)
-                plain.append((g, np.broadcast_to(r[:, :, None], shape), np.broadcast_to(c[:, None, :], shape)))
+                plain.append(
+                    (g, np.broadcast_to(r[:, :, None], shape), np.broadcast_to(c[:, None, :], shape))
+                )
 
         def keys(rows, cols):
             # entries in a Dirichlet row or column get key -1: they go to a discard bin
@@ -88,7 +91,7 @@ class Pattern:
         unique = unique[unique >= 0]
         self.nnz = unique.size
 
-        def positions(k):                # key -> CSR position; discarded entries -> nnz
+        def positions(k):  # key -> CSR position; discarded entries -> nnz
             k = np.concatenate(k) if k else np.zeros(0, dtype=np.int64)
             return np.where(k >= 0, np.searchsorted(unique, k), self.nnz)
 
@@ -106,7 +109,7 @@ class Pattern:
         # come with their transposed partner, mirrored groups hold both).
         self._transpose = np.searchsorted(unique, col * n + row)
         upper = col >= row
-        self._canonical = np.where(upper, np.arange(self.nnz), self._transpose)   # position of (min, max)
+        self._canonical = np.where(upper, np.arange(self.nnz), self._transpose)  # position of (min, max)
         self._upper = np.flatnonzero(upper)
         self._upper_indices = self.indices[upper]
         self._upper_indptr = np.searchsorted(row[upper], np.arange(n + 1)).astype(np.int32)
@@ -140,7 +143,7 @@ class Pattern:
             data = np.zeros(self.nnz)
         if self.size > m:
             sums = np.bincount(self._inverse, weights=values[m:], minlength=self._plain_positions.size)
-            keep = self._plain_positions < self.nnz     # drop the discard bin
+            keep = self._plain_positions < self.nnz  # drop the discard bin
             data[self._plain_positions[keep]] += sums[keep]
         A = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
         A.pattern = self
@@ -153,5 +156,6 @@ class Pattern:
 
     def upper(self, A) -> sp.csr_matrix:
         """Upper triangle (diagonal included) of A in CSR, for symmetric solvers."""
-        return sp.csr_matrix((A.data[self._upper], self._upper_indices, self._upper_indptr),
-                             shape=(self.n, self.n))
+        return sp.csr_matrix(
+            (A.data[self._upper], self._upper_indices, self._upper_indptr), shape=(self.n, self.n)
+        )

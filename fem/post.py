@@ -8,6 +8,7 @@ r"""Post-processing of solved states: actuator metrics, stretches and stresses.
 - Cauchy stress sigma = J^{-1} P F^T, with the mixed pressure p in P for the p2p1 formulation;
   von Mises sigma_vm = sqrt(3/2 s:s), s = dev sigma. Element values are quadrature averages.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -41,7 +42,7 @@ def circle_centre(xy: np.ndarray) -> np.ndarray:
     """Least-squares (Kasa) circle centre of points xy (2, n): 2 x.c + k = |x|^2. Works for a
     full ring and for an arc (symmetry sectors)."""
     M = np.column_stack([2 * xy[0], 2 * xy[1], np.ones(xy.shape[1])])
-    sol, *_ = np.linalg.lstsq(M, (xy ** 2).sum(axis=0), rcond=None)
+    sol, *_ = np.linalg.lstsq(M, (xy**2).sum(axis=0), rcond=None)
     return sol[:2]
 
 
@@ -49,11 +50,11 @@ def circle_centre(xy: np.ndarray) -> np.ndarray:
 class ElementFields:
     """Per-element values (quadrature averages; maximum for the stretch)."""
 
-    max_stretch: np.ndarray      # (E,)
-    cauchy: np.ndarray           # (3, 3, E) MPa
-    von_mises: np.ndarray        # (E,) MPa
-    pressure: np.ndarray         # (E,) MPa, hydrostatic -tr(sigma)/3
-    jacobian: np.ndarray         # (E,) det F
+    max_stretch: np.ndarray  # (E,)
+    cauchy: np.ndarray  # (3, 3, E) MPa
+    von_mises: np.ndarray  # (E,) MPa
+    pressure: np.ndarray  # (E,) MPa, hydrostatic -tr(sigma)/3
+    jacobian: np.ndarray  # (E,) det F
 
 
 def element_fields(model: SolidModel, x: np.ndarray) -> ElementFields:

@@ -37,10 +37,11 @@ rho = N / (L sin(alpha)): one fiber of length N 2 pi R / sin(alpha) per family o
 The direction field is given on the exact surface; on the discrete (curved P2) facets it is
 projected on the facet's tangent plane and normalised at each quadrature point.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 import skfem
@@ -85,13 +86,13 @@ class FiberSheet:
 class SheetQuadrature:
     """The sheets' facets and quadrature data (all families concatenated along the facet axis)."""
 
-    s: np.ndarray = field(repr=False)         # (F, Q, 10): grad N_a . a at each point
-    a: np.ndarray = field(repr=False)         # (F, Q, 3): unit reference directions
-    c_dx: np.ndarray = field(repr=False)      # (F, Q): c times the area weight
-    nodes: np.ndarray = field(repr=False)     # (F, 10): scalar P2 nodes of the facet's element
-    axial: np.ndarray = field(repr=False)     # (F,): E A of the family (fiber force = E A (lam - 1))
-    tension_only: np.ndarray = field(repr=False)   # (F,) bool
-    reference_area: float                     # summed over families
+    s: np.ndarray = field(repr=False)  # (F, Q, 10): grad N_a . a at each point
+    a: np.ndarray = field(repr=False)  # (F, Q, 3): unit reference directions
+    c_dx: np.ndarray = field(repr=False)  # (F, Q): c times the area weight
+    nodes: np.ndarray = field(repr=False)  # (F, 10): scalar P2 nodes of the facet's element
+    axial: np.ndarray = field(repr=False)  # (F,): E A of the family (fiber force = E A (lam - 1))
+    tension_only: np.ndarray = field(repr=False)  # (F,) bool
+    reference_area: float  # summed over families
 
     @property
     def dofs(self) -> np.ndarray:
@@ -107,34 +108,52 @@ def build(mesh, sheets, intorder: int = 4) -> SheetQuadrature:
         if not isinstance(sheet, FiberSheet):
             raise SolverInputError("fiber_sheets", f"expected FiberSheet items, got {type(sheet).__name__}")
         if sheet.tag not in boundaries or len(boundaries[sheet.tag]) == 0:
-            raise SolverInputError("fiber_sheet.tag", f"unknown or empty boundary tag {sheet.tag!r}; "
-                                   f"known: {sorted(boundaries)}")
+            raise SolverInputError(
+                "fiber_sheet.tag", f"unknown or empty boundary tag {sheet.tag!r}; known: {sorted(boundaries)}"
+            )
         fb = skfem.FacetBasis(mesh, skfem.ElementTetP2(), facets=boundaries[sheet.tag], intorder=intorder)
-        X = np.asarray(fb.global_coordinates())                             # (3, F, Q)
+        X = np.asarray(fb.global_coordinates())  # (3, F, Q)
         d = np.asarray(sheet.direction(X.reshape(3, -1)), dtype=float)
         if d.shape != (3, X[0].size):
-            raise SolverInputError("fiber_sheet.direction", f"{sheet.tag}: the direction field must "
-                                   f"return shape (3, {X[0].size}) for (3, {X[0].size}) points, got {d.shape}")
+            raise SolverInputError(
+                "fiber_sheet.direction",
+                f"{sheet.tag}: the direction field must "
+                f"return shape (3, {X[0].size}) for (3, {X[0].size}) points, got {d.shape}",
+            )
         d = d.reshape(X.shape)
         n = fb.normals
-        d = d - np.einsum("ifq,ifq->fq", d, n)[None] * n              # on the facet's tangent plane
+        d = d - np.einsum("ifq,ifq->fq", d, n)[None] * n  # on the facet's tangent plane
         norm = np.linalg.norm(d, axis=0)
         if not np.all(np.isfinite(norm)) or norm.min() < 1e-9:
-            raise SolverInputError("fiber_sheet.direction", f"{sheet.tag}: the direction field is "
-                                   "zero, normal to the surface or not finite somewhere")
+            raise SolverInputError(
+                "fiber_sheet.direction",
+                f"{sheet.tag}: the direction field is zero, normal to the surface or not finite somewhere",
+            )
         a = d / norm
-        dN = np.stack([phi[0].grad for phi in fb.basis])             # (10, 3, F, Q)
-        parts.append(dict(
-            s=np.einsum("aJfq,Jfq->fqa", dN, a), a=a.transpose(1, 2, 0),
-            c_dx=sheet.stiffness * fb.dx, nodes=fb.element_dofs.T,
-            axial=np.full(fb.dx.shape[0], sheet.axial_stiffness),
-            tension_only=np.full(fb.dx.shape[0], sheet.tension_only),
-            area=float(fb.dx.sum())))
+        dN = np.stack([phi[0].grad for phi in fb.basis])  # (10, 3, F, Q)
+        parts.append(
+            dict(
+                s=np.einsum("aJfq,Jfq->fqa", dN, a),
+                a=a.transpose(1, 2, 0),
+                c_dx=sheet.stiffness * fb.dx,
+                nodes=fb.element_dofs.T,
+                axial=np.full(fb.dx.shape[0], sheet.axial_stiffness),
+                tension_only=np.full(fb.dx.shape[0], sheet.tension_only),
+                area=float(fb.dx.sum()),
+            )
+        )
     if not parts:
         raise SolverInputError("fiber_sheets", "no fiber sheet given")
     cat = {k: np.ascontiguousarray(np.concatenate([p[k] for p in parts])) for k in parts[0] if k != "area"}
-    return SheetQuadrature(cat["s"], cat["a"], cat["c_dx"], cat["nodes"], cat["axial"],
-                           cat["tension_only"], sum(p["area"] for p in parts))
+    return SheetQuadrature(
+        cat["s"],
+        cat["a"],
+        cat["c_dx"],
+        cat["nodes"],
+        cat["axial"],
+        cat["tension_only"],
+        sum(p["area"] for p in parts),
+    )
 
 
 def stretch(sq: SheetQuadrature, u_nodes: np.ndarray):
@@ -142,7 +161,7 @@ def stretch(sq: SheetQuadrature, u_nodes: np.ndarray):
     displacements (n, 3). With g = grad u . a, lam^2 - 1 = 2 a.g + g.g, so the strain is
     (lam^2 - 1) / (lam + 1): exactly zero in the undeformed state (|a| = 1 only to round-off,
     and a round-off force would be a residual that Newton cannot remove under zero load)."""
-    g = np.matmul(sq.s, u_nodes[sq.nodes])                           # (F, Q, 10) @ (F, 10, 3)
+    g = np.matmul(sq.s, u_nodes[sq.nodes])  # (F, Q, 10) @ (F, 10, 3)
     lam2_minus_1 = 2.0 * np.einsum("fqi,fqi->fq", sq.a, g) + np.einsum("fqi,fqi->fq", g, g)
     lam = np.sqrt(1.0 + lam2_minus_1)
     return sq.a + g, lam, lam2_minus_1 / (lam + 1.0)
@@ -158,14 +177,16 @@ def fiber_forces(sq: SheetQuadrature, u_nodes: np.ndarray) -> np.ndarray:
 def element_arrays(sq: SheetQuadrature, u_nodes: np.ndarray, with_tangent: bool = True):
     """Facet residual (30, F) and tangent (F, 30, 30), local dof 3 a + i."""
     Fa, lam, strain = stretch(sq, u_nodes)
-    n = Fa / np.maximum(lam, 1e-12)[..., None]      # a fiber crushed to a point has no direction
+    n = Fa / np.maximum(lam, 1e-12)[..., None]  # a fiber crushed to a point has no direction
     slack = sq.tension_only[:, None] & (strain < 0.0)
-    T_dx = np.where(slack, 0.0, sq.c_dx * strain)                    # T dA
+    T_dx = np.where(slack, 0.0, sq.c_dx * strain)  # T dA
     R = np.einsum("fqa,fq,fqi->fai", sq.s, T_dx, n).reshape(-1, 30).T
     if not with_tangent:
         return R, None
     c_dx = np.where(slack, 0.0, sq.c_dx)
     nn = n[..., :, None] * n[..., None, :]
-    k = c_dx[..., None, None] * nn + (T_dx / np.maximum(lam, 1e-12))[..., None, None] * (np.eye(3) - nn)   # (F, Q, 3, 3)
+    k = c_dx[..., None, None] * nn + (T_dx / np.maximum(lam, 1e-12))[..., None, None] * (
+        np.eye(3) - nn
+    )  # (F, Q, 3, 3)
     K = np.einsum("fqa,fqb,fqik->faibk", sq.s, sq.s, k, optimize=True)
     return R, K.reshape(-1, 30, 30)

@@ -28,6 +28,7 @@ Cases
 - newton: residual ratios of the last Newton iterations of a follower-pressure step (quadratic
   convergence: r_{k+1} <= C r_k^2).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -35,10 +36,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fem import analytic
-from fem.structured import box, sphere_octant, tube_sector
 from fem.mechanics import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import NewtonOptions, load_path, volume_path
+from fem.structured import box, sphere_octant, tube_sector
 
 MU = 0.03  # MPa, Ecoflex 00-50 default (DESIGN.md section 3)
 
@@ -46,7 +47,7 @@ MU = 0.03  # MPa, Ecoflex 00-50 default (DESIGN.md section 3)
 @dataclass(frozen=True)
 class CaseResult:
     name: str
-    error: float                 # worst relative error against the analytic solution
+    error: float  # worst relative error against the analytic solution
     tolerance: float
     details: dict = field(default_factory=dict)
 
@@ -59,8 +60,12 @@ def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
     size = (2.0, 2.0, 4.0)
     mesh = box(size, (2, 2, 3))
     mat = NeoHookean.nearly_incompressible(MU, k_over_mu)
-    bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2),
-           Dirichlet.prescribed("z1", 2, (stretch - 1) * size[2])]
+    bcs = [
+        Dirichlet.symmetry("x0", 0),
+        Dirichlet.symmetry("y0", 1),
+        Dirichlet.symmetry("z0", 2),
+        Dirichlet.prescribed("z1", 2, (stretch - 1) * size[2]),
+    ]
     model = SolidModel(mesh, mat, dirichlet=bcs, formulation=formulation)
     res = load_path(model, [(0.0, f) for f in np.linspace(0.2, 1.0, 5)], control="displacement")
     if not res.converged:
@@ -76,10 +81,20 @@ def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
     nominal = force / (size[0] * size[1])
     target = analytic.uniaxial_nominal_stress(MU, stretch)
     stress_err = abs(nominal - target) / target
-    return CaseResult("patch", field_err, 1e-8, {
-        "field_error": field_err, "nominal_stress_MPa": nominal, "analytic_MPa": target,
-        "stress_error": stress_err, "stress_tolerance": 5e-3, "lateral_stretch": lat,
-        "iterations": res.stats.iterations})
+    return CaseResult(
+        "patch",
+        field_err,
+        1e-8,
+        {
+            "field_error": field_err,
+            "nominal_stress_MPa": nominal,
+            "analytic_MPa": target,
+            "stress_error": stress_err,
+            "stress_tolerance": 5e-3,
+            "lateral_stretch": lat,
+            "iterations": res.stats.iterations,
+        },
+    )
 
 
 def _homogeneous_uniaxial(material: NeoHookean, nominal_stress: float):
@@ -91,15 +106,16 @@ def _homogeneous_uniaxial(material: NeoHookean, nominal_stress: float):
         return [P[2, 2] - nominal_stress, P[0, 0]]
 
     guess = brentq_uniaxial(material.mu, nominal_stress)
-    return fsolve(equations, [guess, guess ** -0.5], xtol=1e-12)
+    return fsolve(equations, [guess, guess**-0.5], xtol=1e-12)
 
 
 def brentq_uniaxial(mu: float, nominal_stress: float) -> float:
     """Incompressible uniaxial stretch with mu (lam - lam^-2) = S."""
     from scipy.optimize import brentq
 
-    return brentq(lambda lam: analytic.uniaxial_nominal_stress(mu, lam) - nominal_stress, 0.2, 100.0,
-                  xtol=1e-14)
+    return brentq(
+        lambda lam: analytic.uniaxial_nominal_stress(mu, lam) - nominal_stress, 0.2, 100.0, xtol=1e-14
+    )
 
 
 def dead_load_test(stretch=1.5, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
@@ -118,10 +134,21 @@ def dead_load_test(stretch=1.5, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
     exact, lateral = _homogeneous_uniaxial(mat, force / area)
     err = abs(axial - exact) / (exact - 1)
     spread = np.ptp(u[2, top]) / size[2]
-    return CaseResult("dead-load", max(err, spread), tolerance, {
-        "force_N": force, "stretch": axial, "exact_stretch": float(exact), "lateral": float(lateral),
-        "incompressible_stretch": stretch, "incompressible_error": abs(axial - stretch) / (stretch - 1),
-        "top_flatness": spread, "iterations": res.stats.iterations})
+    return CaseResult(
+        "dead-load",
+        max(err, spread),
+        tolerance,
+        {
+            "force_N": force,
+            "stretch": axial,
+            "exact_stretch": float(exact),
+            "lateral": float(lateral),
+            "incompressible_stretch": stretch,
+            "incompressible_error": abs(axial - stretch) / (stretch - 1),
+            "top_flatness": spread,
+            "iterations": res.stats.iterations,
+        },
+    )
 
 
 def sheet_bar_test(stretch=1.5, stiffness=0.1, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
@@ -129,8 +156,12 @@ def sheet_bar_test(stretch=1.5, stiffness=0.1, k_over_mu=1e4, tolerance=1e-8) ->
 
     size = (2.0, 2.0, 4.0)
     mat = NeoHookean.nearly_incompressible(MU, k_over_mu)
-    bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2),
-           Dirichlet.prescribed("z1", 2, (stretch - 1) * size[2])]
+    bcs = [
+        Dirichlet.symmetry("x0", 0),
+        Dirichlet.symmetry("y0", 1),
+        Dirichlet.symmetry("z0", 2),
+        Dirichlet.prescribed("z1", 2, (stretch - 1) * size[2]),
+    ]
 
     def axial(X):
         return np.vstack([np.zeros((2, X.shape[1])), np.ones((1, X.shape[1]))])
@@ -145,34 +176,64 @@ def sheet_bar_test(stretch=1.5, stiffness=0.1, k_over_mu=1e4, tolerance=1e-8) ->
         tension = model.fiber_tension(res.steps[-1].x)
     exact = stiffness * (size[0] + size[1]) * (stretch - 1)
     err = abs(forces[1] - forces[0] - exact) / exact
-    return CaseResult("sheet-bar", err, tolerance, {
-        "bare_force_N": forces[0], "sheeted_force_N": forces[1], "sheet_force_exact_N": exact,
-        "fiber_tension_spread": float(np.ptp(tension) / tension.mean())})
+    return CaseResult(
+        "sheet-bar",
+        err,
+        tolerance,
+        {
+            "bare_force_N": forces[0],
+            "sheeted_force_N": forces[1],
+            "sheet_force_exact_N": exact,
+            "fiber_tension_spread": float(np.ptp(tension) / tension.mean()),
+        },
+    )
 
 
-def sheet_tube_test(pressures_over_mu=(0.5, 1.0), stiffness=2.0, inner=3.0, outer=9.0, n_radial=6,
-                    n_angle=8, tolerance=0.01) -> CaseResult:
+def sheet_tube_test(
+    pressures_over_mu=(0.5, 1.0), stiffness=2.0, inner=3.0, outer=9.0, n_radial=6, n_angle=8, tolerance=0.01
+) -> CaseResult:
     """Errors relative to the radial displacement (the part the sheet changes)."""
     from fem.sheets import FiberSheet
 
     def hoop(X):
         return np.vstack([-X[1], X[0], np.zeros(X.shape[1])])
 
-    model = tube_model(inner, outer, n_radial, n_angle,
-                       fiber_sheets=[FiberSheet("outer", hoop, stiffness, 1.0)])
-    return _tube_case("sheet-tube", model, pressures_over_mu, inner, outer, tolerance,
-                      hoop_sheet=stiffness, per_displacement=True)
+    model = tube_model(
+        inner, outer, n_radial, n_angle, fiber_sheets=[FiberSheet("outer", hoop, stiffness, 1.0)]
+    )
+    return _tube_case(
+        "sheet-tube",
+        model,
+        pressures_over_mu,
+        inner,
+        outer,
+        tolerance,
+        hoop_sheet=stiffness,
+        per_displacement=True,
+    )
 
 
-def tube_model(inner=1.0, outer=20.0, n_radial=12, n_angle=8, k_over_mu=1000.0, formulation="p2p1",
-               fiber_sheets=()):
-    mesh = tube_sector(inner, outer, height=1.0, n_radial=n_radial, n_angle=n_angle, n_height=1,
-                       geometric=True)
-    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1),
-           Dirichlet.symmetry("bottom", 2), Dirichlet.symmetry("top", 2)]
-    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, k_over_mu), dirichlet=bcs,
-                      chamber=("inner",), formulation=formulation, volume_weights=(1, 1, 0),
-                      fiber_sheets=fiber_sheets)
+def tube_model(
+    inner=1.0, outer=20.0, n_radial=12, n_angle=8, k_over_mu=1000.0, formulation="p2p1", fiber_sheets=()
+):
+    mesh = tube_sector(
+        inner, outer, height=1.0, n_radial=n_radial, n_angle=n_angle, n_height=1, geometric=True
+    )
+    bcs = [
+        Dirichlet.symmetry("sym_x", 0),
+        Dirichlet.symmetry("sym_y", 1),
+        Dirichlet.symmetry("bottom", 2),
+        Dirichlet.symmetry("top", 2),
+    ]
+    return SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(MU, k_over_mu),
+        dirichlet=bcs,
+        chamber=("inner",),
+        formulation=formulation,
+        volume_weights=(1, 1, 0),
+        fiber_sheets=fiber_sheets,
+    )
 
 
 def mean_radius(model: SolidModel, x, tag) -> float:
@@ -181,14 +242,22 @@ def mean_radius(model: SolidModel, x, tag) -> float:
     return float(np.hypot(pos[0], pos[1]).mean())
 
 
-def tube_test(pressures_over_mu=(0.5, 2.0), inner=1.0, outer=20.0, n_radial=12, n_angle=8,
-              formulation="p2p1", tolerance=0.01) -> CaseResult:
+def tube_test(
+    pressures_over_mu=(0.5, 2.0),
+    inner=1.0,
+    outer=20.0,
+    n_radial=12,
+    n_angle=8,
+    formulation="p2p1",
+    tolerance=0.01,
+) -> CaseResult:
     model = tube_model(inner, outer, n_radial, n_angle, formulation=formulation)
     return _tube_case("tube", model, pressures_over_mu, inner, outer, tolerance)
 
 
-def _tube_case(name, model, pressures_over_mu, inner, outer, tolerance, hoop_sheet=0.0,
-               per_displacement=False) -> CaseResult:
+def _tube_case(
+    name, model, pressures_over_mu, inner, outer, tolerance, hoop_sheet=0.0, per_displacement=False
+) -> CaseResult:
     """Pressure ramp of a plane-strain tube model; inner and outer radii against the analytic
     solution, relative to the radius (or to the radial displacement)."""
     targets = [(r * MU, 0.0) for r in pressures_over_mu]
@@ -203,11 +272,17 @@ def _tube_case(name, model, pressures_over_mu, inner, outer, tolerance, hoop_she
         fe_a, fe_b = mean_radius(model, step.x, "inner"), mean_radius(model, step.x, "outer")
         ea = abs(fe_a - a) / ((a - inner) if per_displacement else a)
         eb = abs(fe_b - b) / ((b - outer) if per_displacement else b)
-        details[f"P={r}mu"] = {"inner_mm": a, "inner_err": ea, "outer_mm": b, "outer_err": eb,
-                               "fe_inner_mm": fe_a}
+        details[f"P={r}mu"] = {
+            "inner_mm": a,
+            "inner_err": ea,
+            "outer_mm": b,
+            "outer_err": eb,
+            "fe_inner_mm": fe_a,
+        }
         if hoop_sheet:
-            details[f"P={r}mu"]["bare_tube_inner_mm"] = analytic.tube_inner_stretch(
-                MU, step.pressure, inner, outer) * inner
+            details[f"P={r}mu"]["bare_tube_inner_mm"] = (
+                analytic.tube_inner_stretch(MU, step.pressure, inner, outer) * inner
+            )
         worst = max(worst, ea, eb)
     return CaseResult(name, worst, tolerance, details)
 
@@ -215,8 +290,13 @@ def _tube_case(name, model, pressures_over_mu, inner, outer, tolerance, hoop_she
 def sphere_model(inner=5.0, outer=7.5, n_radial=3, n_surface=4, k_over_mu=1000.0, formulation="p2p1"):
     mesh = sphere_octant(inner, outer, n_radial=n_radial, n_surface=n_surface)
     bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1), Dirichlet.symmetry("sym_z", 2)]
-    return SolidModel(mesh, NeoHookean.nearly_incompressible(MU, k_over_mu), dirichlet=bcs,
-                      chamber=("inner",), formulation=formulation)
+    return SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(MU, k_over_mu),
+        dirichlet=bcs,
+        chamber=("inner",),
+        formulation=formulation,
+    )
 
 
 def sphere_inner_stretch(model, x, inner):
@@ -225,16 +305,21 @@ def sphere_inner_stretch(model, x, inner):
     return float(np.linalg.norm(pos, axis=0).mean() / inner)
 
 
-def sphere_volume_test(inner=5.0, outer=7.5, max_stretch=2.4, n_points=12, tolerance=0.02,
-                       **mesh) -> CaseResult:
+def sphere_volume_test(
+    inner=5.0, outer=7.5, max_stretch=2.4, n_points=12, tolerance=0.02, **mesh
+) -> CaseResult:
     model = sphere_model(inner, outer, **mesh)
     la_max_p, p_max = analytic.sphere_limit(MU, inner, outer)
     stretches = np.linspace(1.0, max_stretch, n_points + 1)[1:]
     V0 = model.chamber_volume(model.initial_state())
-    volumes = V0 * stretches ** 3
+    volumes = V0 * stretches**3
     res = volume_path(model, volumes)
-    details = {"dofs": model.n_dofs, "analytic_limit_stretch": la_max_p, "analytic_limit_kPa": p_max * 1e3,
-               "message": res.message}
+    details = {
+        "dofs": model.n_dofs,
+        "analytic_limit_stretch": la_max_p,
+        "analytic_limit_kPa": p_max * 1e3,
+        "message": res.message,
+    }
     if not res.converged:
         return CaseResult("sphere-volume", np.inf, tolerance, details)
     errors, curve = [], []
@@ -263,7 +348,8 @@ def sphere_limit_test(inner=5.0, outer=7.5, tolerance=0.03, **mesh) -> CaseResul
     details["past_limit_states"] = len(past)
     details["past_limit_flags_consistent"] = bool(
         all(s.control == "volume" and s.pressure < res.limit_pressure for s in past)
-        and not any(s.past_limit for s in res.steps if s.control == "pressure"))
+        and not any(s.past_limit for s in res.steps if s.control == "pressure")
+    )
     return CaseResult("sphere-limit", abs(res.limit_pressure - p_max) / p_max, tolerance, details)
 
 
@@ -277,8 +363,12 @@ def newton_test(tolerance=10.0) -> CaseResult:
     ratios = r[1:] / r[:-1] ** 2 if r.size > 2 else np.array([np.inf])
     tail = ratios[-2:]
     orders = np.log(r[2:] / r[1:-1]) / np.log(r[1:-1] / r[:-2]) if r.size > 2 else np.array([])
-    return CaseResult("newton", float(tail.max()), tolerance, {
-        "residuals": r.tolist(), "ratios_r_next_over_r2": ratios.tolist(), "orders": orders.tolist()})
+    return CaseResult(
+        "newton",
+        float(tail.max()),
+        tolerance,
+        {"residuals": r.tolist(), "ratios_r_next_over_r2": ratios.tolist(), "orders": orders.tolist()},
+    )
 
 
 CASES = {
@@ -297,8 +387,9 @@ def run_all(names=None) -> list[CaseResult]:
     return [CASES[n]() for n in (names or CASES)]
 
 
-def tube_convergence(levels=((6, 4), (12, 8), (24, 16)), pressure_over_mu=0.5, k_over_mu=1000.0,
-                     inner=1.0, outer=20.0):
+def tube_convergence(
+    levels=((6, 4), (12, 8), (24, 16)), pressure_over_mu=0.5, k_over_mu=1000.0, inner=1.0, outer=20.0
+):
     """Inner-radius error of the plane-strain tube under uniform refinement.
 
     Returns a list of (dofs, relative error) and the observed orders log2(e_k / e_{k+1}) (the

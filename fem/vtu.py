@@ -3,6 +3,7 @@
 The P2 displacement is written at the mesh vertices (exact nodal values) on the linear
 tetrahedra; stresses and stretches as cell data (quadrature averages, `fem.post`).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -31,13 +32,17 @@ def write_state(path, model: SolidModel, x: np.ndarray, extra_cell_data: dict | 
     }
     if mesh.subdomains:
         region = np.full(mesh.t.shape[1], -1)
-        for k, (name, elems) in enumerate(sorted(mesh.subdomains.items())):
+        for k, (_name, elems) in enumerate(sorted(mesh.subdomains.items())):
             region[elems] = k
         cell["region"] = region
     for k, v in (extra_cell_data or {}).items():
         cell[k] = np.asarray(v)
-    out = meshio.Mesh(mesh.p.T, [("tetra", mesh.t.T)], point_data={"displacement_mm": u},
-                      cell_data={k: [v] for k, v in cell.items()})
+    out = meshio.Mesh(
+        mesh.p.T,
+        [("tetra", mesh.t.T)],
+        point_data={"displacement_mm": u},
+        cell_data={k: [v] for k, v in cell.items()},
+    )
     path.parent.mkdir(parents=True, exist_ok=True)
     out.write(path)
     return path

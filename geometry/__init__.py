@@ -17,11 +17,31 @@ Modules (one job each):
 
 Only ``geometry.design`` is imported eagerly (numpy/pyvista/pytetwild load on first use).
 """
-from geometry.design import (ACTUATOR_ANGLES_DEG, DesignError, EPSADesign, FootDesign, RingDesign,
-                             RobotDesign, load_design)
 
-__all__ = ["ACTUATOR_ANGLES_DEG", "DesignError", "EPSADesign", "FootDesign", "RingDesign", "RobotDesign",
-           "load_design", "TaggedMesh", "mesh_epsa", "mesh_foot", "mesh_ring", "mesh_robot"]
+from geometry.design import (
+    ACTUATOR_ANGLES_DEG,
+    DesignError,
+    EPSADesign,
+    FootDesign,
+    RingDesign,
+    RobotDesign,
+    load_design,
+)
+
+__all__ = [
+    "ACTUATOR_ANGLES_DEG",
+    "DesignError",
+    "EPSADesign",
+    "FootDesign",
+    "RingDesign",
+    "RobotDesign",
+    "load_design",
+    "TaggedMesh",
+    "mesh_epsa",
+    "mesh_foot",
+    "mesh_ring",
+    "mesh_robot",
+]
 
 
 def __getattr__(name):
@@ -29,8 +49,12 @@ def __getattr__(name):
         from geometry.tagged_mesh import TaggedMesh
 
         return TaggedMesh
-    if name in ("mesh_epsa", "mesh_foot", "mesh_ring", "mesh_robot"):
+    if name in ("mesh_epsa", "mesh_foot", "mesh_ring"):
         from geometry import tetwild
 
-        return getattr(meshing, name)
+        return getattr(tetwild, name)
+    if name == "mesh_robot":
+        from geometry.assembly import mesh_robot
+
+        return mesh_robot
     raise AttributeError(name)

@@ -17,6 +17,7 @@ The other boundary facets keep the part's tag, prefixed with the part: ``epsa1:c
 The centre channel (room for the endoscope) is the largest axis-centred cylinder free of actuators,
 of radius d - R0 (5 mm for Table 1).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -31,7 +32,9 @@ def _on_disk(mesh: TaggedMesh, tris: np.ndarray, centre, radius: float, tol: flo
     return np.hypot(c[:, 0] - centre[0], c[:, 1] - centre[1]) <= radius + tol
 
 
-def assemble_robot(design: RobotDesign | None = None, edge_length: float | None = None, cache_dir=None) -> TaggedMesh:
+def assemble_robot(
+    design: RobotDesign | None = None, edge_length: float | None = None, cache_dir=None
+) -> TaggedMesh:
     design = design or RobotDesign()
     e, f, r = design.epsa, design.foot, design.ring
     L, ts = e.length, e.seal_head_thickness
@@ -62,7 +65,9 @@ def assemble_robot(design: RobotDesign | None = None, edge_length: float | None 
         inter.append((s, "bottom", a, np.ones(len(meshes[s].facets["bottom"]), bool)))
         inter.append((s, "top", "foot_front", np.ones(len(meshes[s].facets["top"]), bool)))
         ff = meshes["foot_front"]
-        inter.append(("foot_front", "hub_bottom", s, _on_disk(ff, ff.facets["hub_bottom"], c, e.outer_radius, 0.0)))
+        inter.append(
+            ("foot_front", "hub_bottom", s, _on_disk(ff, ff.facets["hub_bottom"], c, e.outer_radius, 0.0))
+        )
         for k, zk in enumerate(design.ring_centres_z, start=1):
             rg = f"ring{k}"
             tris = meshes[a].facets["outer"]
@@ -99,11 +104,24 @@ def assemble_robot(design: RobotDesign | None = None, edge_length: float | None 
         segs = meshes[name].meta.get("curved_surfaces", {}).get(tag)
         if segs:
             curved[new_tag] = _shift_segments(segs, name, design)
-    meta = {"kind": "robot", "parts": [n for n, _ in parts], "channel_radius_mm": design.channel_radius,
-            "curved_surfaces": curved,
-            "n_untagged_facets": int(sum(m.meta.get("n_untagged_facets", 0) for _, m in parts))}
-    return TaggedMesh(np.vstack(points), np.vstack(tets), np.concatenate(region), region_names, facets,
-                      tuple(fibers), design.short_hash(), float(edge_length or epsa.edge_length), meta)
+    meta = {
+        "kind": "robot",
+        "parts": [n for n, _ in parts],
+        "channel_radius_mm": design.channel_radius,
+        "curved_surfaces": curved,
+        "n_untagged_facets": int(sum(m.meta.get("n_untagged_facets", 0) for _, m in parts)),
+    }
+    return TaggedMesh(
+        np.vstack(points),
+        np.vstack(tets),
+        np.concatenate(region),
+        region_names,
+        facets,
+        tuple(fibers),
+        design.short_hash(),
+        float(edge_length or epsa.edge_length),
+        meta,
+    )
 
 
 def _shift_segments(segs, name: str, design: RobotDesign):
@@ -126,7 +144,7 @@ def actuator_clearance(mesh: TaggedMesh, design: RobotDesign) -> dict:
     R0 = design.epsa.outer_radius
     channel = np.inf
     intrusion = -np.inf
-    for i, c in enumerate(design.actuator_centres, start=1):
+    for i, _c in enumerate(design.actuator_centres, start=1):
         nodes = np.unique(mesh.tets[mesh.region == mesh.region_id(f"epsa{i}")])
         p = mesh.points[nodes]
         channel = min(channel, float(np.hypot(p[:, 0], p[:, 1]).min()))
@@ -157,12 +175,15 @@ def robot_surfaces(design: RobotDesign | None = None, n_theta: int = 48) -> dict
             out[f"ring{k}"] = ring.translate((0.0, 0.0, zk), inplace=False)
     foot = foot_surface(f)
     out["foot_rear"] = foot
-    out["foot_front"] = foot.translate((0.0, 0.0, e.length + e.seal_head_thickness + f.hub_thickness), inplace=False)
+    out["foot_front"] = foot.translate(
+        (0.0, 0.0, e.length + e.seal_head_thickness + f.hub_thickness), inplace=False
+    )
     return out
 
 
-def mesh_robot(design: RobotDesign | None = None, edge_length: float | None = None,
-               cache_dir=None) -> TaggedMesh:
+def mesh_robot(
+    design: RobotDesign | None = None, edge_length: float | None = None, cache_dir=None
+) -> TaggedMesh:
     """The assembled robot, see :func:`assemble_robot`."""
     return assemble_robot(design, edge_length=edge_length, cache_dir=cache_dir)
 

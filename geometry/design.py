@@ -22,6 +22,7 @@ Analytic helpers (``EPSADesign``): chamber length l_c = L - 2 c; silicone body v
 V = pi (R0^2 L - r0^2 l_c); length of one fiber helix of N turns on radius R0 over length L,
 s = N sqrt((2 pi R0)^2 + (L / N)^2) = sqrt((2 pi R0 N)^2 + L^2).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -41,8 +42,9 @@ ACTUATOR_ANGLES_DEG: tuple[float, float, float] = (90.0, 210.0, 330.0)
 MIN_LIGAMENT = 0.5
 
 
-def _check_number(obj, name: str, *, positive: bool = True, integer: bool = False,
-                  minimum: float | None = None) -> None:
+def _check_number(
+    obj, name: str, *, positive: bool = True, integer: bool = False, minimum: float | None = None
+) -> None:
     value = getattr(obj, name)
     pname = name
     if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -104,8 +106,7 @@ class _Design:
         return dataclasses.replace(self, **changes)
 
     def canonical_json(self) -> str:
-        return json.dumps({"kind": self.kind, **self.to_dict()}, sort_keys=True,
-                          separators=(",", ":"))
+        return json.dumps({"kind": self.kind, **self.to_dict()}, sort_keys=True, separators=(",", ":"))
 
     def short_hash(self) -> str:
         """12 hex characters of the sha256 of the canonical JSON; stable across processes."""
@@ -134,31 +135,44 @@ class EPSADesign(_Design):
     """Extensible pneumatic soft actuator: silicone cylinder with a closed axial air chamber."""
 
     kind: ClassVar[str] = "epsa"
-    length: float = 100.0             #: L0, body length (mm)
-    outer_radius: float = 9.0         #: R0 (mm)
-    chamber_radius: float = 3.0       #: r0 (mm)
-    fiber_turns: int = 20             #: N, turns of each of the two helices
-    fiber_diameter: float = 0.3       #: Kevlar thread diameter (mm)
-    end_cap_thickness: float = 5.0    #: silicone closing each chamber end (mm)
+    length: float = 100.0  #: L0, body length (mm)
+    outer_radius: float = 9.0  #: R0 (mm)
+    chamber_radius: float = 3.0  #: r0 (mm)
+    fiber_turns: int = 20  #: N, turns of each of the two helices
+    fiber_diameter: float = 0.3  #: Kevlar thread diameter (mm)
+    end_cap_thickness: float = 5.0  #: silicone closing each chamber end (mm)
     seal_head_thickness: float = 3.0  #: ABS seal head disk (mm)
 
     def __post_init__(self):
-        for name in ("length", "outer_radius", "chamber_radius", "fiber_diameter",
-                     "end_cap_thickness", "seal_head_thickness"):
+        for name in (
+            "length",
+            "outer_radius",
+            "chamber_radius",
+            "fiber_diameter",
+            "end_cap_thickness",
+            "seal_head_thickness",
+        ):
             _check_number(self, name)
         _check_number(self, "fiber_turns", positive=False, integer=True, minimum=0)
         p = ""
         if self.chamber_radius >= self.outer_radius:
-            raise DesignError(p + "chamber_radius", f"{self.chamber_radius} must be smaller than "
-                              f"outer_radius {self.outer_radius}")
+            raise DesignError(
+                p + "chamber_radius",
+                f"{self.chamber_radius} must be smaller than outer_radius {self.outer_radius}",
+            )
         if self.outer_radius - self.chamber_radius < MIN_LIGAMENT:
-            raise DesignError(p + "chamber_radius", f"wall thickness {self.outer_radius - self.chamber_radius} "
-                              f"is below {MIN_LIGAMENT} mm")
+            raise DesignError(
+                p + "chamber_radius",
+                f"wall thickness {self.outer_radius - self.chamber_radius} is below {MIN_LIGAMENT} mm",
+            )
         if self.fiber_diameter >= self.outer_radius - self.chamber_radius:
             raise DesignError(p + "fiber_diameter", "must be smaller than the wall thickness")
         if 2 * self.end_cap_thickness >= self.length:
-            raise DesignError(p + "end_cap_thickness", f"two end caps of {self.end_cap_thickness} mm "
-                              f"leave no chamber in a body of length {self.length} mm")
+            raise DesignError(
+                p + "end_cap_thickness",
+                f"two end caps of {self.end_cap_thickness} mm "
+                f"leave no chamber in a body of length {self.length} mm",
+            )
 
     @property
     def wall_thickness(self) -> float:
@@ -198,20 +212,28 @@ class FootDesign(_Design):
     """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
 
     kind: ClassVar[str] = "foot"
-    d: float = 14.0                #: distance foot centre -> actuator ("sub circle") centres (mm)
-    hub_radius: float = 24.0       #: hub disk radius (>= d + R0 to carry the actuators) (mm)
-    hub_thickness: float = 4.0     #: axial hub thickness (mm)
-    bore_radius: float = 4.0       #: central bore for the endoscope (<= d - R0) (mm)
-    tip_radius: float = 39.0       #: skirt tip radius: 78 mm prototype maximum diameter (mm)
-    angle: float = 120.0           #: included angle of the conical skirt (deg), 180 = flat disk
-    skirt_thickness: float = 3.0   #: skirt wall thickness (mm)
-    groove_height: float = 1.0     #: h, groove depth on the back face (mm)
-    groove_width: float = 1.0      #: width of a groove along the skirt (mm)
-    n_grooves: int = 5             #: number of grooves on the back face
+    d: float = 14.0  #: distance foot centre -> actuator ("sub circle") centres (mm)
+    hub_radius: float = 24.0  #: hub disk radius (>= d + R0 to carry the actuators) (mm)
+    hub_thickness: float = 4.0  #: axial hub thickness (mm)
+    bore_radius: float = 4.0  #: central bore for the endoscope (<= d - R0) (mm)
+    tip_radius: float = 39.0  #: skirt tip radius: 78 mm prototype maximum diameter (mm)
+    angle: float = 120.0  #: included angle of the conical skirt (deg), 180 = flat disk
+    skirt_thickness: float = 3.0  #: skirt wall thickness (mm)
+    groove_height: float = 1.0  #: h, groove depth on the back face (mm)
+    groove_width: float = 1.0  #: width of a groove along the skirt (mm)
+    n_grooves: int = 5  #: number of grooves on the back face
 
     def __post_init__(self):
-        for name in ("d", "hub_radius", "hub_thickness", "tip_radius", "angle", "skirt_thickness",
-                     "groove_height", "groove_width"):
+        for name in (
+            "d",
+            "hub_radius",
+            "hub_thickness",
+            "tip_radius",
+            "angle",
+            "skirt_thickness",
+            "groove_height",
+            "groove_width",
+        ):
             _check_number(self, name)
         _check_number(self, "bore_radius", positive=False, minimum=0.0)
         _check_number(self, "n_grooves", positive=False, integer=True, minimum=0)
@@ -223,16 +245,24 @@ class FootDesign(_Design):
         if self.tip_radius <= self.hub_radius + self.skirt_thickness:
             raise DesignError(p + "tip_radius", f"{self.tip_radius} must exceed hub_radius + skirt_thickness")
         if self.hub_thickness < self.skirt_thickness / self.sin_half_angle - 1e-9:
-            raise DesignError(p + "hub_thickness", f"{self.hub_thickness} must be >= skirt_thickness / "
-                              f"sin(angle / 2) = {self.skirt_thickness / self.sin_half_angle:.3f} so the "
-                              f"skirt root lies on the hub")
+            raise DesignError(
+                p + "hub_thickness",
+                f"{self.hub_thickness} must be >= skirt_thickness / "
+                f"sin(angle / 2) = {self.skirt_thickness / self.sin_half_angle:.3f} so the "
+                f"skirt root lies on the hub",
+            )
         if self.groove_height > self.skirt_thickness - MIN_LIGAMENT:
-            raise DesignError(p + "groove_height", f"{self.groove_height} must leave {MIN_LIGAMENT} mm of "
-                              f"the {self.skirt_thickness} mm skirt")
+            raise DesignError(
+                p + "groove_height",
+                f"{self.groove_height} must leave {MIN_LIGAMENT} mm of the {self.skirt_thickness} mm skirt",
+            )
         land = self.back_face_length / (self.n_grooves + 1) - self.groove_width
         if self.n_grooves and land < MIN_LIGAMENT:
-            raise DesignError(p + "n_grooves", f"{self.n_grooves} grooves of width {self.groove_width} mm "
-                              f"do not fit on the {self.back_face_length:.2f} mm back face")
+            raise DesignError(
+                p + "n_grooves",
+                f"{self.n_grooves} grooves of width {self.groove_width} mm "
+                f"do not fit on the {self.back_face_length:.2f} mm back face",
+            )
 
     @property
     def sin_half_angle(self) -> float:
@@ -255,11 +285,11 @@ class RingDesign(_Design):
     """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
 
     kind: ClassVar[str] = "ring"
-    d: float = 14.0             #: radius of the actuator hole centres (mm)
-    hole_radius: float = 9.0    #: actuator holes (= ePSA radius, tied to it) (mm)
+    d: float = 14.0  #: radius of the actuator hole centres (mm)
+    hole_radius: float = 9.0  #: actuator holes (= ePSA radius, tied to it) (mm)
     outer_radius: float = 25.0  #: ring outer radius (mm)
-    bore_radius: float = 3.5    #: central bore (endoscope passage; 0 = none) (mm)
-    thickness: float = 5.0      #: axial thickness (mm)
+    bore_radius: float = 3.5  #: central bore (endoscope passage; 0 = none) (mm)
+    thickness: float = 5.0  #: axial thickness (mm)
 
     def __post_init__(self):
         for name in ("d", "hole_radius", "outer_radius", "thickness"):
@@ -268,14 +298,23 @@ class RingDesign(_Design):
         p = ""
         gap = self.d * math.sqrt(3) - 2 * self.hole_radius
         if gap < MIN_LIGAMENT:
-            raise DesignError(p + "hole_radius", f"holes of radius {self.hole_radius} at d = {self.d} "
-                              f"overlap or leave less than {MIN_LIGAMENT} mm between them")
+            raise DesignError(
+                p + "hole_radius",
+                f"holes of radius {self.hole_radius} at d = {self.d} "
+                f"overlap or leave less than {MIN_LIGAMENT} mm between them",
+            )
         if self.d + self.hole_radius + MIN_LIGAMENT > self.outer_radius:
-            raise DesignError(p + "outer_radius", f"{self.outer_radius} must be >= d + hole_radius + "
-                              f"{MIN_LIGAMENT} = {self.d + self.hole_radius + MIN_LIGAMENT}")
+            raise DesignError(
+                p + "outer_radius",
+                f"{self.outer_radius} must be >= d + hole_radius + "
+                f"{MIN_LIGAMENT} = {self.d + self.hole_radius + MIN_LIGAMENT}",
+            )
         if self.bore_radius > 0 and self.bore_radius + MIN_LIGAMENT > self.d - self.hole_radius:
-            raise DesignError(p + "bore_radius", f"{self.bore_radius} must be <= d - hole_radius - "
-                              f"{MIN_LIGAMENT} = {self.d - self.hole_radius - MIN_LIGAMENT}")
+            raise DesignError(
+                p + "bore_radius",
+                f"{self.bore_radius} must be <= d - hole_radius - "
+                f"{MIN_LIGAMENT} = {self.d - self.hole_radius - MIN_LIGAMENT}",
+            )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -306,16 +345,30 @@ class RobotDesign(_Design):
             raise DesignError("epsa", "must be an EPSADesign")
         R0 = self.epsa.outer_radius
         if self.d * math.sqrt(3) <= 2 * R0:
-            raise DesignError("d", f"actuators of radius {R0} overlap at d = {self.d} "
-                              f"(need d > 2 R0 / sqrt(3) = {2 * R0 / math.sqrt(3):.3f})")
+            raise DesignError(
+                "d",
+                f"actuators of radius {R0} overlap at d = {self.d} "
+                f"(need d > 2 R0 / sqrt(3) = {2 * R0 / math.sqrt(3):.3f})",
+            )
         if self.d <= R0:
             raise DesignError("d", f"d = {self.d} <= R0 = {R0}: no centre channel for the endoscope")
         if self.foot is None:
-            object.__setattr__(self, "foot", FootDesign(d=self.d, hub_radius=self.d + R0 + 1.0,
-                                                        bore_radius=min(4.0, self.d - R0)))
+            object.__setattr__(
+                self,
+                "foot",
+                FootDesign(d=self.d, hub_radius=self.d + R0 + 1.0, bore_radius=min(4.0, self.d - R0)),
+            )
         if self.ring is None:
-            object.__setattr__(self, "ring", RingDesign(d=self.d, hole_radius=R0, outer_radius=self.d + R0 + 2.0,
-                                                        bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5))))
+            object.__setattr__(
+                self,
+                "ring",
+                RingDesign(
+                    d=self.d,
+                    hole_radius=R0,
+                    outer_radius=self.d + R0 + 2.0,
+                    bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5)),
+                ),
+            )
         if not isinstance(self.foot, FootDesign):
             raise DesignError("foot", "must be a FootDesign")
         if not isinstance(self.ring, RingDesign):
@@ -327,22 +380,35 @@ class RobotDesign(_Design):
         if self.ring.hole_radius != R0:
             raise DesignError("ring.hole_radius", f"{self.ring.hole_radius} must equal the ePSA radius {R0}")
         if self.foot.hub_radius < self.d + R0:
-            raise DesignError("foot.hub_radius", f"{self.foot.hub_radius} must be >= d + R0 = {self.d + R0} "
-                              f"to carry the actuators")
+            raise DesignError(
+                "foot.hub_radius",
+                f"{self.foot.hub_radius} must be >= d + R0 = {self.d + R0} to carry the actuators",
+            )
         if self.foot.bore_radius > self.d - R0:
-            raise DesignError("foot.bore_radius", f"{self.foot.bore_radius} cuts into the actuators "
-                              f"(must be <= d - R0 = {self.d - R0})")
+            raise DesignError(
+                "foot.bore_radius",
+                f"{self.foot.bore_radius} cuts into the actuators (must be <= d - R0 = {self.d - R0})",
+            )
         if self.n_rings and self.epsa.length / (self.n_rings + 1) <= self.ring.thickness + MIN_LIGAMENT:
-            raise DesignError("n_rings", f"{self.n_rings} rings of thickness {self.ring.thickness} mm "
-                              f"do not fit along the {self.epsa.length} mm actuators")
+            raise DesignError(
+                "n_rings",
+                f"{self.n_rings} rings of thickness {self.ring.thickness} mm "
+                f"do not fit along the {self.epsa.length} mm actuators",
+            )
         if self.pipe_diameter_min > self.pipe_diameter_max:
             raise DesignError("pipe_diameter_min", "must not exceed pipe_diameter_max")
         if 2 * self.ring.outer_radius >= self.pipe_diameter_min:
-            raise DesignError("ring.outer_radius", f"rings of diameter {2 * self.ring.outer_radius} mm do "
-                              f"not fit in a {self.pipe_diameter_min} mm pipe")
+            raise DesignError(
+                "ring.outer_radius",
+                f"rings of diameter {2 * self.ring.outer_radius} mm do "
+                f"not fit in a {self.pipe_diameter_min} mm pipe",
+            )
         if 2 * self.foot.tip_radius <= self.pipe_diameter_max:
-            raise DesignError("foot.tip_radius", f"feet of diameter {2 * self.foot.tip_radius} mm do not "
-                              f"touch the wall of a {self.pipe_diameter_max} mm pipe")
+            raise DesignError(
+                "foot.tip_radius",
+                f"feet of diameter {2 * self.foot.tip_radius} mm do not "
+                f"touch the wall of a {self.pipe_diameter_max} mm pipe",
+            )
 
     _nested: ClassVar[dict[str, type]] = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign}
 
@@ -353,8 +419,10 @@ class RobotDesign(_Design):
 
     @property
     def actuator_centres(self) -> list[tuple[float, float]]:
-        return [(self.d * math.cos(math.radians(a)), self.d * math.sin(math.radians(a)))
-                for a in ACTUATOR_ANGLES_DEG]
+        return [
+            (self.d * math.cos(math.radians(a)), self.d * math.sin(math.radians(a)))
+            for a in ACTUATOR_ANGLES_DEG
+        ]
 
     @property
     def ring_centres_z(self) -> list[float]:
@@ -370,7 +438,12 @@ class RobotDesign(_Design):
         return 2 * (self.d + self.epsa.outer_radius)
 
 
-DESIGN_TYPES: dict[str, type] = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
+DESIGN_TYPES: dict[str, type] = {
+    "epsa": EPSADesign,
+    "foot": FootDesign,
+    "ring": RingDesign,
+    "robot": RobotDesign,
+}
 
 
 def load_design(path: str | Path):

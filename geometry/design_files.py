@@ -3,6 +3,7 @@
 The dataclasses of `geometry.design` call these for `save` / `load`; a file holds the design's
 ``kind`` and its fields (nested tables for the parts of a robot).
 """
+
 from __future__ import annotations
 
 import json

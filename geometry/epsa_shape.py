@@ -19,6 +19,7 @@ of length s = N sqrt((2 pi R0)^2 + (L/N)^2) each. They are sampled with ``points
 turn, all exactly on rho = R0; the polyline is shorter than the helix by the factor
 sin(pi/n)/(pi/n) on the circumferential part (n = points per turn), 0.07 % for n = 48.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -64,8 +65,13 @@ def epsa_segments(design: EPSADesign, centre=(0.0, 0.0), z0: float = 0.0) -> lis
 
 def epsa_analytic_areas(design: EPSADesign) -> dict[str, float]:
     R, r, L, lc = design.outer_radius, design.chamber_radius, design.length, design.chamber_length
-    return {"outer": 2 * np.pi * R * L, "end_bottom": np.pi * R**2, "end_top": np.pi * R**2,
-            "chamber_wall": 2 * np.pi * r * lc, "chamber_ends": 2 * np.pi * r**2}
+    return {
+        "outer": 2 * np.pi * R * L,
+        "end_bottom": np.pi * R**2,
+        "end_top": np.pi * R**2,
+        "chamber_wall": 2 * np.pi * r * lc,
+        "chamber_ends": 2 * np.pi * r**2,
+    }
 
 
 def seal_head_profile(design: EPSADesign) -> np.ndarray:
@@ -80,12 +86,16 @@ def seal_head_surface(design: EPSADesign, n_theta: int = DEFAULT_N_THETA):
 
 def seal_head_segments(design: EPSADesign, centre=(0.0, 0.0)) -> list[RevolvedSegment]:
     R, L, t = design.outer_radius, design.length, design.seal_head_thickness
-    return [RevolvedSegment("bottom", (0.0, L), (R, L), centre),
-            RevolvedSegment("side", (R, L), (R, L + t), centre, curved=True),
-            RevolvedSegment("top", (R, L + t), (0.0, L + t), centre)]
+    return [
+        RevolvedSegment("bottom", (0.0, L), (R, L), centre),
+        RevolvedSegment("side", (R, L), (R, L + t), centre, curved=True),
+        RevolvedSegment("top", (R, L + t), (0.0, L + t), centre),
+    ]
 
 
-def fiber_helices(design: EPSADesign, points_per_turn: int = 48, theta0: float = 0.0) -> tuple[np.ndarray, ...]:
+def fiber_helices(
+    design: EPSADesign, points_per_turn: int = 48, theta0: float = 0.0
+) -> tuple[np.ndarray, ...]:
     """The double helix as two (n, 3) polylines on rho = R0 (empty tuple for N = 0)."""
     N = design.fiber_turns
     if N == 0:
@@ -95,8 +105,9 @@ def fiber_helices(design: EPSADesign, points_per_turn: int = 48, theta0: float =
     out = []
     for sign in (+1.0, -1.0):
         theta = theta0 + sign * 2 * np.pi * N * z / design.length
-        out.append(np.column_stack([design.outer_radius * np.cos(theta),
-                                    design.outer_radius * np.sin(theta), z]))
+        out.append(
+            np.column_stack([design.outer_radius * np.cos(theta), design.outer_radius * np.sin(theta), z])
+        )
     return tuple(out)
 
 
@@ -117,7 +128,10 @@ def helix_families(design: EPSADesign) -> tuple[tuple[object, float], ...]:
         def direction(X):
             rho = np.hypot(X[0], X[1])
             e_theta = np.vstack([-X[1] / rho, X[0] / rho, np.zeros_like(rho)])
-            return np.vstack([np.zeros((2, X.shape[1])), np.ones((1, X.shape[1]))]) + sign * tan_alpha * e_theta
+            return (
+                np.vstack([np.zeros((2, X.shape[1])), np.ones((1, X.shape[1]))]) + sign * tan_alpha * e_theta
+            )
+
         return direction
 
     return ((hand(+1.0), density), (hand(-1.0), density))

@@ -28,6 +28,7 @@ u = (sin alpha, -cos alpha) the skirt direction, n = (cos alpha, sin alpha) the 
 Tags: ``hub_top`` (z = 0), ``hub_bottom`` (z = -t_hub), ``hub_side``, ``bore``, ``front`` (smooth),
 ``back`` (grooved, groove walls included), ``rim``.
 """
+
 from __future__ import annotations
 
 import math
@@ -78,8 +79,11 @@ def foot_segments(design: FootDesign, z0: float = 0.0) -> list[RevolvedSegment]:
         if p0[0] <= 1e-12 and p1[0] <= 1e-12:
             continue  # an edge on the axis is not a surface
         curved = abs(p0[1] - p1[1]) > 1e-12
-        segs.append(RevolvedSegment(tag, (float(p0[0]), float(p0[1] + z0)), (float(p1[0]), float(p1[1] + z0)),
-                                    curved=curved))
+        segs.append(
+            RevolvedSegment(
+                tag, (float(p0[0]), float(p0[1] + z0)), (float(p1[0]), float(p1[1] + z0)), curved=curved
+            )
+        )
     return segs
 
 

@@ -11,6 +11,7 @@ triangles outside the holes; the two faces and the side walls are assembled with
 so the surface is watertight by construction.
 Tags: ``top``, ``bottom``, ``outer``, ``bore``, ``hole1..3`` (hole i holds actuator i).
 """
+
 from __future__ import annotations
 
 import math
@@ -35,7 +36,11 @@ def _circles(design: RingDesign) -> list[tuple[tuple[float, float], float]]:
 
 
 def ring_volume(design: RingDesign) -> float:
-    return design.thickness * math.pi * (design.outer_radius**2 - 3 * design.hole_radius**2 - design.bore_radius**2)
+    return (
+        design.thickness
+        * math.pi
+        * (design.outer_radius**2 - 3 * design.hole_radius**2 - design.bore_radius**2)
+    )
 
 
 def _plate_triangulation(design: RingDesign, spacing: float):
@@ -72,7 +77,10 @@ def _plate_triangulation(design: RingDesign, spacing: float):
 def ring_surface(design: RingDesign, spacing: float | None = None):
     """Closed, outward-oriented ring surface, z in [-t/2, t/2]."""
     if spacing is None:
-        gaps = [design.d * math.sqrt(3) - 2 * design.hole_radius, design.outer_radius - design.d - design.hole_radius]
+        gaps = [
+            design.d * math.sqrt(3) - 2 * design.hole_radius,
+            design.outer_radius - design.d - design.hole_radius,
+        ]
         if design.bore_radius > 0:
             gaps.append(design.d - design.hole_radius - design.bore_radius)
         spacing = max(min(gaps) / 3.0, MIN_LIGAMENT / 4)
@@ -90,13 +98,19 @@ def ring_surface(design: RingDesign, spacing: float | None = None):
 def ring_segments(design: RingDesign, z0: float = 0.0) -> list[RevolvedSegment]:
     h = design.thickness / 2
     R = design.outer_radius
-    segs = [RevolvedSegment("bottom", (0.0, z0 - h), (R, z0 - h)),
-            RevolvedSegment("outer", (R, z0 - h), (R, z0 + h), curved=True),
-            RevolvedSegment("top", (R, z0 + h), (0.0, z0 + h))]
+    segs = [
+        RevolvedSegment("bottom", (0.0, z0 - h), (R, z0 - h)),
+        RevolvedSegment("outer", (R, z0 - h), (R, z0 + h), curved=True),
+        RevolvedSegment("top", (R, z0 + h), (0.0, z0 + h)),
+    ]
     for k, c in enumerate(hole_centres(design.d), start=1):
-        segs.append(RevolvedSegment(f"hole{k}", (design.hole_radius, z0 + h), (design.hole_radius, z0 - h),
-                                    c, curved=True))
+        segs.append(
+            RevolvedSegment(
+                f"hole{k}", (design.hole_radius, z0 + h), (design.hole_radius, z0 - h), c, curved=True
+            )
+        )
     if design.bore_radius > 0:
-        segs.append(RevolvedSegment("bore", (design.bore_radius, z0 + h), (design.bore_radius, z0 - h),
-                                    curved=True))
+        segs.append(
+            RevolvedSegment("bore", (design.bore_radius, z0 + h), (design.bore_radius, z0 - h), curved=True)
+        )
     return segs

@@ -12,6 +12,7 @@ Every solid of this package is described by closed, outward-oriented triangle su
 
 The returned :class:`pyvista.PolyData` are triangles only, with consistent outward normals.
 """
+
 from __future__ import annotations
 
 import numpy as np

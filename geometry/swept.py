@@ -22,6 +22,7 @@ Tags (exact predicates, the mesh being structured): `outer` (rho = R0), `end_bot
 rho < r0). The same `meta['curved_surfaces']` as the pytetwild meshes, so `to_skfem(order=2)`
 puts the midside nodes on the exact cylinders.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -56,9 +57,15 @@ def _levels(a: float, b: float, size: float) -> np.ndarray:
     return np.linspace(a, b, n + 1)
 
 
-def mesh_epsa_swept(design: EPSADesign | None = None, *, n_around: int = 16, n_radial: int = 2,
-                    axial_size: float = 5.0, fiber_points_per_turn: int = 32,
-                    seal_head: bool = False) -> TaggedMesh:
+def mesh_epsa_swept(
+    design: EPSADesign | None = None,
+    *,
+    n_around: int = 16,
+    n_radial: int = 2,
+    axial_size: float = 5.0,
+    fiber_points_per_turn: int = 32,
+    seal_head: bool = False,
+) -> TaggedMesh:
     """Swept tetrahedral mesh of the ePSA body (region `epsa`) with its five tags and fibers.
 
     `seal_head=True` adds the ABS seal head, L <= z <= L + t_s, as region `seal_head` sharing
@@ -75,9 +82,12 @@ def mesh_epsa_swept(design: EPSADesign | None = None, *, n_around: int = 16, n_r
     R0, r0, L, c = design.outer_radius, design.chamber_radius, design.length, design.end_cap_thickness
     xy, tris, is_wall = cross_section(r0, R0, n_around, n_radial)
     t_s = design.seal_head_thickness if seal_head else 0.0
-    z = np.unique(np.concatenate([_levels(0, c, axial_size), _levels(c, L - c, axial_size),
-                                  _levels(L - c, L, axial_size)]
-                                 + ([_levels(L, L + t_s, axial_size)] if seal_head else [])))
+    z = np.unique(
+        np.concatenate(
+            [_levels(0, c, axial_size), _levels(c, L - c, axial_size), _levels(L - c, L, axial_size)]
+            + ([_levels(L, L + t_s, axial_size)] if seal_head else [])
+        )
+    )
     n2 = len(xy)
     points = np.column_stack([np.tile(xy, (len(z), 1)), np.repeat(z, n2)])
     tris = np.sort(tris, axis=1)
@@ -97,18 +107,31 @@ def mesh_epsa_swept(design: EPSADesign | None = None, *, n_around: int = 16, n_r
     tets[det < 0] = tets[det < 0][:, [0, 2, 1, 3]]
     facets = _tag_facets(points, tets, design, t_s)
     names = {1: "epsa", 2: "seal_head"} if seal_head else {1: "epsa"}
-    mesh = TaggedMesh(points, tets, region, names, facets,
-                      tuple(fiber_helices(design, fiber_points_per_turn)), design.short_hash(),
-                      float(axial_size),
-                      {"kind": "epsa", "mesher": "swept", "n_around": n_around, "n_radial": n_radial,
-                       "axial_size": axial_size, "fiber_points_per_turn": fiber_points_per_turn,
-                       "curved_surfaces": _curved_meta(epsa_segments(design))})
+    mesh = TaggedMesh(
+        points,
+        tets,
+        region,
+        names,
+        facets,
+        tuple(fiber_helices(design, fiber_points_per_turn)),
+        design.short_hash(),
+        float(axial_size),
+        {
+            "kind": "epsa",
+            "mesher": "swept",
+            "n_around": n_around,
+            "n_radial": n_radial,
+            "axial_size": axial_size,
+            "fiber_points_per_turn": fiber_points_per_turn,
+            "curved_surfaces": _curved_meta(epsa_segments(design)),
+        },
+    )
     return mesh
 
 
 def _boundary_faces(tets):
     """Boundary triangles, outward-oriented (faces that belong to exactly one tet)."""
-    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])   # outward for positive tets
+    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # outward for positive tets
     faces = tets[:, local].reshape(-1, 3)
     key = np.sort(faces, axis=1)
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
@@ -119,7 +142,7 @@ def _tag_facets(points, tets, design, seal_thickness=0.0):
     R0, r0, L, c = design.outer_radius, design.chamber_radius, design.length, design.end_cap_thickness
     faces = _boundary_faces(tets)
     top = L + seal_thickness
-    p = points[faces]                                   # (f, 3 vertices, 3)
+    p = points[faces]  # (f, 3 vertices, 3)
     rho = np.hypot(p[..., 0], p[..., 1])
     zz = p[..., 2]
     tol = 1e-9 * max(R0, L)
@@ -128,8 +151,11 @@ def _tag_facets(points, tets, design, seal_thickness=0.0):
         "end_bottom": on(np.abs(zz) < tol),
         "end_top": on(np.abs(zz - top) < tol),
         "outer": on(np.abs(rho - R0) < 1e-9 * R0) & on(zz < L + tol),
-        "chamber_wall": on(np.abs(rho - r0) < 1e-9 * R0) & on(zz > c - tol) & on(zz < L - c + tol)
-        & ~on(np.abs(zz - c) < tol) & ~on(np.abs(zz - (L - c)) < tol),
+        "chamber_wall": on(np.abs(rho - r0) < 1e-9 * R0)
+        & on(zz > c - tol)
+        & on(zz < L - c + tol)
+        & ~on(np.abs(zz - c) < tol)
+        & ~on(np.abs(zz - (L - c)) < tol),
         "chamber_ends": (on(np.abs(zz - c) < tol) | on(np.abs(zz - (L - c)) < tol)) & on(rho < r0 + tol),
     }
     if seal_thickness > 0:
@@ -139,7 +165,7 @@ def _tag_facets(points, tets, design, seal_thickness=0.0):
     if not np.all(assigned == 1):
         raise RuntimeError(f"swept mesh tagging: {np.sum(assigned != 1)} facets with {set(assigned)} tags")
     out = {k: faces[v].astype(np.int64) for k, v in tags.items()}
-    if seal_thickness > 0:   # the body's top face, now the interface with the seal head
+    if seal_thickness > 0:  # the body's top face, now the interface with the seal head
         all_faces = tets[:, [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]]].reshape(-1, 3)
         on_top = np.all(np.abs(points[all_faces][..., 2] - L) < tol, axis=1)
         key = np.sort(all_faces[on_top], axis=1)

@@ -19,6 +19,7 @@ Fields (units mm):
 Quality measure: the mean ratio q = 12 (3 V)^(2/3) / sum_ij l_ij^2, 1 for the regular tetrahedron and
 0 for a degenerate one; plus the minimum dihedral angle.
 """
+
 from __future__ import annotations
 
 import json
@@ -148,14 +149,22 @@ class TaggedMesh:
         }
 
     # ----------------------------------------------------------------- transforms
-    def transformed(self, rotation_deg: float = 0.0, offset=(0.0, 0.0, 0.0)) -> "TaggedMesh":
+    def transformed(self, rotation_deg: float = 0.0, offset=(0.0, 0.0, 0.0)) -> TaggedMesh:
         """Rotated about z by ``rotation_deg``, then translated (orientation is preserved)."""
         c, s = np.cos(np.radians(rotation_deg)), np.sin(np.radians(rotation_deg))
         rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
         off = np.asarray(offset, dtype=float)
-        return TaggedMesh(self.points @ rot.T + off, self.tets, self.region, dict(self.region_names),
-                          dict(self.facets), tuple(f @ rot.T + off for f in self.fibers),
-                          self.design_hash, self.edge_length, dict(self.meta))
+        return TaggedMesh(
+            self.points @ rot.T + off,
+            self.tets,
+            self.region,
+            dict(self.region_names),
+            dict(self.facets),
+            tuple(f @ rot.T + off for f in self.fibers),
+            self.design_hash,
+            self.edge_length,
+            dict(self.meta),
+        )
 
     # ----------------------------------------------------------------- solver hand-off
     def facet_indices(self, mesh, tag: str) -> np.ndarray:
@@ -218,13 +227,19 @@ class TaggedMesh:
         ids = self.physical_ids()
         tags = sorted(self.facets)
         tri = np.vstack([self.facets[t] for t in tags]) if tags else np.zeros((0, 3), dtype=np.int64)
-        tri_ids = np.concatenate([np.full(len(self.facets[t]), ids[t]) for t in tags]) if tags else np.zeros(0)
+        tri_ids = (
+            np.concatenate([np.full(len(self.facets[t]), ids[t]) for t in tags]) if tags else np.zeros(0)
+        )
         phys = [self.region.astype(np.int32), tri_ids.astype(np.int32)]
-        field_data = {name: np.array([i, 3 if name in self.region_names.values() else 2])
-                      for name, i in ids.items()}
-        return meshio.Mesh(self.points, [("tetra", self.tets), ("triangle", tri)],
-                           cell_data={"gmsh:physical": phys, "gmsh:geometrical": phys},
-                           field_data=field_data)
+        field_data = {
+            name: np.array([i, 3 if name in self.region_names.values() else 2]) for name, i in ids.items()
+        }
+        return meshio.Mesh(
+            self.points,
+            [("tetra", self.tets), ("triangle", tri)],
+            cell_data={"gmsh:physical": phys, "gmsh:geometrical": phys},
+            field_data=field_data,
+        )
 
     def write(self, path: str | Path) -> Path:
         """Write with meshio: ``.vtu`` (cell data ``gmsh:physical``: region id for tets, tag id for
@@ -251,9 +266,13 @@ class TaggedMesh:
             arrays[f"facet:{tag}"] = f
         for i, f in enumerate(self.fibers):
             arrays[f"fiber:{i:04d}"] = f
-        header = {"region_names": {str(k): v for k, v in self.region_names.items()},
-                  "design_hash": self.design_hash, "edge_length": self.edge_length, "meta": self.meta,
-                  "facet_order": list(self.facets)}
+        header = {
+            "region_names": {str(k): v for k, v in self.region_names.items()},
+            "design_hash": self.design_hash,
+            "edge_length": self.edge_length,
+            "meta": self.meta,
+            "facet_order": list(self.facets),
+        }
         arrays["header"] = np.array(json.dumps(header))
         import os
 
@@ -263,11 +282,21 @@ class TaggedMesh:
         return path
 
     @classmethod
-    def load_npz(cls, path: str | Path) -> "TaggedMesh":
+    def load_npz(cls, path: str | Path) -> TaggedMesh:
         with np.load(path) as data:
             header = json.loads(str(data["header"]))
             facets = {tag: data[f"facet:{tag}"].astype(np.int64) for tag in header["facet_order"]}
-            fibers = tuple(data[k].astype(float) for k in sorted(k for k in data.files if k.startswith("fiber:")))
-            return cls(data["points"].astype(float), data["tets"].astype(np.int64), data["region"].astype(int),
-                       {int(k): v for k, v in header["region_names"].items()}, facets, fibers,
-                       header["design_hash"], float(header["edge_length"]), header["meta"])
+            fibers = tuple(
+                data[k].astype(float) for k in sorted(k for k in data.files if k.startswith("fiber:"))
+            )
+            return cls(
+                data["points"].astype(float),
+                data["tets"].astype(np.int64),
+                data["region"].astype(int),
+                {int(k): v for k, v in header["region_names"].items()},
+                facets,
+                fibers,
+                header["design_hash"],
+                float(header["edge_length"]),
+                header["meta"],
+            )

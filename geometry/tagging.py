@@ -13,6 +13,7 @@ within 60 degrees of the segment's outward normal. :func:`snap_to_surfaces` then
 vertices onto the exact surfaces (closest point on the segment, same polar angle about the axis),
 reverting any move that would invert a tetrahedron.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -65,7 +66,9 @@ class RevolvedSegment:
 
     def area(self) -> float:
         """Exact area of the revolved segment (full revolution): pi (rho0 + rho1) |p1 - p0|."""
-        return float(np.pi * (self.p0[0] + self.p1[0]) * np.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1]))
+        return float(
+            np.pi * (self.p0[0] + self.p1[0]) * np.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1])
+        )
 
 
 def boundary_facets(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -84,8 +87,13 @@ def facet_normals(points: np.ndarray, tris: np.ndarray) -> np.ndarray:
     return n / np.linalg.norm(n, axis=1, keepdims=True)
 
 
-def classify_facets(points: np.ndarray, tris: np.ndarray, segments: list[RevolvedSegment],
-                    tol: float, min_alignment: float = 0.5) -> np.ndarray:
+def classify_facets(
+    points: np.ndarray,
+    tris: np.ndarray,
+    segments: list[RevolvedSegment],
+    tol: float,
+    min_alignment: float = 0.5,
+) -> np.ndarray:
     """Index into ``segments`` for each triangle, -1 where no segment matches."""
     normals = facet_normals(points, tris)
     centroids = points[tris].mean(axis=1)
@@ -102,12 +110,21 @@ def classify_facets(points: np.ndarray, tris: np.ndarray, segments: list[Revolve
 
 def tet_volumes(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     a = points[tets[:, 0]]
-    return np.einsum("ij,ij->i", np.cross(points[tets[:, 1]] - a, points[tets[:, 2]] - a),
-                     points[tets[:, 3]] - a) / 6.0
+    return (
+        np.einsum(
+            "ij,ij->i", np.cross(points[tets[:, 1]] - a, points[tets[:, 2]] - a), points[tets[:, 3]] - a
+        )
+        / 6.0
+    )
 
 
-def snap_to_surfaces(points: np.ndarray, tets: np.ndarray, facets: dict[str, np.ndarray],
-                     segments: dict[str, list[RevolvedSegment]], max_move: float) -> tuple[np.ndarray, int]:
+def snap_to_surfaces(
+    points: np.ndarray,
+    tets: np.ndarray,
+    facets: dict[str, np.ndarray],
+    segments: dict[str, list[RevolvedSegment]],
+    max_move: float,
+) -> tuple[np.ndarray, int]:
     """Project the vertices of tagged facets onto their exact surfaces.
 
     ``segments`` maps a tag to the surfaces it may lie on (a vertex goes to the nearest). Vertices on

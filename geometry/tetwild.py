@@ -1,6 +1,7 @@
 """Tetrahedral meshing with pytetwild, tagging after meshing, and a disk cache.
 
-``mesh_epsa``, ``mesh_seal_head``, ``mesh_foot`` and ``mesh_ring`` return a :class:`geometry.tagged_mesh.TaggedMesh`.
+``mesh_epsa``, ``mesh_seal_head``, ``mesh_foot`` and ``mesh_ring`` return a
+:class:`geometry.tagged_mesh.TaggedMesh`.
 
 Pipeline per part: closed surface (``geometry.epsa_shape``/``foot``/``ring``) -> pytetwild at the target edge
 length -> tets reoriented positively, unused nodes dropped -> boundary facets classified against the
@@ -16,6 +17,7 @@ Cache. pytetwild is not reproducible (the tet count changes between identical ca
 is stored as npz under ``cache_dir`` (default ``$SOFTCRAWL_CACHE`` or ``~/.cache/softcrawl/meshes``)
 keyed by the part kind, the design hash and the mesh settings; a cached mesh is returned as is.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -29,11 +31,16 @@ from pathlib import Path
 import numpy as np
 
 from geometry.design import EPSADesign
-from geometry.epsa_shape import (DEFAULT_N_THETA, epsa_segments, epsa_surface, fiber_helices,
-                                  seal_head_segments, seal_head_surface)
+from geometry.epsa_shape import (
+    DEFAULT_N_THETA,
+    epsa_segments,
+    epsa_surface,
+    fiber_helices,
+    seal_head_segments,
+    seal_head_surface,
+)
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import (RevolvedSegment, boundary_facets, classify_facets, snap_to_surfaces,
-                              tet_volumes)
+from geometry.tagging import RevolvedSegment, boundary_facets, classify_facets, snap_to_surfaces, tet_volumes
 
 log = logging.getLogger(__name__)
 
@@ -54,7 +61,9 @@ def _cache_path(cache_dir, kind: str, design_hash: str, settings: dict) -> Path 
     if cache_dir is False:
         return None
     cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_dir()
-    key = hashlib.sha256(json.dumps({"v": MESH_VERSION, **settings}, sort_keys=True).encode()).hexdigest()[:10]
+    key = hashlib.sha256(json.dumps({"v": MESH_VERSION, **settings}, sort_keys=True).encode()).hexdigest()[
+        :10
+    ]
     return cache_dir / f"{kind}-{design_hash}-{key}.npz"
 
 
@@ -70,8 +79,9 @@ def tetrahedralize(surface, edge_length: float, epsilon: float = EPSILON) -> tup
     started = time.time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        grid = pytetwild.tetrahedralize_pv(surface.triangulate(), edge_length_abs=float(edge_length),
-                                           epsilon=epsilon, quiet=True)
+        grid = pytetwild.tetrahedralize_pv(
+            surface.triangulate(), edge_length_abs=float(edge_length), epsilon=epsilon, quiet=True
+        )
     # fTetWild leaves its tracked surface "__tracked_surface.stl" in the working directory: remove ours
     stray = Path.cwd() / "__tracked_surface.stl"
     if stray.exists() and stray.stat().st_mtime >= started - 1:
@@ -86,8 +96,9 @@ def tetrahedralize(surface, edge_length: float, epsilon: float = EPSILON) -> tup
     return points[used], inverse.reshape(tets.shape).astype(np.int64)
 
 
-def tag_boundary(points: np.ndarray, tets: np.ndarray, segments: list[RevolvedSegment], tol: float,
-                 snap: bool = True) -> tuple[np.ndarray, dict[str, np.ndarray], int]:
+def tag_boundary(
+    points: np.ndarray, tets: np.ndarray, segments: list[RevolvedSegment], tol: float, snap: bool = True
+) -> tuple[np.ndarray, dict[str, np.ndarray], int]:
     """Tag the boundary facets; returns (points, facets by tag, number of untagged facets).
 
     Untagged facets (none expected) are given the tag of the nearest surface regardless of the normal
@@ -98,13 +109,14 @@ def tag_boundary(points: np.ndarray, tets: np.ndarray, segments: list[RevolvedSe
     n_untagged = int(np.count_nonzero(idx < 0))
     if n_untagged:
         rest = np.nonzero(idx < 0)[0]
-        dists = np.array([np.max([s.closest(points[tris[rest, k]])[1] for k in range(3)], axis=0)
-                          for s in segments])
+        dists = np.array(
+            [np.max([s.closest(points[tris[rest, k]])[1] for k in range(3)], axis=0) for s in segments]
+        )
         idx[rest] = np.argmin(dists, axis=0)
         log.warning("%d boundary facets matched no surface within tol %.3g; nearest used", n_untagged, tol)
     facets: dict[str, np.ndarray] = {}
     by_tag: dict[str, list[RevolvedSegment]] = {}
-    for i, seg in enumerate(segments):
+    for _i, seg in enumerate(segments):
         by_tag.setdefault(seg.tag, []).append(seg)
     for tag in by_tag:
         members = [i for i, s in enumerate(segments) if s.tag == tag]
@@ -122,9 +134,18 @@ def _curved_meta(segments: list[RevolvedSegment]) -> dict:
     return out
 
 
-def mesh_part(kind: str, surface_fn, segments: list[RevolvedSegment], design_hash: str, region_name: str,
-              edge_length: float | None, cache_dir, n_theta: int, sagitta: float,
-              fibers: tuple = ()) -> TaggedMesh:
+def mesh_part(
+    kind: str,
+    surface_fn,
+    segments: list[RevolvedSegment],
+    design_hash: str,
+    region_name: str,
+    edge_length: float | None,
+    cache_dir,
+    n_theta: int,
+    sagitta: float,
+    fibers: tuple = (),
+) -> TaggedMesh:
     """Mesh one part (surface built lazily by ``surface_fn()``), tag it and cache it."""
     surface = None
     if edge_length is None:
@@ -141,38 +162,79 @@ def mesh_part(kind: str, surface_fn, segments: list[RevolvedSegment], design_has
     points, tets = tetrahedralize(surface, edge_length)
     t_mesh = time.perf_counter() - t0
     points, facets, n_untagged = tag_boundary(points, tets, segments, tol)
-    mesh = TaggedMesh(points, tets, np.ones(len(tets), dtype=int), {1: region_name}, facets,
-                      tuple(fibers), design_hash, float(edge_length),
-                      {"kind": kind, "tag_tolerance_mm": tol, "n_untagged_facets": n_untagged,
-                       "mesh_seconds": round(t_mesh, 2), "n_theta": n_theta,
-                       "curved_surfaces": _curved_meta(segments)})
+    mesh = TaggedMesh(
+        points,
+        tets,
+        np.ones(len(tets), dtype=int),
+        {1: region_name},
+        facets,
+        tuple(fibers),
+        design_hash,
+        float(edge_length),
+        {
+            "kind": kind,
+            "tag_tolerance_mm": tol,
+            "n_untagged_facets": n_untagged,
+            "mesh_seconds": round(t_mesh, 2),
+            "n_theta": n_theta,
+            "curved_surfaces": _curved_meta(segments),
+        },
+    )
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         mesh.save_npz(path)
     return mesh
 
 
-def mesh_epsa(design: EPSADesign | None = None, edge_length: float | None = None, cache_dir=None,
-              n_theta: int = DEFAULT_N_THETA) -> TaggedMesh:
+def mesh_epsa(
+    design: EPSADesign | None = None,
+    edge_length: float | None = None,
+    cache_dir=None,
+    n_theta: int = DEFAULT_N_THETA,
+) -> TaggedMesh:
     """Tetrahedral mesh of the ePSA body (region ``epsa``) with its five tags and the two fibers."""
     design = design or EPSADesign()
     sagitta = design.outer_radius * (1 - np.cos(np.pi / n_theta))
-    return mesh_part("epsa", lambda: epsa_surface(design, n_theta), epsa_segments(design),
-                     design.short_hash(), "epsa", edge_length, cache_dir, n_theta, sagitta,
-                     fiber_helices(design))
+    return mesh_part(
+        "epsa",
+        lambda: epsa_surface(design, n_theta),
+        epsa_segments(design),
+        design.short_hash(),
+        "epsa",
+        edge_length,
+        cache_dir,
+        n_theta,
+        sagitta,
+        fiber_helices(design),
+    )
 
 
-def mesh_seal_head(design: EPSADesign | None = None, edge_length: float | None = None, cache_dir=None,
-                   n_theta: int = DEFAULT_N_THETA) -> TaggedMesh:
+def mesh_seal_head(
+    design: EPSADesign | None = None,
+    edge_length: float | None = None,
+    cache_dir=None,
+    n_theta: int = DEFAULT_N_THETA,
+) -> TaggedMesh:
     """The ABS seal head disk of an ePSA, z in [L, L + t_s] (region ``seal_head``)."""
 
     design = design or EPSADesign()
     sagitta = design.outer_radius * (1 - np.cos(np.pi / n_theta))
-    return mesh_part("seal_head", lambda: seal_head_surface(design, n_theta), seal_head_segments(design),
-                     design.short_hash(), "seal_head", edge_length, cache_dir, n_theta, sagitta)
+    return mesh_part(
+        "seal_head",
+        lambda: seal_head_surface(design, n_theta),
+        seal_head_segments(design),
+        design.short_hash(),
+        "seal_head",
+        edge_length,
+        cache_dir,
+        n_theta,
+        sagitta,
+    )
 
 
-def mesh_foot(design=None, edge_length: float | None = None, cache_dir=None, n_theta: int | None = None) -> TaggedMesh:
+def mesh_foot(
+    design=None, edge_length: float | None = None, cache_dir=None, n_theta: int | None = None
+) -> TaggedMesh:
     """The grooved flexible foot (region ``foot``), hub top face at z = 0, see ``geometry.foot``."""
     from geometry.design import FootDesign
     from geometry.foot import FOOT_N_THETA, foot_segments, foot_surface
@@ -180,8 +242,17 @@ def mesh_foot(design=None, edge_length: float | None = None, cache_dir=None, n_t
     design = design or FootDesign()
     n_theta = n_theta or FOOT_N_THETA
     sagitta = design.tip_radius * (1 - np.cos(np.pi / n_theta))
-    return mesh_part("foot", lambda: foot_surface(design, n_theta), foot_segments(design),
-                     design.short_hash(), "foot", edge_length, cache_dir, n_theta, sagitta)
+    return mesh_part(
+        "foot",
+        lambda: foot_surface(design, n_theta),
+        foot_segments(design),
+        design.short_hash(),
+        "foot",
+        edge_length,
+        cache_dir,
+        n_theta,
+        sagitta,
+    )
 
 
 def mesh_ring(design=None, edge_length: float | None = None, cache_dir=None) -> TaggedMesh:
@@ -194,5 +265,14 @@ def mesh_ring(design=None, edge_length: float | None = None, cache_dir=None) -> 
     # input polygon sagitta on the largest circle for the chosen spacing
     spacing = float(np.max(np.linalg.norm(np.diff(np.asarray(surface.points)[:8, :2], axis=0), axis=1)))
     sagitta = spacing**2 / (8 * design.hole_radius)
-    return mesh_part("ring", lambda: surface, ring_segments(design), design.short_hash(), "ring",
-                     edge_length, cache_dir, 0, sagitta)
+    return mesh_part(
+        "ring",
+        lambda: surface,
+        ring_segments(design),
+        design.short_hash(),
+        "ring",
+        edge_length,
+        cache_dir,
+        0,
+        sagitta,
+    )

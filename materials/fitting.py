@@ -5,15 +5,23 @@ so `fit_neo_hookean` and `fit_yeoh` are linear least squares on the nominal stre
 residuals, in MPa). See `select_fit_points` for the data handling and `DEFAULT_MAX_STRAIN` for the
 default strain range.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from materials.material import (DEFAULT_K_OVER_MU, Material, MaterialError, finite_number,
-                                yeoh_design_matrix, neo_hookean_uniaxial, yeoh_is_stable,
-                                yeoh_uniaxial)
+from materials.material import (
+    DEFAULT_K_OVER_MU,
+    Material,
+    MaterialError,
+    finite_number,
+    neo_hookean_uniaxial,
+    yeoh_design_matrix,
+    yeoh_is_stable,
+    yeoh_uniaxial,
+)
 from materials.tensile import TensileData
 
 FIT_MODELS = ("neo-hookean", "yeoh")
@@ -64,14 +72,22 @@ class FitResult:
             return neo_hookean_uniaxial(stretch, self.values[0])
         return yeoh_uniaxial(stretch, self.values)
 
-    def to_material(self, *, name: str, density: float, source: str,
-                    k_over_mu: float = DEFAULT_K_OVER_MU) -> Material:
+    def to_material(
+        self, *, name: str, density: float, source: str, k_over_mu: float = DEFAULT_K_OVER_MU
+    ) -> Material:
         mu = self.initial_shear_modulus
         if self.model == "neo-hookean":
-            return Material(name=name, model="neo-hookean", mu=mu, bulk=k_over_mu * mu,
-                            density=density, source=source)
-        return Material(name=name, model="yeoh", yeoh_c=tuple(self.values), bulk=k_over_mu * mu,
-                        density=density, source=source)
+            return Material(
+                name=name, model="neo-hookean", mu=mu, bulk=k_over_mu * mu, density=density, source=source
+            )
+        return Material(
+            name=name,
+            model="yeoh",
+            yeoh_c=tuple(self.values),
+            bulk=k_over_mu * mu,
+            density=density,
+            source=source,
+        )
 
     def to_dict(self) -> dict:
         return {
@@ -124,8 +140,9 @@ def fit_neo_hookean(stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STR
     return _fit_result("neo-hookean", ("mu",), (mu,), lam, stress, mu * g, max_strain, ())
 
 
-def fit_yeoh(stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STRAIN,
-             stable: bool = True) -> FitResult:
+def fit_yeoh(
+    stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STRAIN, stable: bool = True
+) -> FitResult:
     """Fit (C10, C20, C30) of the incompressible uniaxial Yeoh law by linear least squares.
 
     P = 2 (lam - lam^-2)(C10 + 2 C20 (I1 - 3) + 3 C30 (I1 - 3)^2), I1 = lam^2 + 2/lam.
@@ -143,22 +160,25 @@ def fit_yeoh(stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STRAIN,
     coefficients = np.linalg.lstsq(design, stress, rcond=None)[0]
     notes: list[str] = []
     if stable and not yeoh_is_stable(coefficients):
-        notes.append(f"unconstrained fit (C10, C20, C30) = ({', '.join(f'{c:.4g}' for c in coefficients)})"
-                     " is unstable at large strain; refitted with C10 > 0, C30 >= 0")
+        notes.append(
+            f"unconstrained fit (C10, C20, C30) = ({', '.join(f'{c:.4g}' for c in coefficients)})"
+            " is unstable at large strain; refitted with C10 > 0, C30 >= 0"
+        )
         coefficients = _bounded_lstsq(design, stress, c20_min=-np.inf)
         if not yeoh_is_stable(coefficients):
-            notes.append(f"C20 = {coefficients[1]:.4g} < 0 with C20^2 >= 3 C10 C30; refitted "
-                         "with C20 >= 0")
+            notes.append(f"C20 = {coefficients[1]:.4g} < 0 with C20^2 >= 3 C10 C30; refitted with C20 >= 0")
             coefficients = _bounded_lstsq(design, stress, c20_min=0.0)
     values = tuple(float(c) for c in coefficients)
     if values[0] <= 0.0:
         raise MaterialError("nominal_stress", f"fitted C10 = {values[0]:g} MPa is not positive")
-    return _fit_result("yeoh", ("C10", "C20", "C30"), values, lam, stress, design @ coefficients,
-                       max_strain, tuple(notes))
+    return _fit_result(
+        "yeoh", ("C10", "C20", "C30"), values, lam, stress, design @ coefficients, max_strain, tuple(notes)
+    )
 
 
-def fit_tensile(data: TensileData, model: str = "neo-hookean",
-                max_strain: float = DEFAULT_MAX_STRAIN) -> FitResult:
+def fit_tensile(
+    data: TensileData, model: str = "neo-hookean", max_strain: float = DEFAULT_MAX_STRAIN
+) -> FitResult:
     """Fit `model` ('neo-hookean' or 'yeoh') to a loaded tensile test."""
     if model == "neo-hookean":
         return fit_neo_hookean(data.stretch, data.nominal_stress, max_strain)
@@ -182,8 +202,7 @@ def _validated_curve(stretch, nominal_stress) -> tuple[np.ndarray, np.ndarray]:
     if lam.ndim != 1:
         raise MaterialError("stretch", f"must be a 1-D array, got shape {lam.shape}")
     if stress.shape != lam.shape:
-        raise MaterialError("nominal_stress", f"shape {stress.shape} differs from stretch "
-                                              f"shape {lam.shape}")
+        raise MaterialError("nominal_stress", f"shape {stress.shape} differs from stretch shape {lam.shape}")
     if not np.all(np.isfinite(lam)) or np.any(lam <= 0.0):
         raise MaterialError("stretch", "must be finite and > 0 (stretch = 1 + engineering strain)")
     if not np.all(np.isfinite(stress)):
@@ -194,8 +213,10 @@ def _validated_curve(stretch, nominal_stress) -> tuple[np.ndarray, np.ndarray]:
 def _points_for_fit(stretch, nominal_stress, max_strain, n_params: int):
     lam, stress = select_fit_points(stretch, nominal_stress, max_strain)
     if lam.size < n_params + 2:
-        raise MaterialError("max_strain", f"only {lam.size} usable points up to strain "
-                                          f"{max_strain:g}; need at least {n_params + 2}")
+        raise MaterialError(
+            "max_strain",
+            f"only {lam.size} usable points up to strain {max_strain:g}; need at least {n_params + 2}",
+        )
     return lam, stress
 
 
@@ -204,9 +225,14 @@ def _fit_result(model, names, values, lam, stress, predicted, max_strain, notes)
     rms = float(np.sqrt(np.mean(residual**2)))
     ss_tot = float(np.sum((stress - stress.mean()) ** 2))
     return FitResult(
-        model=model, param_names=names, values=values, max_strain=float(max_strain),
+        model=model,
+        param_names=names,
+        values=values,
+        max_strain=float(max_strain),
         strain_range=(round(float(lam.min() - 1.0), 9), round(float(lam.max() - 1.0), 9)),
         n_points=int(lam.size),
-        rms_error=rms, relative_rms_error=rms / float(np.sqrt(np.mean(stress**2))),
+        rms_error=rms,
+        relative_rms_error=rms / float(np.sqrt(np.mean(stress**2))),
         r_squared=1.0 - float(np.sum(residual**2)) / ss_tot if ss_tot > 0.0 else float("nan"),
-        notes=notes)
+        notes=notes,
+    )

@@ -34,6 +34,7 @@ I1 = lam^2 + 2/lam, the nominal (engineering) stress P = force / undeformed area
     Neo-Hookean:  P = mu (lam - lam^-2)
     Yeoh:         P = 2 (lam - lam^-2) (C10 + 2 C20 (I1 - 3) + 3 C30 (I1 - 3)^2)
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -73,8 +74,7 @@ def bulk_modulus_from_youngs(youngs: float, poisson: float) -> float:
     return youngs / (3.0 * (1.0 - 2.0 * poisson))
 
 
-def shear_modulus_nearly_incompressible(youngs: float,
-                                        k_over_mu: float = DEFAULT_K_OVER_MU) -> float:
+def shear_modulus_nearly_incompressible(youngs: float, k_over_mu: float = DEFAULT_K_OVER_MU) -> float:
     """mu such that E = 9 K mu / (3 K + mu) with K = k_over_mu * mu: mu = E (3k + 1) / (9k)."""
     return youngs * (3.0 * k_over_mu + 1.0) / (9.0 * k_over_mu)
 
@@ -127,8 +127,10 @@ class Material:
         if density <= 0.0:
             raise MaterialError("density", f"must be > 0 t/mm^3, got {density:g}")
         if density > MAX_DENSITY:
-            raise MaterialError("density", f"{density:g} t/mm^3 is implausible; density is in "
-                                           "t/mm^3 (1.07 g/cm^3 = 1.07e-9 t/mm^3)")
+            raise MaterialError(
+                "density",
+                f"{density:g} t/mm^3 is implausible; density is in t/mm^3 (1.07 g/cm^3 = 1.07e-9 t/mm^3)",
+            )
         if not isinstance(self.source, str):
             raise MaterialError("source", "must be a string")
         if self.model == "linear-elastic":
@@ -163,8 +165,10 @@ class Material:
     def _hyperelastic_moduli(self) -> tuple[float, float]:
         for field_name in ("youngs", "poisson"):
             if getattr(self, field_name) is not None:
-                raise MaterialError(field_name, f"only for model 'linear-elastic'; give mu (and "
-                                                f"bulk) for model {self.model!r}")
+                raise MaterialError(
+                    field_name,
+                    f"only for model 'linear-elastic'; give mu (and bulk) for model {self.model!r}",
+                )
         if self.model == "yeoh":
             coefficients = _yeoh_coefficients(self.yeoh_c)
             object.__setattr__(self, "yeoh_c", coefficients)
@@ -182,8 +186,11 @@ class Material:
         if bulk <= 0.0:
             raise MaterialError("bulk", f"must be > 0 MPa, got {bulk:g}")
         if bulk < 2.0 * mu / 3.0:
-            raise MaterialError("bulk", f"K/mu = {bulk / mu:g} < 2/3 gives a negative Poisson "
-                                        f"ratio; nearly incompressible solids use K/mu >= 1000")
+            raise MaterialError(
+                "bulk",
+                f"K/mu = {bulk / mu:g} < 2/3 gives a negative Poisson "
+                f"ratio; nearly incompressible solids use K/mu >= 1000",
+            )
         return mu, bulk
 
     # -- derived constants (small strain) ------------------------------------------------------
@@ -212,7 +219,7 @@ class Material:
     def is_hyperelastic(self) -> bool:
         return self.model in HYPERELASTIC_MODELS
 
-    def with_mu(self, mu: float) -> "Material":
+    def with_mu(self, mu: float) -> Material:
         """A copy with shear modulus `mu` [MPa] and everything else scaled along.
 
         K/mu is kept (so the compressibility, nu, is unchanged); for Yeoh all three constants are
@@ -225,11 +232,15 @@ class Material:
         scale = new_mu / self.mu
         note = f"{self.source}; mu rescaled {self.mu:.6g} -> {new_mu:.6g} MPa (K/mu kept)"
         if self.model == "linear-elastic":
-            return dataclasses.replace(self, youngs=self.youngs * scale, mu=None, bulk=None,
-                                       source=note)
+            return dataclasses.replace(self, youngs=self.youngs * scale, mu=None, bulk=None, source=note)
         if self.model == "yeoh":
-            return dataclasses.replace(self, yeoh_c=tuple(c * scale for c in self.yeoh_c),
-                                       mu=None, bulk=self.bulk * scale, source=note)
+            return dataclasses.replace(
+                self,
+                yeoh_c=tuple(c * scale for c in self.yeoh_c),
+                mu=None,
+                bulk=self.bulk * scale,
+                source=note,
+            )
         return dataclasses.replace(self, mu=new_mu, bulk=self.bulk * scale, source=note)
 
     def uniaxial_nominal_stress(self, stretch) -> np.ndarray:
@@ -245,8 +256,12 @@ class Material:
         record = dataclasses.asdict(self)
         if record["yeoh_c"] is not None:
             record["yeoh_c"] = list(record["yeoh_c"])
-        record.update(youngs_modulus=self.youngs_modulus, poisson_ratio=self.poisson_ratio,
-                      lame_lambda=self.lame_lambda, k_over_mu=self.k_over_mu)
+        record.update(
+            youngs_modulus=self.youngs_modulus,
+            poisson_ratio=self.poisson_ratio,
+            lame_lambda=self.lame_lambda,
+            k_over_mu=self.k_over_mu,
+        )
         return record
 
 
@@ -268,8 +283,10 @@ def _check_consistent(given, derived: float, parameter: str) -> None:
         return
     value = finite_number(given, parameter)
     if not math.isclose(value, derived, rel_tol=1e-9):
-        raise MaterialError(parameter, f"{value:g} contradicts the value {derived:g} derived from "
-                                       f"the other constants; leave it out")
+        raise MaterialError(
+            parameter,
+            f"{value:g} contradicts the value {derived:g} derived from the other constants; leave it out",
+        )
 
 
 def _yeoh_coefficients(yeoh_c) -> tuple[float, float, float]:
@@ -291,9 +308,12 @@ def _yeoh_coefficients(yeoh_c) -> tuple[float, float, float]:
     if c10 <= 0.0:
         raise MaterialError("yeoh_c", f"initial shear modulus 2 C10 must be > 0, got C10 = {c10:g}")
     if not yeoh_is_stable((c10, c20, c30)):
-        raise MaterialError("yeoh_c", f"(C10, C20, C30) = ({c10:g}, {c20:g}, {c30:g}) is unstable: "
-                                      "dW/dI1 turns negative at large strain (need C30 >= 0 and "
-                                      "C20 >= 0 or C20^2 < 3 C10 C30)")
+        raise MaterialError(
+            "yeoh_c",
+            f"(C10, C20, C30) = ({c10:g}, {c20:g}, {c30:g}) is unstable: "
+            "dW/dI1 turns negative at large strain (need C30 >= 0 and "
+            "C20 >= 0 or C20^2 < 3 C10 C30)",
+        )
     return (c10, c20, c30)
 
 

@@ -1,90 +1,115 @@
 """Material presets of the robot's parts, each with its source, and `NAME@mu=VALUE` overrides."""
+
 from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable
 from dataclasses import replace
-from typing import Callable
 
 from materials.fitting import DEFAULT_MAX_STRAIN, fit_tensile
 from materials.material import Material, MaterialError, shear_modulus_nearly_incompressible, shore_a_to_youngs
 from materials.tensile import DATA_ATTRIBUTION, DATA_LICENSE, TENSILE_FILES, load_tensile
-
 
 _G_PER_CM3 = 1.0e-9  # t/mm^3 per g/cm^3
 
 #: Densities [t/mm^3]. Smooth-On technical bulletins give specific gravity 1.07 (Ecoflex 00-30,
 #: 00-50) and 1.08 (Dragon Skin 30). The datasheet numbers quoted in the preset sources are from
 #: the bulletins as the author knows them, not re-checked against the current editions.
-_SILICONE_DENSITY = {"ecoflex-00-50": 1.07 * _G_PER_CM3, "ecoflex-00-30": 1.07 * _G_PER_CM3,
-                     "dragon-skin-30": 1.08 * _G_PER_CM3}
+_SILICONE_DENSITY = {
+    "ecoflex-00-50": 1.07 * _G_PER_CM3,
+    "ecoflex-00-30": 1.07 * _G_PER_CM3,
+    "dragon-skin-30": 1.08 * _G_PER_CM3,
+}
 
 
 def _ecoflex_00_50() -> Material:
     return Material(
-        name="ecoflex-00-50", model="neo-hookean", mu=0.030,
+        name="ecoflex-00-50",
+        model="neo-hookean",
+        mu=0.030,
         density=_SILICONE_DENSITY["ecoflex-00-50"],
         source="DESIGN.md sec. 3 default mu = 0.030 MPa (literature 0.022-0.047 MPa; Smooth-On "
-               "TDS (not re-checked) 100 % modulus 12 psi = 0.083 MPa -> NH secant mu = 0.047 MPa); SG 1.07 "
-               "(Smooth-On TDS)")
+        "TDS (not re-checked) 100 % modulus 12 psi = 0.083 MPa -> NH secant mu = 0.047 MPa); SG 1.07 "
+        "(Smooth-On TDS)",
+    )
 
 
 def _ecoflex_00_30() -> Material:
     return Material(
-        name="ecoflex-00-30", model="neo-hookean", mu=0.018,
+        name="ecoflex-00-30",
+        model="neo-hookean",
+        mu=0.018,
         density=_SILICONE_DENSITY["ecoflex-00-30"],
         source="literature mu ~ 0.0125-0.023 MPa, mid value 0.018 MPa (SRMD tensile fit 0-100 % "
-               "gives 0.016 MPa; Smooth-On TDS (not re-checked) 100 % modulus 10 psi = 0.069 MPa -> NH secant "
-               "0.039 MPa, an upper bound); SG 1.07 (Smooth-On TDS)")
+        "gives 0.016 MPa; Smooth-On TDS (not re-checked) 100 % modulus 10 psi = 0.069 MPa -> NH secant "
+        "0.039 MPa, an upper bound); SG 1.07 (Smooth-On TDS)",
+    )
 
 
 def _dragon_skin_30() -> Material:
     return Material(
-        name="dragon-skin-30", model="neo-hookean", mu=0.20,
+        name="dragon-skin-30",
+        model="neo-hookean",
+        mu=0.20,
         density=_SILICONE_DENSITY["dragon-skin-30"],
         source="literature mu ~ 0.1-0.2 MPa, upper value 0.20 MPa since the SRMD tensile fit "
-               "0-100 % gives 0.22 MPa (0-50 %: 0.19 MPa; Smooth-On TDS (not re-checked) 100 % modulus 86 psi = "
-               "0.59 MPa -> NH secant 0.34 MPa); SG 1.08 (Smooth-On TDS)")
+        "0-100 % gives 0.22 MPa (0-50 %: 0.19 MPa; Smooth-On TDS (not re-checked) 100 % modulus 86 psi = "
+        "0.59 MPa -> NH secant 0.34 MPa); SG 1.08 (Smooth-On TDS)",
+    )
 
 
 def _rubber_70a() -> Material:
     youngs = shore_a_to_youngs(70.0)
     return Material(
-        name="rubber-70a", model="neo-hookean", mu=shear_modulus_nearly_incompressible(youngs),
+        name="rubber-70a",
+        model="neo-hookean",
+        mu=shear_modulus_nearly_incompressible(youngs),
         density=1.15 * _G_PER_CM3,
         source=f"3D-printed rubber foot, Shore 70A: E = {youngs:.3f} MPa by Gent's relation "
-               "(DESIGN.md sec. 3), mu from E with K = 1000 mu; density 1.15 g/cm^3 assumed "
-               "(typical of rubber-like PolyJet photopolymers, not measured)")
+        "(DESIGN.md sec. 3), mu from E with K = 1000 mu; density 1.15 g/cm^3 assumed "
+        "(typical of rubber-like PolyJet photopolymers, not measured)",
+    )
 
 
 def _abs() -> Material:
     return Material(
-        name="abs", model="linear-elastic", youngs=2000.0, poisson=0.35, density=1.04 * _G_PER_CM3,
+        name="abs",
+        model="linear-elastic",
+        youngs=2000.0,
+        poisson=0.35,
+        density=1.04 * _G_PER_CM3,
         source="DESIGN.md sec. 3 (rings, seal heads): E = 2000 MPa, nu = 0.35; density "
-               "1.04 g/cm^3 (typical ABS)")
+        "1.04 g/cm^3 (typical ABS)",
+    )
 
 
 def _kevlar() -> Material:
     return Material(
-        name="kevlar", model="linear-elastic", youngs=31067.0, poisson=0.36,
+        name="kevlar",
+        model="linear-elastic",
+        youngs=31067.0,
+        poisson=0.36,
         density=1.44 * _G_PER_CM3,
         source="DESIGN.md sec. 3 fiber thread E = 31067 MPa (for a truss; diameter 0.3 mm is a "
-               "geometry parameter); nu = 0.36 nominal (Kevlar 49), unused by truss elements; "
-               "density 1.44 g/cm^3 (Kevlar 49)")
+        "geometry parameter); nu = 0.36 nominal (Kevlar 49), unused by truss elements; "
+        "density 1.44 g/cm^3 (Kevlar 49)",
+    )
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _fitted(data_name: str) -> Material:
     """Neo-Hookean fit at the default strain range, computed at first use and cached."""
     data = load_tensile(data_name)
     fit = fit_tensile(data, "neo-hookean", DEFAULT_MAX_STRAIN)
-    source = (f"Neo-Hookean least-squares fit to SRMD uniaxial tensile data ({TENSILE_FILES[data_name]}), "
-              f"engineering strain {fit.strain_range[0]:.3f}-{fit.strain_range[1]:.3f}, "
-              f"{fit.n_points} points, RMS error {fit.rms_error:.2g} MPa "
-              f"({100 * fit.relative_rms_error:.1f} %); crosshead strain tends to under-estimate "
-              f"stiffness. {DATA_ATTRIBUTION} {DATA_LICENSE}")
-    return fit.to_material(name=f"{data_name}-fit", density=_SILICONE_DENSITY[data_name],
-                           source=source)
+    source = (
+        f"Neo-Hookean least-squares fit to SRMD uniaxial tensile data ({TENSILE_FILES[data_name]}), "
+        f"engineering strain {fit.strain_range[0]:.3f}-{fit.strain_range[1]:.3f}, "
+        f"{fit.n_points} points, RMS error {fit.rms_error:.2g} MPa "
+        f"({100 * fit.relative_rms_error:.1f} %); crosshead strain tends to under-estimate "
+        f"stiffness. {DATA_ATTRIBUTION} {DATA_LICENSE}"
+    )
+    return fit.to_material(name=f"{data_name}-fit", density=_SILICONE_DENSITY[data_name], source=source)
 
 
 PRESETS: dict[str, Callable[[], Material]] = {
@@ -115,8 +140,9 @@ def get_material(name: str) -> Material:
     try:
         factory = PRESETS[base]
     except (KeyError, TypeError):
-        raise MaterialError("material", f"unknown material {name!r}; valid: "
-                                        f"{', '.join(PRESETS)} (optionally NAME@mu=VALUE)") from None
+        raise MaterialError(
+            "material", f"unknown material {name!r}; valid: {', '.join(PRESETS)} (optionally NAME@mu=VALUE)"
+        ) from None
     if not override:
         return factory()
     key, _, value = override.partition("=")

@@ -4,6 +4,7 @@
 Robotics 8(3), 2021; ODbL 1.0 / DbCL 1.0, attribution in ``materials/data/README.md`` and in
 `DATA_ATTRIBUTION`, which must travel with every derived table) or any CSV file of that format.
 """
+
 from __future__ import annotations
 
 import math
@@ -71,11 +72,17 @@ def load_tensile(name: str) -> TensileData:
     peak = int(np.argmax(stress))
     strain, stress = strain[: peak + 1], stress[: peak + 1]
     if np.any(np.diff(strain) <= 0.0):
-        raise MaterialError("data", f"{path}: engineering strain is not strictly increasing on "
-                                    "the loading branch")
-    return TensileData(name=name if shipped else path.stem, path=str(path), strain=strain,
-                       nominal_stress=stress, metadata=metadata,
-                       attribution=DATA_ATTRIBUTION if shipped else "")
+        raise MaterialError(
+            "data", f"{path}: engineering strain is not strictly increasing on the loading branch"
+        )
+    return TensileData(
+        name=name if shipped else path.stem,
+        path=str(path),
+        strain=strain,
+        nominal_stress=stress,
+        metadata=metadata,
+        attribution=DATA_ATTRIBUTION if shipped else "",
+    )
 
 
 def _tensile_path(name: str) -> tuple[Path, bool]:
@@ -84,8 +91,9 @@ def _tensile_path(name: str) -> tuple[Path, bool]:
     path = Path(name)
     if path.is_file():
         return path, False
-    raise MaterialError("data", f"{name!r} is neither a shipped data set "
-                                f"({', '.join(TENSILE_FILES)}) nor a file")
+    raise MaterialError(
+        "data", f"{name!r} is neither a shipped data set ({', '.join(TENSILE_FILES)}) nor a file"
+    )
 
 
 def _parse_tensile_csv(text: str, label: str):
@@ -103,10 +111,13 @@ def _parse_tensile_csv(text: str, label: str):
     stress_col = next((i for i, c in enumerate(columns) if c.startswith("engineering stress")), None)
     if stress_col is None:
         raise MaterialError("data", f"{label}: no 'Engineering Stress (MPa)' column")
-    metadata = tuple(_metadata_pair(line) for line in lines[:header_index]
-                     if line.strip(" ;") and not line.upper().startswith("PARAMETER;"))
+    metadata = tuple(
+        _metadata_pair(line)
+        for line in lines[:header_index]
+        if line.strip(" ;") and not line.upper().startswith("PARAMETER;")
+    )
     strain, stress = [], []
-    for line in lines[header_index + 1:]:
+    for line in lines[header_index + 1 :]:
         cells = line.split(";")
         if len(cells) <= max(strain_col, stress_col):
             continue

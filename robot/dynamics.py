@@ -6,6 +6,7 @@ with scipy's `solve_ivp` (Radau: the system is stiff, the mass is 23 g and b_p/m
 k_p/b_p ~ 2.5 1/s), restarting at every pressure switch so that no step straddles a discontinuity.
 Units: mm, s, N, tonne; P in kPa. The damping b_p is an assumption (see `robot.prototype`).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -13,20 +14,26 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from robot.statics import G_STANDARD, EPSAParams
 from robot.errors import ModelInputError
+from robot.statics import G_STANDARD, EPSAParams
 
 
 @dataclass(frozen=True)
 class Response:
-    t: np.ndarray          # s
-    y: np.ndarray          # extension, mm
-    v: np.ndarray          # velocity, mm/s
+    t: np.ndarray  # s
+    y: np.ndarray  # extension, mm
+    v: np.ndarray  # velocity, mm/s
     pressure_kpa: np.ndarray
 
 
-def simulate(actuator: EPSAParams, phases, y0: float = 0.0, v0: float = 0.0,
-             g: float = G_STANDARD, samples_per_phase: int = 200) -> Response:
+def simulate(
+    actuator: EPSAParams,
+    phases,
+    y0: float = 0.0,
+    v0: float = 0.0,
+    g: float = G_STANDARD,
+    samples_per_phase: int = 200,
+) -> Response:
     """Integrate eq. (1) over `phases` = [(duration_s, pressure_kpa), ...]."""
     if not phases:
         raise ModelInputError("phases", "need at least one (duration, pressure) phase")
@@ -51,8 +58,9 @@ def simulate(actuator: EPSAParams, phases, y0: float = 0.0, v0: float = 0.0,
             return [[0.0, 1.0], [-k / m, -b / m]]
 
         t_eval = np.linspace(t0, t0 + duration, samples_per_phase)
-        sol = solve_ivp(rhs, (t0, t0 + duration), state, method="Radau", t_eval=t_eval, jac=jac,
-                        rtol=1e-7, atol=1e-9)
+        sol = solve_ivp(
+            rhs, (t0, t0 + duration), state, method="Radau", t_eval=t_eval, jac=jac, rtol=1e-7, atol=1e-9
+        )
         if not sol.success:  # pragma: no cover - scipy failure is a bug, not user input
             raise RuntimeError(sol.message)
         ts.append(sol.t)
@@ -64,23 +72,36 @@ def simulate(actuator: EPSAParams, phases, y0: float = 0.0, v0: float = 0.0,
     return Response(np.concatenate(ts), np.concatenate(ys), np.concatenate(vs), np.concatenate(ps))
 
 
-def step_response(actuator: EPSAParams, pressure_kpa: float, duration_s: float = 2.0,
-                  g: float = G_STANDARD) -> Response:
+def step_response(
+    actuator: EPSAParams, pressure_kpa: float, duration_s: float = 2.0, g: float = G_STANDARD
+) -> Response:
     """Start at the P = 0 equilibrium and step to `pressure_kpa`."""
     y0 = float(actuator.extension(0.0, g))
     return simulate(actuator, [(duration_s, pressure_kpa)], y0=y0, g=g)
 
 
-def gait_response(actuator: EPSAParams, pressure_kpa: float, inflate_s: float = 1.5,
-                  deflate_s: float = 0.5, cycles: int = 3, g: float = G_STANDARD) -> Response:
+def gait_response(
+    actuator: EPSAParams,
+    pressure_kpa: float,
+    inflate_s: float = 1.5,
+    deflate_s: float = 0.5,
+    cycles: int = 3,
+    g: float = G_STANDARD,
+) -> Response:
     """Paper's gait 1 style cycles: inflate to P for inflate_s, deflate to 0 for deflate_s."""
     y0 = float(actuator.extension(0.0, g))
     phases = [(inflate_s, pressure_kpa), (deflate_s, 0.0)] * int(cycles)
     return simulate(actuator, phases, y0=y0, g=g)
 
 
-def gait_stride(actuator: EPSAParams, pressure_kpa: float, inflate_s: float = 1.5,
-                deflate_s: float = 0.5, cycles: int = 4, g: float = 0.0) -> float:
+def gait_stride(
+    actuator: EPSAParams,
+    pressure_kpa: float,
+    inflate_s: float = 1.5,
+    deflate_s: float = 0.5,
+    cycles: int = 4,
+    g: float = 0.0,
+) -> float:
     """Friction-free stride (mm) of a periodic inflate/deflate gait with eq. (1)'s dynamics.
 
     The extension at the end of the last inflation minus that at the end of the last deflation:

@@ -20,22 +20,23 @@ with `piecewise=False` fits a single line.
 Units: P in kPa, loads in N, extensions in mm; results in N/mm and N (use `.scaled(1000)` on k_p for
 the paper's N/m). The table can be synthetic (`synthetic_table`), measured, or FE output.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from robot.statics import G_STANDARD, EPSAParams, Line, PiecewiseLinear
 from robot.errors import ModelInputError
+from robot.statics import G_STANDARD, EPSAParams, Line, PiecewiseLinear
 
 
 @dataclass(frozen=True)
 class PerPressureFit:
-    pressure_kpa: np.ndarray   # (n,)
-    k_p: np.ndarray            # N/mm
-    f_p: np.ndarray            # N
-    rms_mm: np.ndarray         # residual of the per-pressure line
+    pressure_kpa: np.ndarray  # (n,)
+    k_p: np.ndarray  # N/mm
+    f_p: np.ndarray  # N
+    rms_mm: np.ndarray  # residual of the per-pressure line
 
 
 @dataclass(frozen=True)
@@ -45,8 +46,9 @@ class Identification:
     f_p: PiecewiseLinear
 
 
-def fit_per_pressure(pressure_kpa, load_n, extension_mm, mass_t: float = 0.0,
-                     g: float = G_STANDARD) -> PerPressureFit:
+def fit_per_pressure(
+    pressure_kpa, load_n, extension_mm, mass_t: float = 0.0, g: float = G_STANDARD
+) -> PerPressureFit:
     p = np.asarray(pressure_kpa, dtype=float).ravel()
     w = np.asarray(load_n, dtype=float).ravel()
     y = np.asarray(extension_mm, dtype=float).ravel()
@@ -79,8 +81,9 @@ def _line_fit(x, y):
     return Line(float(s), float(c)), sse
 
 
-def fit_piecewise(pressure_kpa, values, breakpoint: float | None = 60.0,
-                  piecewise: bool = True) -> PiecewiseLinear:
+def fit_piecewise(
+    pressure_kpa, values, breakpoint: float | None = 60.0, piecewise: bool = True
+) -> PiecewiseLinear:
     """Two lines split at `breakpoint` (kPa, lower line for P <= bp) or at the best data pressure."""
     x = np.asarray(pressure_kpa, dtype=float)
     v = np.asarray(values, dtype=float)
@@ -90,8 +93,9 @@ def fit_piecewise(pressure_kpa, values, breakpoint: float | None = 60.0,
     if breakpoint is not None:
         lo, hi = x <= breakpoint, x > breakpoint
         if np.unique(x[lo]).size < 2 or np.unique(x[hi]).size < 2:
-            raise ModelInputError("breakpoint", f"{breakpoint:g} kPa leaves fewer than two pressures "
-                                                "on one side")
+            raise ModelInputError(
+                "breakpoint", f"{breakpoint:g} kPa leaves fewer than two pressures on one side"
+            )
         l1, _ = _line_fit(x[lo], v[lo])
         l2, _ = _line_fit(x[hi], v[hi])
         return PiecewiseLinear(l1, l2, float(breakpoint))
@@ -110,16 +114,33 @@ def fit_piecewise(pressure_kpa, values, breakpoint: float | None = 60.0,
     return best[1]
 
 
-def identify(pressure_kpa, load_n, extension_mm, mass_t: float = 0.0, g: float = G_STANDARD,
-             breakpoint: float | None = 60.0, piecewise: bool = True) -> Identification:
+def identify(
+    pressure_kpa,
+    load_n,
+    extension_mm,
+    mass_t: float = 0.0,
+    g: float = G_STANDARD,
+    breakpoint: float | None = 60.0,
+    piecewise: bool = True,
+) -> Identification:
     """The paper's two-step procedure; see the module docstring."""
     per = fit_per_pressure(pressure_kpa, load_n, extension_mm, mass_t, g)
-    return Identification(per, fit_piecewise(per.pressure_kpa, per.k_p, breakpoint, piecewise),
-                          fit_piecewise(per.pressure_kpa, per.f_p, breakpoint, piecewise))
+    return Identification(
+        per,
+        fit_piecewise(per.pressure_kpa, per.k_p, breakpoint, piecewise),
+        fit_piecewise(per.pressure_kpa, per.f_p, breakpoint, piecewise),
+    )
 
 
-def synthetic_table(actuator: EPSAParams, pressures_kpa, loads_n, repeats: int = 1,
-                    noise_mm: float = 0.0, seed: int = 0, g: float = G_STANDARD):
+def synthetic_table(
+    actuator: EPSAParams,
+    pressures_kpa,
+    loads_n,
+    repeats: int = 1,
+    noise_mm: float = 0.0,
+    seed: int = 0,
+    g: float = G_STANDARD,
+):
     """(P, W, y) rows from the model k_p y + m g + W = f_p, plus Gaussian noise on y."""
     rng = np.random.default_rng(seed)
     P, W = np.meshgrid(np.asarray(pressures_kpa, float), np.asarray(loads_n, float), indexing="ij")
@@ -141,6 +162,7 @@ def read_table(path):
     try:
         cols = [np.array([float(r[c]) for r in rows]) for c in ("pressure_kpa", "load_n", "extension_mm")]
     except (KeyError, ValueError) as exc:
-        raise ModelInputError("table", f"{path}: need numeric columns pressure_kpa, load_n, "
-                                       f"extension_mm ({exc})") from None
+        raise ModelInputError(
+            "table", f"{path}: need numeric columns pressure_kpa, load_n, extension_mm ({exc})"
+        ) from None
     return tuple(cols)

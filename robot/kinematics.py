@@ -37,6 +37,7 @@ d sin(phi), d sin(60 deg + phi), d sin(30 deg + phi) that do not match psi = (90
 For l = (110, 125, 140) mm, d = 14 mm they give (103.1, 117.2, 109.1) mm instead of the input
 (`printed_ik_lengths` reproduces them for the record). The exact inverse above is used everywhere.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -191,8 +192,10 @@ def lengths_from_configuration(kappa, phi, lc, d: float = 14.0):
 def printed_ik_lengths(kappa: float, phi: float, lc: float, d: float = 14.0) -> np.ndarray:
     """Eqs. (13)-(15) exactly as printed (for documentation; they do not invert eqs. 4-6)."""
     chord = 2.0 * np.sin(lc * kappa / 2.0)
-    return np.array([
-        chord * (1.0 / kappa - d * np.sin(phi)),
-        chord * (1.0 / kappa + d * np.sin(np.pi / 3 + phi)),
-        chord * (1.0 / kappa - d * np.sin(np.pi / 6 + phi)),
-    ])
+    return np.array(
+        [
+            chord * (1.0 / kappa - d * np.sin(phi)),
+            chord * (1.0 / kappa + d * np.sin(np.pi / 3 + phi)),
+            chord * (1.0 / kappa - d * np.sin(np.pi / 6 + phi)),
+        ]
+    )

@@ -25,14 +25,15 @@ actuators of
 ignores foot slip on the anchoring foot and the pressure not reaching its set point within the
 inflation time, so it is an estimate to compare with Table 2, not a prediction.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from robot.statics import EPSAParams
 from robot.errors import ModelInputError
+from robot.statics import EPSAParams
 
 
 def friction_from_extensions(k_p_n_per_mm, y_outside_mm, y_inside_mm):
@@ -68,22 +69,27 @@ class SpeedEstimate:
     speed_mm_s: float
 
 
-def crawl_speed(actuators, pressure_kpa: float, friction_n: float, cycle_s: float = 2.0,
-                g_axial: float = 0.0) -> SpeedEstimate:
+def crawl_speed(
+    actuators, pressure_kpa: float, friction_n: float, cycle_s: float = 2.0, g_axial: float = 0.0
+) -> SpeedEstimate:
     """Stride per cycle and speed (see module docstring); friction_n is the total for the robot."""
     if cycle_s <= 0:
         raise ModelInputError("cycle", "must be > 0 s")
     if friction_n < 0:
         raise ModelInputError("friction", "must be >= 0 N")
-    ys = tuple(max(0.0, float(extension_with_friction(a, pressure_kpa, friction_n / 3.0, g_axial)))
-               for a in actuators)
+    ys = tuple(
+        max(0.0, float(extension_with_friction(a, pressure_kpa, friction_n / 3.0, g_axial)))
+        for a in actuators
+    )
     stride = float(np.mean(ys))
-    return SpeedEstimate(float(pressure_kpa), float(friction_n), float(g_axial), ys, stride,
-                         float(cycle_s), stride / cycle_s)
+    return SpeedEstimate(
+        float(pressure_kpa), float(friction_n), float(g_axial), ys, stride, float(cycle_s), stride / cycle_s
+    )
 
 
-def friction_for_speed(actuators, pressure_kpa: float, speed_mm_s: float, cycle_s: float = 2.0,
-                       g_axial: float = 0.0) -> float:
+def friction_for_speed(
+    actuators, pressure_kpa: float, speed_mm_s: float, cycle_s: float = 2.0, g_axial: float = 0.0
+) -> float:
     """Total friction (N) at which `crawl_speed` would give `speed_mm_s` (all actuators moving)."""
     y = speed_mm_s * cycle_s
     per = [float(a.f_p(pressure_kpa) - a.mass * g_axial - a.k_p(pressure_kpa) * y) for a in actuators]

@@ -14,6 +14,7 @@ point of its centreline has distance <= D/2 - r.
 "vertical" is geometrically a straight pipe; it differs in the axial gravity the planner applies to
 the statics (the robot climbs against g).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -28,11 +29,11 @@ KINDS = ("straight", "vertical", "elbow")
 @dataclass(frozen=True)
 class Pipe:
     kind: str = "straight"
-    diameter: float = 70.0          # mm, inner diameter
-    bend_radius: float = 40.0       # mm, centreline radius of the elbow
-    entry: float = 150.0            # mm, entry leg (the whole length for straight/vertical)
-    exit: float = 150.0             # mm, exit leg (elbow)
-    bend_angle: float = np.pi / 2   # rad
+    diameter: float = 70.0  # mm, inner diameter
+    bend_radius: float = 40.0  # mm, centreline radius of the elbow
+    entry: float = 150.0  # mm, entry leg (the whole length for straight/vertical)
+    exit: float = 150.0  # mm, exit leg (elbow)
+    bend_angle: float = np.pi / 2  # rad
 
     def __post_init__(self):
         if self.kind not in KINDS:

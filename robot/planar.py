@@ -14,6 +14,7 @@ curvature to 5e-4 1/mm), so the first layer that reaches the goal gives the fewe
 discretisation. A layer larger than `max_states` keeps its furthest states (then the search is no
 longer exhaustive; the result says so). Vectorised over states and candidate triples.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -38,10 +39,20 @@ def _planar(l1, l23, d):
     return (1.0 - l1 / lc) / d, lc
 
 
-def bfs_plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 10.0,
-             body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 40,
-             stages: int = 4, samples: int = 21, cell_mm: float = 1.0, cell_deg: float = 1.0,
-             max_states: int = 20000, chunk: int = 40) -> Plan:
+def bfs_plan(
+    pipe: Pipe,
+    actuators: str = "nominal",
+    step_kpa: float = 10.0,
+    body_radius: float = BODY_RADIUS_MM,
+    d: float = D_MM,
+    max_cycles: int = 40,
+    stages: int = 4,
+    samples: int = 21,
+    cell_mm: float = 1.0,
+    cell_deg: float = 1.0,
+    max_states: int = 20000,
+    chunk: int = 40,
+) -> Plan:
     if pipe.kind != "elbow":
         raise ModelInputError("pipe", "the planar search is for elbows")
     acts = actuator_set(actuators)
@@ -49,8 +60,9 @@ def bfs_plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 10.0,
         raise ModelInputError("actuators", "the planar search needs identical ePSAs 2 and 3")
     allow = pipe.diameter / 2.0 - body_radius
     if allow < 0:
-        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
-                                          f"{pipe.diameter:g} mm pipe")
+        raise ModelInputError(
+            "diameter", f"a {2 * body_radius:g} mm body does not fit a {pipe.diameter:g} mm pipe"
+        )
     grid = _pressure_grid(step_kpa, planar=True)
     l1 = acts[0].length(grid[:, 0], 0.0)
     l23 = acts[1].length(grid[:, 1], 0.0)
@@ -74,7 +86,7 @@ def bfs_plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 10.0,
         cur = layers[-1]
         nxt, par, cnd = [], [], []
         for start in range(0, len(cur), chunk):
-            ch = cur[start:start + chunk]
+            ch = cur[start : start + chunk]
             x, z, al, kd = (ch[:, i][:, None, None, None] for i in range(4))
             # deflated lengths of the kept curvature -> target lengths, linear in the stages
             l1d = rest * (1.0 - kd * d)
@@ -82,11 +94,11 @@ def bfs_plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 10.0,
             L1 = l1d + lam[None, None, :, None] * (l1[None, :, None, None] - l1d)
             L23 = l23d + lam[None, None, :, None] * (l23[None, :, None, None] - l23d)
             k, lc = _planar(L1, L23, d)
-            lat, ax = _arc(k, lc * f)                                     # (S, C, stages, n)
+            lat, ax = _arc(k, lc * f)  # (S, C, stages, n)
             px = x + np.cos(al) * lat + np.sin(al) * ax
             pz = z - np.sin(al) * lat + np.cos(al) * ax
             dist, _ = pipe.locate(np.stack([px, np.zeros_like(px), pz], -1))
-            ok = dist.max(axis=(2, 3)) <= allow + 1e-9                     # (S, C)
+            ok = dist.max(axis=(2, 3)) <= allow + 1e-9  # (S, C)
             si, ci = np.nonzero(ok & (stride[None, :] > 1e-6))
             a0 = ch[si, 2]
             nx = ch[si, 0] + np.cos(a0) * s_lat[ci] + np.sin(a0) * s_ax[ci]
@@ -100,9 +112,20 @@ def bfs_plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 10.0,
             break
         par, cnd = np.concatenate(par), np.concatenate(cnd)
         _, s_new = pipe.locate(np.stack([new[:, 0], np.zeros(len(new)), new[:, 1]], -1))
-        cells = np.stack([new[:, 0] / cell_mm, new[:, 1] / cell_mm,
-                          np.rad2deg(new[:, 2]) / cell_deg, new[:, 3] / 5e-4], -1).round().astype(int)
-        order = np.argsort(-s_new, kind="stable")           # furthest first within a cell
+        cells = (
+            np.stack(
+                [
+                    new[:, 0] / cell_mm,
+                    new[:, 1] / cell_mm,
+                    np.rad2deg(new[:, 2]) / cell_deg,
+                    new[:, 3] / 5e-4,
+                ],
+                -1,
+            )
+            .round()
+            .astype(int)
+        )
+        order = np.argsort(-s_new, kind="stable")  # furthest first within a cell
         _, first = np.unique(cells[order], axis=0, return_index=True)
         idx = order[first]
         idx = np.array([i for i in idx if tuple(cells[i]) not in seen], dtype=int)
@@ -135,23 +158,50 @@ def bfs_plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 10.0,
         phi = np.pi / 2 if kk >= 0 else -np.pi / 2
         rear = np.array([prev[0], 0.0, prev[1]])
         lat, ax = _arc(kk, lc)
-        front = rear + np.array([np.cos(prev[2]) * lat + np.sin(prev[2]) * ax, 0.0,
-                                 -np.sin(prev[2]) * lat + np.cos(prev[2]) * ax])
+        front = rear + np.array(
+            [np.cos(prev[2]) * lat + np.sin(prev[2]) * ax, 0.0, -np.sin(prev[2]) * lat + np.cos(prev[2]) * ax]
+        )
         state = layers[li][j]
         ldef = rest * (1.0 - abs(kk) * d * np.cos(kin.PSI - phi))
         p_def = tuple(float(_deflated_pressure(acts[i], ldef[i], 0.0)) for i in range(3))
         _, s_after = pipe.locate(np.array([state[0], 0.0, state[1]]))
         pts = rear + kin.arc_point(abs(kk) * lc * f, phi, lc * f) @ rot.T
         dist, _ = pipe.locate(pts)
-        cycles.append(Cycle(n, tuple(map(float, grid[c])), p_def,
-                            (float(l1[c]), float(l23[c]), float(l23[c])), tuple(map(float, ldef)),
-                            abs(kk), abs(kk) * lc, phi, lc, rest, tuple(map(float, rear)),
-                            tuple(map(float, front)), (float(state[0]), 0.0, float(state[1])),
-                            float(s_after), float(allow - dist.max())))
+        cycles.append(
+            Cycle(
+                n,
+                tuple(map(float, grid[c])),
+                p_def,
+                (float(l1[c]), float(l23[c]), float(l23[c])),
+                tuple(map(float, ldef)),
+                abs(kk),
+                abs(kk) * lc,
+                phi,
+                lc,
+                rest,
+                tuple(map(float, rear)),
+                tuple(map(float, front)),
+                (float(state[0]), 0.0, float(state[1])),
+                float(s_after),
+                float(allow - dist.max()),
+            )
+        )
         rot = rot @ kin.arc_rotation(abs(kk) * st, phi)
     success = found is not None
-    msg = ("rear foot passed s = %.1f mm" % goal) if success else "no triple advances the robot"
+    msg = f"rear foot passed s = {goal:.1f} mm" if success else "no triple advances the robot"
     if not exhaustive:
         msg += f" (layers capped at {max_states} states: not exhaustive)"
-    return Plan(pipe, success, tuple(cycles), body_radius, d, actuators, step_kpa, "tube",
-                (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), msg, tuple(tuple(map(float, r)) for r in _ROT0))
+    return Plan(
+        pipe,
+        success,
+        tuple(cycles),
+        body_radius,
+        d,
+        actuators,
+        step_kpa,
+        "tube",
+        (0.0, 0.0, 0.0),
+        (0.0, 0.0, 0.0),
+        msg,
+        tuple(tuple(map(float, r)) for r in _ROT0),
+    )

@@ -79,6 +79,7 @@ model workspace`).
 Gravity: only the "vertical" pipe applies g along the body axis (climbing). Straight and elbow plans
 are made without gravity, as the paper's kinematics are (assumption (d)).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -86,31 +87,29 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from robot import kinematics as kin
-from robot.statics import G_STANDARD, P_MAX_KPA, EPSAParams
 from robot.errors import ModelInputError
 from robot.pipe import Pipe
 from robot.prototype import BODY_RADIUS_MM, D_MM, EPSA_RADIUS_MM, actuator_set
-
-
+from robot.statics import G_STANDARD, P_MAX_KPA, EPSAParams
 
 
 @dataclass(frozen=True)
 class Cycle:
     index: int
-    pressures_inflated: tuple[float, float, float]   # kPa
-    pressures_deflated: tuple[float, float, float]   # kPa, held after deflation
-    lengths_inflated: tuple[float, float, float]     # mm
-    lengths_deflated: tuple[float, float, float]     # mm
+    pressures_inflated: tuple[float, float, float]  # kPa
+    pressures_deflated: tuple[float, float, float]  # kPa, held after deflation
+    lengths_inflated: tuple[float, float, float]  # mm
+    lengths_deflated: tuple[float, float, float]  # mm
     kappa: float
     theta: float
     phi: float
-    length_inflated: float                           # centreline, mm
+    length_inflated: float  # centreline, mm
     length_deflated: float
     rear_before: tuple[float, float, float]
-    front: tuple[float, float, float]                # front foot, fixed during deflation
+    front: tuple[float, float, float]  # front foot, fixed during deflation
     rear_after: tuple[float, float, float]
-    progress: float                                  # rear-foot arc length after the cycle, mm
-    clearance: float                                 # smallest wall clearance in the cycle, mm
+    progress: float  # rear-foot arc length after the cycle, mm
+    clearance: float  # smallest wall clearance in the cycle, mm
 
 
 @dataclass(frozen=True)
@@ -150,8 +149,9 @@ class _State:
     cycles: list = field(default_factory=list)
 
 
-def _pose_cells(pipe: Pipe, pos, rot, progress, cell_mm: float, cell_deg: float,
-                cell_s_mm: float = np.inf) -> np.ndarray:
+def _pose_cells(
+    pipe: Pipe, pos, rot, progress, cell_mm: float, cell_deg: float, cell_s_mm: float = np.inf
+) -> np.ndarray:
     """Cells (m, 4) of the rear feet's lateral offsets and headings relative to the pipe.
 
     The progress along the pipe enters only coarsely (`cell_s_mm`): per cell, the beam keeps the
@@ -163,9 +163,16 @@ def _pose_cells(pipe: Pipe, pos, rot, progress, cell_mm: float, cell_deg: float,
     off = pos - c
     head = rot[..., :, 2]
     h = np.sin(np.deg2rad(cell_deg))
-    cells = np.stack([np.einsum("...i,...i->...", off, n) / cell_mm, off[..., 1] / cell_mm,
-                      np.einsum("...i,...i->...", head, n) / h, head[..., 1] / h,
-                      np.asarray(progress) / cell_s_mm], -1)
+    cells = np.stack(
+        [
+            np.einsum("...i,...i->...", off, n) / cell_mm,
+            off[..., 1] / cell_mm,
+            np.einsum("...i,...i->...", head, n) / h,
+            head[..., 1] / h,
+            np.asarray(progress) / cell_s_mm,
+        ],
+        -1,
+    )
     return np.round(cells).astype(int)
 
 
@@ -195,9 +202,9 @@ def _body_points(pos, rot, lengths, d, n_s, epsa: bool = False):
     f = np.linspace(0.0, 1.0, n_s)
     local = kin.arc_point(t[..., None] * f, p[..., None], lc[..., None] * f)
     if epsa:
-        frames = kin.arc_rotation(t[..., None] * f, p[..., None])             # (..., n_s, 3, 3)
+        frames = kin.arc_rotation(t[..., None] * f, p[..., None])  # (..., n_s, 3, 3)
         offs = d * np.stack([np.cos(kin.PSI), np.sin(kin.PSI), np.zeros(3)], -1)  # (3, 3)
-        local = (local[..., None, :] + np.einsum("...ij,aj->...ai", frames, offs))
+        local = local[..., None, :] + np.einsum("...ij,aj->...ai", frames, offs)
         local = local.reshape(local.shape[:-3] + (-1, 3))
     return pos + local @ rot.T
 
@@ -232,17 +239,33 @@ def _body_allowance(pipe: Pipe, body: str, body_radius: float):
         body_radius = EPSA_RADIUS_MM
     allow = pipe.diameter / 2.0 - body_radius
     if allow < 0:
-        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
-                                          f"{pipe.diameter:g} mm pipe")
+        raise ModelInputError(
+            "diameter", f"a {2 * body_radius:g} mm body does not fit a {pipe.diameter:g} mm pipe"
+        )
     return epsa_body, body_radius, allow
 
 
-def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: int = 1,
-         body_radius: float = BODY_RADIUS_MM, d: float = D_MM, max_cycles: int = 60,
-         stages: int = 4, samples: int = 21, tol: float = 1e-9, deflation: str = "paper", body: str = "tube",
-         planar: bool | None = None, cell_mm: float = 3.0, cell_deg: float = 4.0,
-         cell_s_mm: float = 10.0, lookahead: int = 0, lookahead_step_kpa: float = 20.0,
-         lookahead_width: int = 12) -> Plan:
+def plan(
+    pipe: Pipe,
+    actuators: str = "nominal",
+    step_kpa: float = 5.0,
+    beam: int = 1,
+    body_radius: float = BODY_RADIUS_MM,
+    d: float = D_MM,
+    max_cycles: int = 60,
+    stages: int = 4,
+    samples: int = 21,
+    tol: float = 1e-9,
+    deflation: str = "paper",
+    body: str = "tube",
+    planar: bool | None = None,
+    cell_mm: float = 3.0,
+    cell_deg: float = 4.0,
+    cell_s_mm: float = 10.0,
+    lookahead: int = 0,
+    lookahead_step_kpa: float = 20.0,
+    lookahead_width: int = 12,
+) -> Plan:
     """Plan the fewest-cycle gait through `pipe`; see the module docstring.
 
     `lookahead` > 0 ranks candidates by the best progress reachable `lookahead` cycles later on a
@@ -281,8 +304,8 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
 
     def expand(st, Lg):
         """Feasible, advancing successors of `st` over the length grid `Lg`."""
-        L = st.l_cur + lam[:, None, None] * (Lg[None] - st.l_cur)          # (stages, n, 3)
-        pts = _body_points(st.pos, st.rot, L, d, samples, epsa_body)                 # (stages, n, s, 3)
+        L = st.l_cur + lam[:, None, None] * (Lg[None] - st.l_cur)  # (stages, n, 3)
+        pts = _body_points(st.pos, st.rot, L, d, samples, epsa_body)  # (stages, n, s, 3)
         dist, _ = pipe.locate(pts)
         worst = dist.max(axis=(0, 2))
         idx = np.flatnonzero(worst <= allow + tol)
@@ -295,16 +318,37 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
         keep = sn > st.progress + 1e-6
         rot = st.rot @ kin.arc_rotation(k[keep] * step[keep], ph[keep])
         align = np.einsum("mi,mi->m", rot[:, :, 2], pipe.tangent(sn[keep]))
-        return dict(idx=idx[keep], k=k[keep], t=t[keep], ph=ph[keep], lc=lc[keep],
-                    ldef=ldef[keep], pos=new_pos[keep], rot=rot, s=sn[keep], dn=dn[keep],
-                    align=align, clr=allow - worst[idx[keep]], L=Lc[keep])
+        return dict(
+            idx=idx[keep],
+            k=k[keep],
+            t=t[keep],
+            ph=ph[keep],
+            lc=lc[keep],
+            ldef=ldef[keep],
+            pos=new_pos[keep],
+            rot=rot,
+            s=sn[keep],
+            dn=dn[keep],
+            align=align,
+            clr=allow - worst[idx[keep]],
+            L=Lc[keep],
+        )
 
     def make_state(st, e, j):
         k, ph, ldef = e["k"][j], e["ph"][j], e["ldef"][j]
         ldef_i = ldef * (1.0 - k * d * np.cos(kin.PSI - ph))
         p_def = np.array([_deflated_pressure(acts[i], ldef_i[i], g) for i in range(3)])
-        return _State(e["pos"][j], e["rot"][j], p_def, ldef_i, float(k), float(ph), float(ldef),
-                      float(e["s"][j]), st.cycles)
+        return _State(
+            e["pos"][j],
+            e["rot"][j],
+            p_def,
+            ldef_i,
+            float(k),
+            float(ph),
+            float(ldef),
+            float(e["s"][j]),
+            st.cycles,
+        )
 
     def value(st, depth):
         """Best rear progress reachable from `st` in `depth` more cycles (coarse grid)."""
@@ -332,8 +376,7 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
             picks = list(order[: max(beam, lookahead_width)])
             if beam > 1:  # plus the furthest candidate of every pose cell
                 cells = _pose_cells(pipe, e["pos"], e["rot"], e["s"], cell_mm, cell_deg, cell_s_mm)
-                _, first = np.unique(cells[np.argsort(-e["s"], kind="stable")], axis=0,
-                                     return_index=True)
+                _, first = np.unique(cells[np.argsort(-e["s"], kind="stable")], axis=0, return_index=True)
                 picks.extend(np.argsort(-e["s"], kind="stable")[first])
             if lookahead > 0:
                 bins = np.round(np.where(e["t"] > 1e-9, e["ph"], 0.0) / (np.pi / 12)).astype(int)
@@ -361,11 +404,23 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
             keys.add(key)
             gi = e["idx"][j]
             front = st.pos + st.rot @ kin.arc_point(e["t"][j], e["ph"][j], e["lc"][j])
-            cyc = Cycle(len(st.cycles) + 1, tuple(map(float, grid[gi])), tuple(map(float, cand.p_def)),
-                        tuple(map(float, e["L"][j])), tuple(map(float, cand.l_cur)),
-                        float(e["k"][j]), float(e["t"][j]), float(e["ph"][j]), float(e["lc"][j]),
-                        float(e["ldef"][j]), tuple(map(float, st.pos)), tuple(map(float, front)),
-                        tuple(map(float, cand.pos)), float(cand.progress), float(e["clr"][j]))
+            cyc = Cycle(
+                len(st.cycles) + 1,
+                tuple(map(float, grid[gi])),
+                tuple(map(float, cand.p_def)),
+                tuple(map(float, e["L"][j])),
+                tuple(map(float, cand.l_cur)),
+                float(e["k"][j]),
+                float(e["t"][j]),
+                float(e["ph"][j]),
+                float(e["lc"][j]),
+                float(e["ldef"][j]),
+                tuple(map(float, st.pos)),
+                tuple(map(float, front)),
+                tuple(map(float, cand.pos)),
+                float(cand.progress),
+                float(e["clr"][j]),
+            )
             cand.cycles = st.cycles + [cyc]
             new_states.append(cand)
         states = new_states
@@ -377,14 +432,35 @@ def plan(pipe: Pipe, actuators: str = "nominal", step_kpa: float = 5.0, beam: in
             break
     else:
         message = f"not through after {max_cycles} cycles"
-    return Plan(pipe, success, tuple(best_final.cycles), body_radius, d, actuators, step_kpa, body,
-                tuple(map(float, start.pos)), tuple(map(float, p0)), message,
-                tuple(tuple(map(float, r)) for r in rot0))
+    return Plan(
+        pipe,
+        success,
+        tuple(best_final.cycles),
+        body_radius,
+        d,
+        actuators,
+        step_kpa,
+        body,
+        tuple(map(float, start.pos)),
+        tuple(map(float, p0)),
+        message,
+        tuple(tuple(map(float, r)) for r in rot0),
+    )
 
 
-def replay(pipe: Pipe, triples, actuators: str = "nominal", body_radius: float = BODY_RADIUS_MM,
-           d: float = D_MM, stages: int = 4, samples: int = 21, tol: float = 1e-9,
-           deflation: str = "paper", body: str = "tube", step_kpa: float = 0.0) -> Plan:
+def replay(
+    pipe: Pipe,
+    triples,
+    actuators: str = "nominal",
+    body_radius: float = BODY_RADIUS_MM,
+    d: float = D_MM,
+    stages: int = 4,
+    samples: int = 21,
+    tol: float = 1e-9,
+    deflation: str = "paper",
+    body: str = "tube",
+    step_kpa: float = 0.0,
+) -> Plan:
     """Run a given gait (inflated triples, kPa) through the cycle model of `plan`.
 
     Same statics, roll, inflation stages, containment check and deflation as `plan`; the gait is
@@ -424,16 +500,43 @@ def replay(pipe: Pipe, triples, actuators: str = "nominal", body_radius: float =
         p_def = tuple(float(_deflated_pressure(acts[i], ldef_i[i], g)) for i in range(3))
         front = pos + rot @ kin.arc_point(t, ph, lc)
         progress = float(s_new)
-        cycles.append(Cycle(n, tuple(map(float, P)), p_def, tuple(map(float, Lg)),
-                            tuple(map(float, ldef_i)), k, t, ph, lc, ldef, tuple(map(float, pos)),
-                            tuple(map(float, front)), tuple(map(float, new_pos)), progress,
-                            allow - worst))
+        cycles.append(
+            Cycle(
+                n,
+                tuple(map(float, P)),
+                p_def,
+                tuple(map(float, Lg)),
+                tuple(map(float, ldef_i)),
+                k,
+                t,
+                ph,
+                lc,
+                ldef,
+                tuple(map(float, pos)),
+                tuple(map(float, front)),
+                tuple(map(float, new_pos)),
+                progress,
+                allow - worst,
+            )
+        )
         pos, rot, l_cur = new_pos, rot @ kin.arc_rotation(k * step, ph), ldef_i
         if progress >= goal:
             success, message = True, f"rear foot passed s = {goal:.1f} mm"
             break
-    return Plan(pipe, success, tuple(cycles), body_radius, d, actuators, step_kpa, body,
-                (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), message, tuple(tuple(map(float, r)) for r in rot0))
+    return Plan(
+        pipe,
+        success,
+        tuple(cycles),
+        body_radius,
+        d,
+        actuators,
+        step_kpa,
+        body,
+        (0.0, 0.0, 0.0),
+        (0.0, 0.0, 0.0),
+        message,
+        tuple(tuple(map(float, r)) for r in rot0),
+    )
 
 
 def scan_bend_radius(radii, diameter: float = 70.0, **kwargs) -> list[tuple[float, Plan]]:

@@ -31,6 +31,7 @@ Decisions (not given in the paper):
 * The "nominal" actuator (used by the planner by default) averages the three prototypes'
   coefficients, so that equal lengths mean equal pressures.
 """
+
 from __future__ import annotations
 
 from robot.statics import EPSAParams, Line, PiecewiseLinear
@@ -69,8 +70,9 @@ PRINTED_F_N = {
 
 
 def _pw(c, factor=1.0) -> PiecewiseLinear:
-    return PiecewiseLinear(Line(c[0] * factor, c[1] * factor), Line(c[2] * factor, c[3] * factor),
-                           BREAKPOINT_KPA)
+    return PiecewiseLinear(
+        Line(c[0] * factor, c[1] * factor), Line(c[2] * factor, c[3] * factor), BREAKPOINT_KPA
+    )
 
 
 def prototype_epsa(index: int) -> EPSAParams:
@@ -93,8 +95,14 @@ def nominal_epsa() -> EPSAParams:
     """The coefficient-wise mean of the three prototypes (a single, 'typical' actuator)."""
     k = [sum(PRINTED_K_N_PER_M[i][j] for i in (1, 2, 3)) / 3.0 for j in range(4)]
     f = [sum(PRINTED_F_N[i][j] for i in (1, 2, 3)) / 3.0 for j in range(4)]
-    return EPSAParams(k_p=_pw(k, 1e-3), f_p=_pw(f), b_p=PiecewiseLinear(Line(0.0, B_P_N_S_PER_MM)),
-                      mass=EPSA_MASS_T, l0=L0_MM, name="nominal")
+    return EPSAParams(
+        k_p=_pw(k, 1e-3),
+        f_p=_pw(f),
+        b_p=PiecewiseLinear(Line(0.0, B_P_N_S_PER_MM)),
+        mass=EPSA_MASS_T,
+        l0=L0_MM,
+        name="nominal",
+    )
 
 
 def actuator_set(kind: str = "nominal") -> tuple[EPSAParams, EPSAParams, EPSAParams]:

@@ -32,6 +32,7 @@ returned `Plan` does not depend on this module's simulator being right.
 Only the nominal actuators (identical ePSAs 2 and 3 make P2 = P3 a planar family) and the paper
 deflation are supported. Radii passed and clearances: see `robot.planner`.
 """
+
 from __future__ import annotations
 
 import time
@@ -40,11 +41,11 @@ import numpy as np
 from scipy.optimize import minimize
 
 from robot import kinematics as kin
-from robot.statics import P_MAX_KPA
 from robot.errors import ModelInputError
 from robot.pipe import Pipe
 from robot.planner import Plan, replay
 from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from robot.statics import P_MAX_KPA
 
 
 def _arc(k, u):
@@ -74,19 +75,22 @@ def _cycle(pipe, state, l1, l23, rest, d, lam, f):
     lc = (L1 + 2.0 * L23) / 3.0
     lat, ax = _arc(((1.0 - L1 / lc) / d)[..., None], lc[..., None] * f)
     c, s = np.cos(A)[:, None, None], np.sin(A)[:, None, None]
-    dist = _elbow_distance(pipe, x[:, None, None] + c * lat + s * ax,
-                           z[:, None, None] - s * lat + c * ax)
+    dist = _elbow_distance(pipe, x[:, None, None] + c * lat + s * ax, z[:, None, None] - s * lat + c * ax)
     lcf = (l1 + 2.0 * l23) / 3.0
     kf = (1.0 - l1 / lcf) / d
     step = lcf - rest
     sl, sa = _arc(kf, step)
     c, s = np.cos(A), np.sin(A)
-    return dist, (x + c * sl + s * sa, z - s * sl + c * sa, A + kf * step,
-                  rest * (1.0 - kf * d), rest * (1.0 + kf * d / 2.0))
+    return dist, (
+        x + c * sl + s * sa,
+        z - s * sl + c * sa,
+        A + kf * step,
+        rest * (1.0 - kf * d),
+        rest * (1.0 + kf * d / 2.0),
+    )
 
 
-def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4,
-             samples: int = 21):
+def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4, samples: int = 21):
     """Planar cycle model for gaits `lengths` (B, N, 2) = inflated (l1, l23) per cycle, mm.
 
     Returns the wall distances of the body centreline, (B, N, stages, samples), and the rear foot
@@ -120,18 +124,18 @@ def _perturbed(pipe, ls, h, rest, d, stages, samples):
     base = (np.zeros(1), np.zeros(1), np.zeros(1), np.full(1, rest), np.full(1, rest))
     pert = tuple(np.repeat(v, n) for v in base)
     for i in range(N):
-        m = 2 * i + 2                              # perturbations 0 .. m-1 act by cycle i
+        m = 2 * i + 2  # perturbations 0 .. m-1 act by cycle i
         l1 = np.full(m, ls[i, 0])
         l23 = np.full(m, ls[i, 1])
         l1[2 * i] += h
         l23[2 * i + 1] += h
         # rows that start to differ at this cycle start from the unperturbed state
-        st = tuple(np.concatenate([p[:2 * i], np.repeat(b, 2)]) for p, b in zip(pert, base))
+        st = tuple(np.concatenate([p[: 2 * i], np.repeat(b, 2)]) for p, b in zip(pert, base))
         dp, st = _cycle(pipe, st, l1, l23, rest, d, lam, f)
         db, base = _cycle(pipe, base, ls[i, :1], ls[i, 1:], rest, d, lam, f)
         dist[0, i] = db[0]
-        dist[1:m + 1, i] = dp
-        dist[m + 1:, i] = db[0]
+        dist[1 : m + 1, i] = dp
+        dist[m + 1 :, i] = db[0]
         pert = tuple(np.concatenate([a, np.repeat(b, n - m)]) for a, b in zip(st, base))
     rear = np.stack([np.concatenate([b, p]) for b, p in zip(base[:3], pert[:3])], -1)
     return dist, rear
@@ -142,9 +146,21 @@ def _progress(pipe: Pipe, rear):
     return pipe.locate(np.stack([r[..., 0], np.zeros_like(r[..., 0]), r[..., 1]], -1))[1]
 
 
-def refine(pipe: Pipe, lengths0, allow: float, rest: float, l_max: float, d: float = D_MM,
-           stages: int = 4, samples: int = 21, maxiter: int = 400, h: float = 1e-6,
-           keep: int = 1, target: float | None = None, bounds=None):
+def refine(
+    pipe: Pipe,
+    lengths0,
+    allow: float,
+    rest: float,
+    l_max: float,
+    d: float = D_MM,
+    stages: int = 4,
+    samples: int = 21,
+    maxiter: int = 400,
+    h: float = 1e-6,
+    keep: int = 1,
+    target: float | None = None,
+    bounds=None,
+):
     """Maximise the wall clearance t of the gait `lengths0` (N, 2) with the goal as a constraint.
 
     The constraints are, per cycle and stage, the `keep` largest sample distances (order
@@ -188,21 +204,36 @@ def refine(pipe: Pipe, lengths0, allow: float, rest: float, l_max: float, d: flo
     v0 = np.concatenate([l0.ravel(), [allow - dist0.max()]])
     grad = np.zeros(n + 1)
     grad[n] = -1.0
-    res = minimize(lambda v: -v[n], v0, jac=lambda v: grad, method="SLSQP", callback=stop,
-                   bounds=[*(((rest, l_max),) * n if bounds is None else map(tuple, bounds)),
-                           (-allow - 100.0, allow)],
-                   constraints=[{"type": "ineq", "fun": lambda v: evaluate(v)[0],
-                                 "jac": lambda v: evaluate(v)[1]},
-                                {"type": "ineq", "fun": lambda v: evaluate(v)[2],
-                                 "jac": lambda v: evaluate(v)[3]}],
-                   options={"maxiter": maxiter, "ftol": 1e-10})
+    res = minimize(
+        lambda v: -v[n],
+        v0,
+        jac=lambda v: grad,
+        method="SLSQP",
+        callback=stop,
+        bounds=[*(((rest, l_max),) * n if bounds is None else map(tuple, bounds)), (-allow - 100.0, allow)],
+        constraints=[
+            {"type": "ineq", "fun": lambda v: evaluate(v)[0], "jac": lambda v: evaluate(v)[1]},
+            {"type": "ineq", "fun": lambda v: evaluate(v)[2], "jac": lambda v: evaluate(v)[3]},
+        ],
+        options={"maxiter": maxiter, "ftol": 1e-10},
+    )
     return res.x[:n].reshape(N, 2), clearance(res.x), res
 
 
-def continuous_plan(pipe: Pipe, cycles: int = 25, body_radius: float = BODY_RADIUS_MM,
-                    d: float = D_MM, stages: int = 8, samples: int = 41, maxiter: int = 400,
-                    seed=None, check_stages: int = 4, check_samples: int = 21,
-                    margin: float | None = 0.02, attempts: int = 3) -> Plan:
+def continuous_plan(
+    pipe: Pipe,
+    cycles: int = 25,
+    body_radius: float = BODY_RADIUS_MM,
+    d: float = D_MM,
+    stages: int = 8,
+    samples: int = 41,
+    maxiter: int = 400,
+    seed=None,
+    check_stages: int = 4,
+    check_samples: int = 21,
+    margin: float | None = 0.02,
+    attempts: int = 3,
+) -> Plan:
     """Plan an elbow with continuous pressures (see the module docstring).
 
     `seed`: inflated triples (N, 3) in kPa to start from (P2 = P3); default a straight gait of
@@ -221,8 +252,9 @@ def continuous_plan(pipe: Pipe, cycles: int = 25, body_radius: float = BODY_RADI
     rest, l_max = float(a.length(0.0, 0.0)), float(a.length(P_MAX_KPA, 0.0))
     allow = pipe.diameter / 2.0 - body_radius
     if allow < 0:
-        raise ModelInputError("diameter", f"a {2 * body_radius:g} mm body does not fit a "
-                                          f"{pipe.diameter:g} mm pipe")
+        raise ModelInputError(
+            "diameter", f"a {2 * body_radius:g} mm body does not fit a {pipe.diameter:g} mm pipe"
+        )
     t_start = time.perf_counter()
     if seed is not None:
         P = np.asarray(seed, dtype=float).reshape(-1, 3)
@@ -236,8 +268,7 @@ def continuous_plan(pipe: Pipe, cycles: int = 25, body_radius: float = BODY_RADI
             seeds.append(np.full((n, 2), min(rest + stride, l_max)))
     best = None
     for l0 in seeds:
-        lengths, t = _refine_gait(pipe, a, l0, allow, rest, l_max, d, stages, samples, maxiter,
-                                  margin)
+        lengths, t = _refine_gait(pipe, a, l0, allow, rest, l_max, d, stages, samples, maxiter, margin)
         if best is None or t > best[1]:
             best = (lengths, t)
         if t >= 0:
@@ -248,29 +279,54 @@ def continuous_plan(pipe: Pipe, cycles: int = 25, body_radius: float = BODY_RADI
         p1, p23 = (a.pressure_for_length(min(max(v, rest), l_max), 0.0) for v in (l1, l23))
         triples.append((p1, p23, p23))
     result = replay(pipe, triples, "nominal", body_radius, d, check_stages, check_samples)
-    spare = (f"clearance to spare {t:.4f} mm on {stages} stages x {samples} samples"
-             if np.isfinite(t) else "the optimiser did not reach the goal")
-    msg = (f"{result.message}; continuous pressures, {len(lengths)} cycles planned, {spare} "
-           f"({time.perf_counter() - t_start:.1f} s)")
-    return Plan(result.pipe, result.success, result.cycles, result.body_radius, result.d,
-                result.actuators, 0.0, result.body, result.start_rear, result.start_pressures,
-                msg, result.start_rotation)
+    spare = (
+        f"clearance to spare {t:.4f} mm on {stages} stages x {samples} samples"
+        if np.isfinite(t)
+        else "the optimiser did not reach the goal"
+    )
+    msg = (
+        f"{result.message}; continuous pressures, {len(lengths)} cycles planned, {spare} "
+        f"({time.perf_counter() - t_start:.1f} s)"
+    )
+    return Plan(
+        result.pipe,
+        result.success,
+        result.cycles,
+        result.body_radius,
+        result.d,
+        result.actuators,
+        0.0,
+        result.body,
+        result.start_rear,
+        result.start_pressures,
+        msg,
+        result.start_rotation,
+    )
 
 
 def _refine_gait(pipe, a, l0, allow, rest, l_max, d, stages, samples, maxiter, margin):
     """SLSQP on the planner's check, then on stages x samples; lengths kept out of the 60 kPa gap."""
     lengths, t, _ = refine(pipe, l0, allow, rest, l_max, d, 4, 21, maxiter, target=margin)
     if (stages, samples) != (4, 21) and t >= 0:
-        lengths, t, _ = refine(pipe, lengths, allow, rest, l_max, d, stages, samples, maxiter,
-                               target=margin)
+        lengths, t, _ = refine(pipe, lengths, allow, rest, l_max, d, stages, samples, maxiter, target=margin)
     # Lengths inside the upward jump of l(P) at 60 kPa are reached by no pressure: pin them to
     # the nearer end of the gap and refine the others.
     gap_lo, gap_hi, jump = a.length_jump(0.0)
     inside = (lengths > gap_lo) & (lengths < gap_hi) if jump > 0 else np.zeros(lengths.shape, bool)
     if inside.any():
-        lengths = np.where(inside, np.where(lengths - gap_lo < gap_hi - lengths, gap_lo, gap_hi),
-                           lengths)
+        lengths = np.where(inside, np.where(lengths - gap_lo < gap_hi - lengths, gap_lo, gap_hi), lengths)
         b = np.stack([np.where(inside, lengths, rest), np.where(inside, lengths, l_max)], -1)
-        lengths, t, _ = refine(pipe, lengths, allow, rest, l_max, d, stages, samples, maxiter,
-                               target=margin, bounds=b.reshape(-1, 2))
+        lengths, t, _ = refine(
+            pipe,
+            lengths,
+            allow,
+            rest,
+            l_max,
+            d,
+            stages,
+            samples,
+            maxiter,
+            target=margin,
+            bounds=b.reshape(-1, 2),
+        )
     return lengths, t

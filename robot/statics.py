@@ -32,6 +32,7 @@ follows:
 * a length inside an upward gap (reached by no pressure, as for actuators 1 and 3) returns the
   breakpoint pressure, whose length is the nearest reachable one below; `strict=True` raises instead.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -83,7 +84,7 @@ class PiecewiseLinear:
             return 0.0
         return float(self.high(self.breakpoint_kpa) - self.low(self.breakpoint_kpa))
 
-    def scaled(self, factor: float) -> "PiecewiseLinear":
+    def scaled(self, factor: float) -> PiecewiseLinear:
         def s(line):
             return None if line is None else Line(line.slope * factor, line.intercept * factor)
 
@@ -128,8 +129,10 @@ class EPSAParams:
 
     def _segments(self):
         """Pressure intervals on which both k_p and f_p are single lines."""
-        cuts = sorted({0.0, np.inf} | {bp for bp in (self.k_p.breakpoint_kpa, self.f_p.breakpoint_kpa)
-                                        if np.isfinite(bp)})
+        cuts = sorted(
+            {0.0, np.inf}
+            | {bp for bp in (self.k_p.breakpoint_kpa, self.f_p.breakpoint_kpa) if np.isfinite(bp)}
+        )
         segs = []
         for a, b in zip(cuts[:-1], cuts[1:]):
             mid = a + 1.0 if not np.isfinite(b) else 0.5 * (a + b)
@@ -138,8 +141,9 @@ class EPSAParams:
             segs.append((a, b, kl, fl))
         return segs
 
-    def pressure_for_length(self, length_mm, g: float = 0.0, p_max: float = P_MAX_KPA,
-                            strict: bool = False) -> float:
+    def pressure_for_length(
+        self, length_mm, g: float = 0.0, p_max: float = P_MAX_KPA, strict: bool = False
+    ) -> float:
         """Inverse statics: the smallest pressure in [0, p_max] kPa whose length is `length_mm`.
 
         See the module docstring for the treatment of the 60 kPa jump. Lengths below l(0) or above
@@ -174,8 +178,9 @@ class EPSAParams:
         lmax = float(np.max(self.length(np.linspace(0.0, p_max, 2001), g)))
         if best_gap is not None:
             raise ModelInputError("length", f"{length_mm:.4g} mm lies in the jump at {best_gap:g} kPa")
-        raise ModelInputError("length", f"{length_mm:.4g} mm is outside the reachable "
-                                        f"[{lmin:.4g}, {lmax:.4g}] mm")
+        raise ModelInputError(
+            "length", f"{length_mm:.4g} mm is outside the reachable [{lmin:.4g}, {lmax:.4g}] mm"
+        )
 
     def length_range(self, g: float = 0.0, p_max: float = P_MAX_KPA) -> tuple[float, float]:
         ps = np.linspace(0.0, p_max, 1001)

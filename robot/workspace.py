@@ -4,6 +4,7 @@ Pressure triples on a grid over 0-100 kPa -> ePSA lengths by the statics model (
 gravity, as the paper's kinematics) -> (kappa, theta, phi) and the tip position by eqs. (4)-(6),(9),
 with the rear foot at the origin and the body along z.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -11,31 +12,33 @@ from dataclasses import dataclass
 import numpy as np
 
 from robot import kinematics as kin
-from robot.statics import P_MAX_KPA
 from robot.errors import ModelInputError
 from robot.prototype import D_MM, actuator_set
+from robot.statics import P_MAX_KPA
 
 
 @dataclass(frozen=True)
 class Workspace:
-    pressures_kpa: np.ndarray   # (n, 3)
-    lengths_mm: np.ndarray      # (n, 3)
+    pressures_kpa: np.ndarray  # (n, 3)
+    lengths_mm: np.ndarray  # (n, 3)
     kappa: np.ndarray
     theta: np.ndarray
     phi: np.ndarray
-    tip_mm: np.ndarray          # (n, 3)
+    tip_mm: np.ndarray  # (n, 3)
 
     def rows(self):
-        cols = np.column_stack([self.pressures_kpa, self.lengths_mm, self.kappa, self.theta,
-                                self.phi, self.tip_mm])
+        cols = np.column_stack(
+            [self.pressures_kpa, self.lengths_mm, self.kappa, self.theta, self.phi, self.tip_mm]
+        )
         return cols
 
 
 HEADER = "P1_kpa,P2_kpa,P3_kpa,l1_mm,l2_mm,l3_mm,kappa_per_mm,theta_rad,phi_rad,x_mm,y_mm,z_mm"
 
 
-def sample(n: int = 11, actuators: str = "prototype", d: float = D_MM, g: float = 0.0,
-           p_max: float = P_MAX_KPA) -> Workspace:
+def sample(
+    n: int = 11, actuators: str = "prototype", d: float = D_MM, g: float = 0.0, p_max: float = P_MAX_KPA
+) -> Workspace:
     """n^3 pressure triples on a regular grid over [0, p_max] kPa."""
     if n < 2:
         raise ModelInputError("n", "need at least 2 pressure levels")

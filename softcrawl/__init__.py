@@ -3,6 +3,7 @@
 It imports nothing heavy and nothing of the project, so `geometry`, `fem`, `materials`, `robot` and
 `studies` can all depend on it without an upward import (docs/DESIGN.md, "Architecture").
 """
+
 from __future__ import annotations
 
 from importlib import metadata

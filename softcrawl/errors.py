@@ -10,6 +10,7 @@ once, here.
 A failed computation is not an input error: a diverged solve is a result that records the last
 converged load (`fem.path`), and a failed sweep point is a trial that records its reason.
 """
+
 from __future__ import annotations
 
 
@@ -21,7 +22,7 @@ class InputError(ValueError):
         self.parameter = parameter
         self.detail = message
 
-    def renamed(self, parameter: str) -> "InputError":
+    def renamed(self, parameter: str) -> InputError:
         """The same error (same class and detail) under another parameter name, e.g. with the
         prefix of the part it belongs to."""
         return type(self)(parameter, self.detail)

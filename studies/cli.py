@@ -6,6 +6,7 @@ input by raising a `ValueError` subclass that carries a `parameter` attribute (f
 `geometry.design.DesignError`); any other exception is a bug and keeps its traceback.
 Pressures are entered in kPa here and converted to MPa once, in the command modules.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -18,7 +19,7 @@ from studies.commands import COMMAND_MODULES
 class _Parser(argparse.ArgumentParser):
     """argparse, but usage errors are a single line (no usage dump) with exit code 2."""
 
-    def error(self, message: str) -> None:  # noqa: D401 - argparse API
+    def error(self, message: str) -> None:
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 

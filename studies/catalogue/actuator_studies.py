@@ -10,6 +10,7 @@ curves.csv (every grid point and pressure, with trial and row status and the fai
 summary.csv (one row per design, with the quantities the Table 1 rules use), NAME.png, vtu/ and
 spec.json. The sweep itself (resumable, several workers) is `studies.sweeps`.
 """
+
 from __future__ import annotations
 
 import json
@@ -23,7 +24,7 @@ from studies.catalogue.outcome import StudyOutcome
 GRIDS = {
     "chamber-radius": ({"chamber_radius": (2.0, 3.0, 4.0, 5.0, 6.0)}, {"fiber_turns": 0}),
     "fiber-turns": ({"fiber_turns": (0, 10, 20, 25, 50)}, {"chamber_radius": 3.0}),
-    "identify": ({"end_load_n": LOADS_N}, {}),                # the Table 1 ePSA under weights
+    "identify": ({"end_load_n": LOADS_N}, {}),  # the Table 1 ePSA under weights
 }
 DEFAULT_MATERIAL = "ecoflex-00-50"
 
@@ -37,14 +38,24 @@ def study_folder(out, name: str, material: str, quick: bool, mesh_size: float | 
     return Path(out) / name / run_tag(material, quick, mesh_size)
 
 
-def study_settings(name: str, material: str, quick: bool, mesh_size: float | None = None,
-                   fibers: str | None = None, simulator: str | None = None) -> dict:
+def study_settings(
+    name: str,
+    material: str,
+    quick: bool,
+    mesh_size: float | None = None,
+    fibers: str | None = None,
+    simulator: str | None = None,
+) -> dict:
     """The evaluator settings of a study run (stored with the study: a resume must match)."""
     from studies.parts.epsa_model import DEFAULT_FIBERS
 
     pressures = PRESSURES_KPA if name == "identify" else PAPER_PRESSURES_KPA
-    settings = {"material": material, "quick": bool(quick), "pressures_kpa": list(pressures),
-                "fibers": fibers or DEFAULT_FIBERS}
+    settings = {
+        "material": material,
+        "quick": bool(quick),
+        "pressures_kpa": list(pressures),
+        "fibers": fibers or DEFAULT_FIBERS,
+    }
     if mesh_size is not None:
         settings["mesh_size"] = mesh_size
     if simulator:
@@ -56,20 +67,29 @@ def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
     from studies.sweeps.engine import SweepSpec
 
     grid, fixed = GRIDS[name]
-    tag = run_tag(settings.get("material", ""), settings.get("quick", False),
-                  settings.get("mesh_size"))
-    return SweepSpec(name=f"{name}-{tag}", grid=grid, fixed=fixed, out_dir=str(out_dir),
-                     settings=settings, storage=storage)
+    tag = run_tag(settings.get("material", ""), settings.get("quick", False), settings.get("mesh_size"))
+    return SweepSpec(
+        name=f"{name}-{tag}", grid=grid, fixed=fixed, out_dir=str(out_dir), settings=settings, storage=storage
+    )
 
 
-def run_sweep_study(name: str, out, settings: dict, *, storage: str | None = None,
-                    workers: int = 1, progress: bool = True, retry: bool = False) -> StudyOutcome:
+def run_sweep_study(
+    name: str,
+    out,
+    settings: dict,
+    *,
+    storage: str | None = None,
+    workers: int = 1,
+    progress: bool = True,
+    retry: bool = False,
+) -> StudyOutcome:
     """Run (or resume) the sweep `name` and write its outputs. Raises
     `studies.sweeps.engine.SweepInterrupted` when workers did not finish."""
     from studies.sweeps import engine
 
-    folder = study_folder(out, name, settings["material"], settings.get("quick", False),
-                          settings.get("mesh_size"))
+    folder = study_folder(
+        out, name, settings["material"], settings.get("quick", False), settings.get("mesh_size")
+    )
     folder.mkdir(parents=True, exist_ok=True)
     spec = sweep_spec(name, folder, settings | {"vtu_dir": str(folder / "vtu")}, storage)
     (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
@@ -85,13 +105,21 @@ def summary_rows(rows, param: str) -> list[dict]:
     for value, c in sorted(rules.design_curves(rows, param).items()):
         top = c.at(rules.TARGET_PRESSURE_KPA)
         fluct, how = rules.fluctuation(c) if c.pressures else (False, "no data")
-        summary.append({param: value, "trial_status": c.trial_status, "reason": c.reason,
-                        "limit_pressure_kpa": "" if c.limit_pressure is None else c.limit_pressure,
-                        "reached_kpa": c.reached, "withstands_100kpa": c.withstands,
-                        "extension_100kpa_mm": "" if top is None else top[0] - c.length0,
-                        "radial_expansion_100kpa_mm": "" if top is None else top[1] - c.radius0,
-                        "fluctuating": fluct, "fluctuation": how,
-                        "linearity_r2": round(rules.linearity_r2(c), 6) if c.pressures else ""})
+        summary.append(
+            {
+                param: value,
+                "trial_status": c.trial_status,
+                "reason": c.reason,
+                "limit_pressure_kpa": "" if c.limit_pressure is None else c.limit_pressure,
+                "reached_kpa": c.reached,
+                "withstands_100kpa": c.withstands,
+                "extension_100kpa_mm": "" if top is None else top[0] - c.length0,
+                "radial_expansion_100kpa_mm": "" if top is None else top[1] - c.radius0,
+                "fluctuating": fluct,
+                "fluctuation": how,
+                "linearity_r2": round(rules.linearity_r2(c), 6) if c.pressures else "",
+            }
+        )
     return summary
 
 
@@ -109,15 +137,24 @@ def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
     write_csv(summary, folder / "summary.csv")
     label, unit = ("r", " mm") if param == "chamber_radius" else ("N", "")
     fixed = ", ".join(f"{k} = {v:g}" for k, v in spec.fixed.items())
-    plot_curves(rows, param, folder / f"{name}.png", label=label, unit=unit,
-                title=f"{name}: {fixed}; material {spec.settings.get('material')}"
-                      + (" (quick mesh)" if spec.settings.get("quick") else ""))
+    plot_curves(
+        rows,
+        param,
+        folder / f"{name}.png",
+        label=label,
+        unit=unit,
+        title=f"{name}: {fixed}; material {spec.settings.get('material')}"
+        + (" (quick mesh)" if spec.settings.get("quick") else ""),
+    )
     counts: dict[str, int] = {}
     for s in summary:
         counts[s["trial_status"]] = counts.get(s["trial_status"], 0) + 1
     lines = [f"{name}: {len(summary)} designs: " + ", ".join(f"{v} {k}" for k, v in counts.items())]
-    lines += [f"  {param} = {s[param]:g}: {s['trial_status']} {s['reason']}"
-              for s in summary if s["trial_status"] != "completed"]
+    lines += [
+        f"  {param} = {s[param]:g}: {s['trial_status']} {s['reason']}"
+        for s in summary
+        if s["trial_status"] != "completed"
+    ]
     written = (folder / "curves.csv", folder / "summary.csv", folder / f"{name}.png")
     ok = all(s["trial_status"] in ("completed", "failed") for s in summary)
     return StudyOutcome(tuple(lines), written, ok)

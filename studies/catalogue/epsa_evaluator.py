@@ -6,11 +6,13 @@ fast fakes), and returns an `Evaluation` whose attributes are the curve rows, th
 metrics (extension, radial expansion, fiber length, mass). A diverged curve is a failed evaluation
 with its reason; it never raises into the sweep.
 """
+
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from studies.sweeps.engine import CURVE_COLUMNS, Evaluation, _jsonable, load_callable
 
@@ -27,16 +29,20 @@ def curve_to_attrs(curve) -> dict[str, Any]:
     rows = []
     for row in curve.rows:
         rows.append({col: _jsonable(getattr(row, col, None)) for col in CURVE_COLUMNS})
-    return {"rows": rows, "converged": bool(curve.converged),
-            "limit_pressure_kpa": _jsonable(curve.limit_pressure_kpa),
-            "message": str(getattr(curve, "message", "")),
-            "wall_s": _jsonable(getattr(curve, "wall_s", None)),
-            "n_dofs": getattr(curve, "n_dofs", None),
-            "material": getattr(curve, "material", None)}
+    return {
+        "rows": rows,
+        "converged": bool(curve.converged),
+        "limit_pressure_kpa": _jsonable(curve.limit_pressure_kpa),
+        "message": str(getattr(curve, "message", "")),
+        "wall_s": _jsonable(getattr(curve, "wall_s", None)),
+        "n_dofs": getattr(curve, "n_dofs", None),
+        "material": getattr(curve, "material", None),
+    }
 
 
-def response_at(rows: Sequence[Mapping[str, Any]], pressure_kpa: float | None = None
-                ) -> Mapping[str, Any] | None:
+def response_at(
+    rows: Sequence[Mapping[str, Any]], pressure_kpa: float | None = None
+) -> Mapping[str, Any] | None:
     """The equilibrium ("converged") row at ``pressure_kpa`` (default: the highest such pressure),
     matched with `same_pressure` (a target landed on by volume control reads e.g. 99.9999 kPa).
     Volume-controlled states past a limit point are not used."""
@@ -55,12 +61,16 @@ def response_at(rows: Sequence[Mapping[str, Any]], pressure_kpa: float | None = 
 
 def _packed(attrs: dict[str, Any]) -> dict[str, Any]:
     """Few user attributes (each is one database commit): rows, design, metrics (scalars)."""
-    return {"rows": attrs["rows"], "design": attrs["design"],
-            "metrics": {k: v for k, v in attrs.items() if k not in ("rows", "design")}}
+    return {
+        "rows": attrs["rows"],
+        "design": attrs["design"],
+        "metrics": {k: v for k, v in attrs.items() if k not in ("rows", "design")},
+    }
 
 
-def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
-                  settings: Mapping[str, Any]) -> Evaluation:
+def evaluate_epsa(
+    params: Mapping[str, Any], fixed: Mapping[str, Any], settings: Mapping[str, Any]
+) -> Evaluation:
     """Evaluate one ePSA design (parameters named in ``SIMULATOR_PARAMS``, e.g. the end load of
     the identification study, go to the simulator as keywords). ``settings``: material,
     pressures_kpa, quick, mesh_size,
@@ -78,24 +88,32 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
     design = EPSADesign(**merged)
     simulate = load_callable(settings.get("simulate", EPSA_SIMULATOR))
     pressures = tuple(float(p) for p in settings.get("pressures_kpa", PAPER_PRESSURES_KPA))
-    kwargs = {"material": settings.get("material", "ecoflex-00-50"), "pressures_kpa": pressures,
-              "mesh_size": settings.get("mesh_size"), "quick": bool(settings.get("quick", False))}
+    kwargs = {
+        "material": settings.get("material", "ecoflex-00-50"),
+        "pressures_kpa": pressures,
+        "mesh_size": settings.get("mesh_size"),
+        "quick": bool(settings.get("quick", False)),
+    }
     kwargs |= {k: float(v) for k, v in load.items()}
     if "fibers" in settings and "fibers" in _parameters(simulate):
         kwargs["fibers"] = settings["fibers"]
     vtu_path = None
     if settings.get("vtu_dir") and "keep_model" in _parameters(simulate):
         kwargs["keep_model"] = True
-        tag = "_".join(f"{k}-{v:g}" if isinstance(v, (int, float)) else f"{k}-{v}"
-                       for k, v in sorted(params.items()))
+        tag = "_".join(
+            f"{k}-{v:g}" if isinstance(v, (int, float)) else f"{k}-{v}" for k, v in sorted(params.items())
+        )
         vtu_path = Path(settings["vtu_dir"]) / f"{tag}.vtu"
     solved = simulate(design, **kwargs)
     curve = getattr(solved, "curve", solved)
     attrs = curve_to_attrs(curve)
     if vtu_path is not None:
         attrs["vtu"] = _write_shape(solved, vtu_path)
-    attrs |= {"design": design.to_dict(), "mass_g": design_mass_g(design, kwargs["material"]),
-              "fiber_length_mm": fiber_length_mm(design)}
+    attrs |= {
+        "design": design.to_dict(),
+        "mass_g": design_mass_g(design, kwargs["material"]),
+        "fiber_length_mm": fiber_length_mm(design),
+    }
     length0, radius0 = design.length, design.outer_radius
     for row in attrs["rows"]:  # the FE's own undeformed measure (may include the seal head)
         if row.get("status") == "reference" and row.get("length_mm") is not None:
@@ -103,30 +121,34 @@ def evaluate_epsa(params: Mapping[str, Any], fixed: Mapping[str, Any],
     top = response_at(attrs["rows"])
     if top is None and attrs["converged"] and attrs["limit_pressure_kpa"] is not None:
         # a limit point below the first target pressure: the result is the path up to it
-        path = [r for r in attrs["rows"] if r.get("status") in ("converged", "volume-control")
-                and r.get("length_mm") is not None]
+        path = [
+            r
+            for r in attrs["rows"]
+            if r.get("status") in ("converged", "volume-control") and r.get("length_mm") is not None
+        ]
         top = max(path, key=lambda r: r["pressure_kpa"], default=None)
     if top is not None:
         attrs["extension_mm"] = top["length_mm"] - length0
         attrs["radial_expansion_mm"] = top["outer_radius_mm"] - radius0
         attrs["top_pressure_kpa"] = top["pressure_kpa"]
     if not attrs["converged"]:
-        return Evaluation(ok=False, attrs=_packed(attrs),
-                          message=f"diverged: {attrs['message'] or 'no reason given'}")
+        return Evaluation(
+            ok=False, attrs=_packed(attrs), message=f"diverged: {attrs['message'] or 'no reason given'}"
+        )
     if top is None:
         return Evaluation(ok=False, attrs=_packed(attrs), message="no computed state")
     if settings.get("objectives", "sweep") == "pareto":
         target = max(pressures)
         at = response_at(attrs["rows"], target)
-        if at is None or (attrs["limit_pressure_kpa"] is not None
-                          and attrs["limit_pressure_kpa"] < target):
-            return Evaluation(ok=False, attrs=_packed(attrs), message=(
-                f"does not reach {target:g} kPa (limit pressure "
-                f"{attrs['limit_pressure_kpa']} kPa)"))
+        if at is None or (attrs["limit_pressure_kpa"] is not None and attrs["limit_pressure_kpa"] < target):
+            return Evaluation(
+                ok=False,
+                attrs=_packed(attrs),
+                message=(f"does not reach {target:g} kPa (limit pressure {attrs['limit_pressure_kpa']} kPa)"),
+            )
         # the radius should stay at its design value: growing presses on a pipe wall, shrinking
         # loosens the robot's body; so the objective is the size of the change, |dR|
-        values = (at["length_mm"] - length0, abs(at["outer_radius_mm"] - radius0),
-                  attrs["fiber_length_mm"])
+        values = (at["length_mm"] - length0, abs(at["outer_radius_mm"] - radius0), attrs["fiber_length_mm"])
         return Evaluation(ok=True, values=values, attrs=_packed(attrs))
     return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=_packed(attrs))
 

@@ -20,11 +20,14 @@ longest state of any weight: a loaded soft actuator can stop extending and short
 pressure rises (it bulges or folds under the weight), which is not the spring-and-thrust
 behaviour of eq. 3 that the identification fits.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+
+from studies.catalogue.outcome import StudyOutcome
 
 #: Weights on the seal head, N (0, 51 and 102 g): within the paper's measured output force range
 #: (8.42 N blocked at 100 kPa) and small enough to keep the response linear in W.
@@ -35,10 +38,10 @@ PRESSURES_KPA = tuple(float(p) for p in range(10, 101, 10))
 
 @dataclass(frozen=True)
 class FEIdentification:
-    table: tuple[tuple[float, float, float], ...]   # (P kPa, W N, y mm) used in the fit
-    pressures_kpa: tuple[float, ...]                 # pressures with every weight converged
-    skipped: tuple[tuple[float, str], ...]           # (P kPa, why) not used
-    result: object | None                            # robot.identification.Identification
+    table: tuple[tuple[float, float, float], ...]  # (P kPa, W N, y mm) used in the fit
+    pressures_kpa: tuple[float, ...]  # pressures with every weight converged
+    skipped: tuple[tuple[float, str], ...]  # (P kPa, why) not used
+    result: object | None  # robot.identification.Identification
     message: str = ""
 
 
@@ -66,14 +69,24 @@ def load_extension_table(rows) -> tuple[list[tuple[float, float, float]], list[t
     for p in pressures:
         missing = [w for w in loads if p not in by_load.get(w, {}) or w not in length0]
         if missing:
-            skipped.append((p, "no equilibrium at this pressure for W = "
-                            + ", ".join(f"{w:g} N ({status.get(w, {}).get(p, 'missing')})" for w in missing)))
+            skipped.append(
+                (
+                    p,
+                    "no equilibrium at this pressure for W = "
+                    + ", ".join(f"{w:g} N ({status.get(w, {}).get(p, 'missing')})" for w in missing),
+                )
+            )
             continue
         fallen = [w for w in loads if collapsed[w] is not None and p > collapsed[w]]
         if fallen:
-            skipped.append((p, "the loaded actuator shortens as the pressure rises (past its longest "
-                            "state, eq. 3 no longer describes it) for W = "
-                            + ", ".join(f"{w:g} N (longest at {collapsed[w]:g} kPa)" for w in fallen)))
+            skipped.append(
+                (
+                    p,
+                    "the loaded actuator shortens as the pressure rises (past its longest "
+                    "state, eq. 3 no longer describes it) for W = "
+                    + ", ".join(f"{w:g} N (longest at {collapsed[w]:g} kPa)" for w in fallen),
+                )
+            )
             continue
         table += [(p, w, by_load[w][p] - length0[w]) for w in loads]
     return table, skipped
@@ -96,17 +109,27 @@ def identify_from_rows(rows, breakpoint: float = 60.0) -> FEIdentification:
     loads = sorted({w for _, w, _ in table})
     pressures = sorted({p for p, _, _ in table})
     if len(loads) < 2 or not pressures:
-        return FEIdentification(tuple(table), tuple(pressures), tuple(skipped), None,
-                                "needs at least two weights converged at one pressure")
+        return FEIdentification(
+            tuple(table),
+            tuple(pressures),
+            tuple(skipped),
+            None,
+            "needs at least two weights converged at one pressure",
+        )
     P, W, y = (np.array(c) for c in zip(*table))
     lo = sum(p <= breakpoint for p in pressures)
     piecewise = lo >= 2 and len(pressures) - lo >= 2
     try:
-        result = identify(P, W, y, mass_t=0.0, breakpoint=breakpoint if piecewise else None,
-                          piecewise=piecewise)
+        result = identify(
+            P, W, y, mass_t=0.0, breakpoint=breakpoint if piecewise else None, piecewise=piecewise
+        )
     except ModelInputError as exc:
         return FEIdentification(tuple(table), tuple(pressures), tuple(skipped), None, str(exc))
-    note = "" if piecewise else f"one line per parameter: fewer than two pressures on a side of {breakpoint:g} kPa"
+    note = (
+        ""
+        if piecewise
+        else f"one line per parameter: fewer than two pressures on a side of {breakpoint:g} kPa"
+    )
     return FEIdentification(tuple(table), tuple(pressures), tuple(skipped), result, note)
 
 
@@ -120,10 +143,14 @@ def comparison_rows(ident: FEIdentification) -> list[dict]:
         return out
     per = ident.result.per_pressure
     for p, k, f, rms in zip(per.pressure_kpa, per.k_p, per.f_p, per.rms_mm):
-        row = {"pressure_kpa": float(p), "k_p_fe_n_per_m": 1e3 * float(k), "f_p_fe_n": float(f),
-               "fit_rms_mm": float(rms),
-               "k_p_fe_fit_n_per_m": 1e3 * float(ident.result.k_p(p)),
-               "f_p_fe_fit_n": float(ident.result.f_p(p))}
+        row = {
+            "pressure_kpa": float(p),
+            "k_p_fe_n_per_m": 1e3 * float(k),
+            "f_p_fe_n": float(f),
+            "fit_rms_mm": float(rms),
+            "k_p_fe_fit_n_per_m": 1e3 * float(ident.result.k_p(p)),
+            "f_p_fe_fit_n": float(ident.result.f_p(p)),
+        }
         for i, a in protos.items():
             row[f"k_p_epsa{i}_n_per_m"] = 1e3 * float(a.k_p(p))
             row[f"f_p_epsa{i}_n"] = float(a.f_p(p))
@@ -137,22 +164,29 @@ def fitted_laws(ident: FEIdentification) -> dict:
         return {"message": ident.message}
 
     def lines(pw, factor):
-        return [{"p_max_kpa": None if hi is None or not np.isfinite(hi) else float(hi),
-                 "slope": factor * line.slope, "intercept": factor * line.intercept}
-                for _, hi, line in pw.branches()]
+        return [
+            {
+                "p_max_kpa": None if hi is None or not np.isfinite(hi) else float(hi),
+                "slope": factor * line.slope,
+                "intercept": factor * line.intercept,
+            }
+            for _, hi, line in pw.branches()
+        ]
 
-    return {"k_p_n_per_m": lines(ident.result.k_p, 1e3), "f_p_n": lines(ident.result.f_p, 1.0),
-            "pressures_kpa": list(ident.pressures_kpa),
-            "skipped": [{"pressure_kpa": p, "reason": why} for p, why in ident.skipped],
-            "message": ident.message}
+    return {
+        "k_p_n_per_m": lines(ident.result.k_p, 1e3),
+        "f_p_n": lines(ident.result.f_p, 1.0),
+        "pressures_kpa": list(ident.pressures_kpa),
+        "skipped": [{"pressure_kpa": p, "reason": why} for p, why in ident.skipped],
+        "message": ident.message,
+    }
 
 
-def write_outputs(spec, rows, folder) -> "StudyOutcome":
+def write_outputs(spec, rows, folder) -> StudyOutcome:
     """curves.csv, identify.png (length per weight), identification.csv/.json and
     identification.png (k_p, f_p against eqs. 19-24)."""
     import json
 
-    from studies.catalogue.outcome import StudyOutcome
     from studies.plots.curves import plot_curves
     from studies.plots.identification import plot_identification
     from studies.sweeps.engine import write_csv
@@ -160,8 +194,14 @@ def write_outputs(spec, rows, folder) -> "StudyOutcome":
     write_csv(rows, folder / "curves.csv")
     material = spec.settings.get("material")
     quick = " (quick mesh)" if spec.settings.get("quick") else ""
-    plot_curves(rows, "end_load_n", folder / "identify.png", label="W", unit=" N",
-                title=f"identify: Table 1 ePSA under weights W; material {material}{quick}")
+    plot_curves(
+        rows,
+        "end_load_n",
+        folder / "identify.png",
+        label="W",
+        unit=" N",
+        title=f"identify: Table 1 ePSA under weights W; material {material}{quick}",
+    )
     ident = identify_from_rows(rows)
     table = comparison_rows(ident)
     laws = fitted_laws(ident) | {"material": material, "quick": bool(spec.settings.get("quick"))}
@@ -169,16 +209,22 @@ def write_outputs(spec, rows, folder) -> "StudyOutcome":
     written = [folder / "curves.csv", folder / "identify.png", folder / "identification.json"]
     lines = [f"  P = {p:g} kPa not used: {why}" for p, why in ident.skipped]
     if not table:
-        return StudyOutcome(tuple(lines), tuple(written), False,
-                            (f"identify: no identification: {ident.message}",))
+        return StudyOutcome(
+            tuple(lines), tuple(written), False, (f"identify: no identification: {ident.message}",)
+        )
     write_csv(table, folder / "identification.csv")
-    plot_identification(table, folder / "identification.png",
-                        title=f"FE identification (material {material}{quick}) vs the prototype")
+    plot_identification(
+        table,
+        folder / "identification.png",
+        title=f"FE identification (material {material}{quick}) vs the prototype",
+    )
     written += [folder / "identification.csv", folder / "identification.png"]
     for name, key in (("k_p (N/m)", "k_p_n_per_m"), ("f_p (N)", "f_p_n")):
-        text = "; ".join(f"{b['slope']:.4g} P {'-' if b['intercept'] < 0 else '+'} {abs(b['intercept']):.4g}"
-                         + ("" if b["p_max_kpa"] is None else f" (P <= {b['p_max_kpa']:g})")
-                         for b in laws[key])
+        text = "; ".join(
+            f"{b['slope']:.4g} P {'-' if b['intercept'] < 0 else '+'} {abs(b['intercept']):.4g}"
+            + ("" if b["p_max_kpa"] is None else f" (P <= {b['p_max_kpa']:g})")
+            for b in laws[key]
+        )
         lines.append(f"identify: FE {name} = {text}")
     if ident.message:
         lines.append(f"identify: {ident.message}")

@@ -7,6 +7,7 @@ length of the double helix (the fabrication cost: winding is done by hand, turn 
 length ~ winding work; the body mass depends on r only and is reported as ``mass_g``). The Table 1
 design (r = 3, N = 20) is evaluated first and marked. Outputs: trials.csv, pareto.csv, pareto.png.
 """
+
 from __future__ import annotations
 
 import json
@@ -23,9 +24,17 @@ DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 NAME = "optimise-actuator"
 
 
-def run_optimiser(out, settings: dict, *, trials: int | None = None, sampler: str = "nsga2",
-                  seed: int = 0, storage: str | None = None, workers: int = 1,
-                  progress: bool = True) -> StudyOutcome:
+def run_optimiser(
+    out,
+    settings: dict,
+    *,
+    trials: int | None = None,
+    sampler: str = "nsga2",
+    seed: int = 0,
+    storage: str | None = None,
+    workers: int = 1,
+    progress: bool = True,
+) -> StudyOutcome:
     """Run (or resume) the optimiser and write trials.csv, pareto.csv and pareto.png."""
     from studies.plots.pareto import plot_pareto
     from studies.sweeps import engine
@@ -36,25 +45,45 @@ def run_optimiser(out, settings: dict, *, trials: int | None = None, sampler: st
     settings = settings | {"objectives": "pareto", "objective_names": list(OBJECTIVES)}
     trials = trials or (QUICK_TRIALS if quick else DEFAULT_TRIALS)
     tag = run_tag(material, quick, settings.get("mesh_size"))
-    spec = engine.SearchSpec(name=f"{NAME}-{tag}", space=SPACE, out_dir=str(folder),
-                             n_trials=trials, directions=DIRECTIONS, sampler=sampler, seed=seed,
-                             fixed={}, settings=settings, storage=storage,
-                             initial=(TABLE1_DESIGN,))
+    spec = engine.SearchSpec(
+        name=f"{NAME}-{tag}",
+        space=SPACE,
+        out_dir=str(folder),
+        n_trials=trials,
+        directions=DIRECTIONS,
+        sampler=sampler,
+        seed=seed,
+        fixed={},
+        settings=settings,
+        storage=storage,
+        initial=(TABLE1_DESIGN,),
+    )
     (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
     rows = engine.run_search(spec, workers=workers, progress=progress)
     engine.write_csv(rows, folder / "trials.csv")
     engine.write_csv([r for r in rows if r["pareto"]], folder / "pareto.csv")
-    plot_pareto(rows, folder / "pareto.png", reference=TABLE1_DESIGN,
-                title=f"optimise-actuator, material {material}" + (" (quick mesh)" if quick else ""))
+    plot_pareto(
+        rows,
+        folder / "pareto.png",
+        reference=TABLE1_DESIGN,
+        title=f"optimise-actuator, material {material}" + (" (quick mesh)" if quick else ""),
+    )
     n_ok = sum(r["trial_status"] == "completed" for r in rows)
     n_pareto = sum(bool(r["pareto"]) for r in rows)
-    lines = [f"optimise-actuator: {len(rows)} trials, {n_ok} completed, {len(rows) - n_ok} failed, "
-             f"{n_pareto} Pareto-optimal"]
+    lines = [
+        f"optimise-actuator: {len(rows)} trials, {n_ok} completed, {len(rows) - n_ok} failed, "
+        f"{n_pareto} Pareto-optimal"
+    ]
     table1 = [r for r in rows if r.get("initial")]
     if table1:
         t = table1[0]
-        verdict = (", Pareto-optimal" if t["pareto"] else ", dominated"
-                   if t["trial_status"] == "completed" else f" ({t['reason']})")
+        verdict = (
+            ", Pareto-optimal"
+            if t["pareto"]
+            else ", dominated"
+            if t["trial_status"] == "completed"
+            else f" ({t['reason']})"
+        )
         lines.append(f"  Table 1 design (r = 3, N = 20): {t['trial_status']}{verdict}")
     written = (folder / "trials.csv", folder / "pareto.csv", folder / "pareto.png")
     return StudyOutcome(tuple(lines), written, True)

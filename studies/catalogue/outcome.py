@@ -1,4 +1,5 @@
 """What a study run hands back to the command line: lines to print, files written, success."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

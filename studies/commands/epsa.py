@@ -12,6 +12,7 @@ default smeared winding (--fibers sheet) is mirror-symmetric, so --side-load N (
 small sideways imperfection that reveals such bending; --guided keeps the top on the axis, as the
 rings and the other actuators do in the robot.
 """
+
 from __future__ import annotations
 
 import json
@@ -22,29 +23,50 @@ from pathlib import Path
 def register(subparsers) -> None:
     from studies.parts.epsa_model import FIBER_MODELS
 
-    p = subparsers.add_parser("epsa", help="simulate one actuator under a pressure ramp",
-                              description=__doc__.splitlines()[0])
+    p = subparsers.add_parser(
+        "epsa", help="simulate one actuator under a pressure ramp", description=__doc__.splitlines()[0]
+    )
     p.add_argument("--chamber-radius", type=float, default=None, help="r0 (mm), Table 1: 3")
     p.add_argument("--fiber-turns", type=int, default=None, help="N turns of each helix, Table 1: 20")
     p.add_argument("--outer-radius", type=float, default=None, help="R0 (mm), Table 1: 9")
     p.add_argument("--length", type=float, default=None, help="L0 (mm), Table 1: 100")
     p.add_argument("--design", default=None, help="ePSA design file (.json/.toml) to start from")
-    p.add_argument("--material", default="ecoflex-00-50", help="body material preset (softcrawl material list)")
+    p.add_argument(
+        "--material", default="ecoflex-00-50", help="body material preset (softcrawl material list)"
+    )
     p.add_argument("--pressures", default="0:100:20", help="kPa: START:STOP:STEP or a comma list")
-    p.add_argument("--mesh-size", type=float, default=None, help="element size (mm); default: converged preset")
+    p.add_argument(
+        "--mesh-size", type=float, default=None, help="element size (mm); default: converged preset"
+    )
     p.add_argument("--quick", action="store_true", help="coarse mesh (seconds; for CI and trials)")
     p.add_argument("--blocked", action="store_true", help="fix both ends: blocked force (paper Fig. 19)")
-    p.add_argument("--guided", action="store_true",
-                   help="keep the top on the axis (u_x = u_y = 0): no sideways bending of the free end")
-    p.add_argument("--fibers", choices=FIBER_MODELS, default=None,
-                   help="Kevlar winding as embedded truss lines or as a smeared two-family sheet on the "
-                        "outer surface (default: studies.parts.epsa_model.DEFAULT_FIBERS)")
-    p.add_argument("--side-load", type=float, default=None, metavar="N",
-                   help="small sideways force on the free top (N), an imperfection that shows bending over")
+    p.add_argument(
+        "--guided",
+        action="store_true",
+        help="keep the top on the axis (u_x = u_y = 0): no sideways bending of the free end",
+    )
+    p.add_argument(
+        "--fibers",
+        choices=FIBER_MODELS,
+        default=None,
+        help="Kevlar winding as embedded truss lines or as a smeared two-family sheet on the "
+        "outer surface (default: studies.parts.epsa_model.DEFAULT_FIBERS)",
+    )
+    p.add_argument(
+        "--side-load",
+        type=float,
+        default=None,
+        metavar="N",
+        help="small sideways force on the free top (N), an imperfection that shows bending over",
+    )
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
-    p.add_argument("--convergence", metavar="SIZES", default=None,
-                   help="mesh study instead: element sizes in mm, coarse to fine (e.g. 10,5,2.5); "
-                        "extension at the last pressure -> convergence.csv")
+    p.add_argument(
+        "--convergence",
+        metavar="SIZES",
+        default=None,
+        help="mesh study instead: element sizes in mm, coarse to fine (e.g. 10,5,2.5); "
+        "extension at the last pressure -> convergence.csv",
+    )
     p.add_argument("--out", required=True, help="output folder")
     p.set_defaults(func=run)
 
@@ -53,9 +75,21 @@ def design_from_args(args):
     from geometry.design import EPSADesign
 
     base = EPSADesign.load(args.design) if args.design else EPSADesign()
-    changes = {k: v for k, v in (("chamber_radius", args.chamber_radius), ("fiber_turns", args.fiber_turns),
-                                 ("outer_radius", args.outer_radius), ("length", args.length)) if v is not None}
+    changes = {
+        k: v
+        for k, v in (
+            ("chamber_radius", args.chamber_radius),
+            ("fiber_turns", args.fiber_turns),
+            ("outer_radius", args.outer_radius),
+            ("length", args.length),
+        )
+        if v is not None
+    }
     return base.replace(**changes) if changes else base
+
+
+def _end_condition(args) -> str:
+    return "blocked" if args.blocked else "guided top" if args.guided else "free end"
 
 
 def run(args) -> int:
@@ -70,18 +104,33 @@ def run(args) -> int:
     args.fibers = args.fibers or DEFAULT_FIBERS
     if args.convergence:
         return run_convergence(args, design, pressures, out)
-    print(f"ePSA {design.short_hash()}: r0 = {design.chamber_radius} mm, N = {design.fiber_turns}, "
-          f"material {args.material}, {args.fibers} fibers, {'blocked' if args.blocked else 'guided top' if args.guided else 'free end'}, "
-          f"{len(pressures)} pressure targets up to {pressures[-1]:g} kPa", flush=True)
-    solved = simulate_epsa(design, material=args.material, pressures_kpa=pressures, quick=args.quick,
-                           mesh_size=args.mesh_size, blocked=args.blocked, guided=args.guided, keep_model=True,
-                           fibers=args.fibers, side_load_n=args.side_load,
-                           progress=lambda msg: print("  " + msg, flush=True))
+    print(
+        f"ePSA {design.short_hash()}: r0 = {design.chamber_radius} mm, N = {design.fiber_turns}, "
+        f"material {args.material}, {args.fibers} fibers, {_end_condition(args)}, "
+        f"{len(pressures)} pressure targets up to {pressures[-1]:g} kPa",
+        flush=True,
+    )
+    solved = simulate_epsa(
+        design,
+        material=args.material,
+        pressures_kpa=pressures,
+        quick=args.quick,
+        mesh_size=args.mesh_size,
+        blocked=args.blocked,
+        guided=args.guided,
+        keep_model=True,
+        fibers=args.fibers,
+        side_load_n=args.side_load,
+        progress=lambda msg: print("  " + msg, flush=True),
+    )
     curve = solved.curve
     write_csv(curve.table(args.blocked), out / "curve.csv")
     summary = curve.to_dict()
-    summary["limit_point"] = (f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa"
-                              if curve.limit_pressure_kpa is not None else None)
+    summary["limit_point"] = (
+        f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa"
+        if curve.limit_pressure_kpa is not None
+        else None
+    )
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
     if not args.no_vtu:
         from fem.vtu import write_path
@@ -107,9 +156,18 @@ def run_convergence(args, design, pressures, out) -> int:
     try:
         sizes = [float(v) for v in args.convergence.split(",")]
     except ValueError:
-        raise DesignError("convergence", f"{args.convergence!r}: give element sizes in mm, e.g. 10,5,2.5") from None
-    rows = mesh_convergence(design, material=args.material, pressure_kpa=pressures[-1], sizes=sizes,
-                            steps=len(pressures), fibers=args.fibers, progress=lambda m: print("  " + m, flush=True))
+        raise DesignError(
+            "convergence", f"{args.convergence!r}: give element sizes in mm, e.g. 10,5,2.5"
+        ) from None
+    rows = mesh_convergence(
+        design,
+        material=args.material,
+        pressure_kpa=pressures[-1],
+        sizes=sizes,
+        steps=len(pressures),
+        fibers=args.fibers,
+        progress=lambda m: print("  " + m, flush=True),
+    )
     write_csv(convergence_table(rows), out / "convergence.csv")
     print(f"-> {out / 'convergence.csv'}")
     return 0

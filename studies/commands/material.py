@@ -8,6 +8,7 @@
 
 Units: moduli in MPa, density in t/mm^3, strain is engineering strain (stretch - 1).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -16,8 +17,9 @@ DATA_CHOICES_HELP = "ecoflex-00-50 | ecoflex-00-30 | dragon-skin-30 | PATH to a 
 
 
 def register(subparsers) -> None:
-    parser = subparsers.add_parser("material", help="material presets and tensile-data fits",
-                                   description=__doc__.splitlines()[0])
+    parser = subparsers.add_parser(
+        "material", help="material presets and tensile-data fits", description=__doc__.splitlines()[0]
+    )
     sub = parser.add_subparsers(dest="material_command", required=True)
 
     list_parser = sub.add_parser("list", help="table of the material presets")
@@ -30,19 +32,22 @@ def register(subparsers) -> None:
     show.set_defaults(func=_run_show)
 
     fit = sub.add_parser("fit", help="fit Neo-Hookean or Yeoh constants to uniaxial tensile data")
-    fit.add_argument("--data", default="ecoflex-00-50", help=f"{DATA_CHOICES_HELP} "
-                                                             "(default ecoflex-00-50)")
+    fit.add_argument("--data", default="ecoflex-00-50", help=f"{DATA_CHOICES_HELP} (default ecoflex-00-50)")
     fit.add_argument("--model", default="neo-hookean", choices=("neo-hookean", "yeoh"))
-    fit.add_argument("--max-strain", type=float, default=None,
-                     help="upper engineering strain of the fit (default 1.0: stretch 2, the "
-                          "actuator's operating range)")
+    fit.add_argument(
+        "--max-strain",
+        type=float,
+        default=None,
+        help="upper engineering strain of the fit (default 1.0: stretch 2, the actuator's operating range)",
+    )
     fit.add_argument("--out", default=None, help="directory for fit.json and fit.png")
     fit.add_argument("--json", action="store_true", help="print JSON")
     fit.set_defaults(func=_run_fit)
 
     table = sub.add_parser("fit-table", help="both models fitted to every shipped data set")
-    table.add_argument("--max-strain", type=float, default=None,
-                       help="upper engineering strain of the fits (default 1.0)")
+    table.add_argument(
+        "--max-strain", type=float, default=None, help="upper engineering strain of the fits (default 1.0)"
+    )
     table.add_argument("--json", action="store_true", help="print JSON")
     table.set_defaults(func=_run_fit_table)
 
@@ -59,15 +64,21 @@ def _run_list(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps([m.to_dict() for m in records], indent=2))
         return 0
-    header = f"{'name':<20} {'model':<15} {'mu [MPa]':>10} {'K [MPa]':>10} {'E [MPa]':>10} " \
-             f"{'nu':>7} {'rho [t/mm^3]':>12}  source"
+    header = (
+        f"{'name':<20} {'model':<15} {'mu [MPa]':>10} {'K [MPa]':>10} {'E [MPa]':>10} "
+        f"{'nu':>7} {'rho [t/mm^3]':>12}  source"
+    )
     print(header)
     for m in records:
-        print(f"{m.name:<20} {m.model:<15} {m.mu:>10.4g} {m.bulk:>10.4g} "
-              f"{m.youngs_modulus:>10.4g} {m.poisson_ratio:>7.4f} {m.density:>12.3g}  "
-              f"{_first_clause(m.source)}")
-    print("Full source text: softcrawl material show NAME. Fit presets are derived from the Soft "
-          "Robotics Materials Database (ODbL 1.0 / DbCL 1.0), see fem/data/README.md.")
+        print(
+            f"{m.name:<20} {m.model:<15} {m.mu:>10.4g} {m.bulk:>10.4g} "
+            f"{m.youngs_modulus:>10.4g} {m.poisson_ratio:>7.4f} {m.density:>12.3g}  "
+            f"{_first_clause(m.source)}"
+        )
+    print(
+        "Full source text: softcrawl material show NAME. Fit presets are derived from the Soft "
+        "Robotics Materials Database (ODbL 1.0 / DbCL 1.0), see fem/data/README.md."
+    )
     return 0
 
 
@@ -103,8 +114,11 @@ def _fit_record(data, fit) -> dict:
 
     record = {"data": data.name, "file": data.path}
     record.update(fit.to_dict())
-    record["units"] = {"params": "MPa", "strain": "engineering strain (stretch - 1)",
-                       "rms_error": "MPa, on nominal (engineering) stress"}
+    record["units"] = {
+        "params": "MPa",
+        "strain": "engineering strain (stretch - 1)",
+        "rms_error": "MPa, on nominal (engineering) stress",
+    }
     if data.attribution:
         record["attribution"] = data.attribution
         record["license"] = materials.DATA_LICENSE
@@ -141,10 +155,13 @@ def _print_fit(record: dict) -> None:
     lo, hi = record["strain_range"]
     print(f"{record['data']}: {record['model']} {params}")
     print(f"  initial shear modulus {record['initial_shear_modulus_mpa']:.5g} MPa")
-    print(f"  strain range {lo:.3f}-{hi:.3f} (max_strain {record['max_strain']:g}), "
-          f"{record['n_points']} points")
-    print(f"  RMS error {record['rms_error_mpa']:.3g} MPa ({100 * record['relative_rms_error']:.2f} %"
-          f" of RMS stress), R^2 = {record['r_squared']:.5f}")
+    print(
+        f"  strain range {lo:.3f}-{hi:.3f} (max_strain {record['max_strain']:g}), {record['n_points']} points"
+    )
+    print(
+        f"  RMS error {record['rms_error_mpa']:.3g} MPa ({100 * record['relative_rms_error']:.2f} %"
+        f" of RMS stress), R^2 = {record['r_squared']:.5f}"
+    )
     for note in record["notes"]:
         print(f"  note: {note}")
     for path in record.get("outputs", []):
@@ -165,14 +182,18 @@ def _run_fit_table(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(records, indent=2))
         return 0
-    print(f"{'data':<15} {'model':<12} {'constants [MPa]':<44} {'mu0 [MPa]':>9} {'strain':>11} "
-          f"{'n':>3} {'RMS [MPa]':>9} {'rel':>6} {'R^2':>7}")
+    print(
+        f"{'data':<15} {'model':<12} {'constants [MPa]':<44} {'mu0 [MPa]':>9} {'strain':>11} "
+        f"{'n':>3} {'RMS [MPa]':>9} {'rel':>6} {'R^2':>7}"
+    )
     for r in records:
         params = ", ".join(f"{k}={v:.4g}" for k, v in r["params_mpa"].items())
         lo, hi = r["strain_range"]
-        print(f"{r['data']:<15} {r['model']:<12} {params:<44} {r['initial_shear_modulus_mpa']:>9.4g}"
-              f" {lo:>5.3f}-{hi:<5.3f} {r['n_points']:>3} {r['rms_error_mpa']:>9.2g} "
-              f"{100 * r['relative_rms_error']:>5.1f}% {r['r_squared']:>7.4f}")
+        print(
+            f"{r['data']:<15} {r['model']:<12} {params:<44} {r['initial_shear_modulus_mpa']:>9.4g}"
+            f" {lo:>5.3f}-{hi:<5.3f} {r['n_points']:>3} {r['rms_error_mpa']:>9.2g} "
+            f"{100 * r['relative_rms_error']:>5.1f}% {r['r_squared']:>7.4f}"
+        )
     notes = sorted({f"{r['data']} {r['model']}: {n}" for r in records for n in r["notes"]})
     for note in notes:
         print(f"note: {note}")

@@ -7,6 +7,7 @@ volume, area per tag, fiber length, quality, design and its hash), DIR/design.js
 part (``--epsa.chamber_radius 4``, ``--foot.angle 100``, ``--ring.thickness 4``). ``--design FILE``
 starts from a saved design (.json/.toml); options override it.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -36,24 +37,34 @@ def _add_param(parser, name: str, typ: type) -> None:
     flags = [f"--{name}"]
     if "_" in name:
         flags.append("--" + name.replace("_", "-"))
-    parser.add_argument(*flags, dest=f"p:{name}", type=typ, default=None, metavar=typ.__name__.upper(),
-                        help=f"design parameter {name}")
+    parser.add_argument(
+        *flags,
+        dest=f"p:{name}",
+        type=typ,
+        default=None,
+        metavar=typ.__name__.upper(),
+        help=f"design parameter {name}",
+    )
 
 
 def register(subparsers) -> None:
     from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
 
     classes = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
-    parser = subparsers.add_parser("mesh", help="tetrahedral mesh of a part or of the robot",
-                                   description=__doc__.splitlines()[0])
+    parser = subparsers.add_parser(
+        "mesh", help="tetrahedral mesh of a part or of the robot", description=__doc__.splitlines()[0]
+    )
     kinds = parser.add_subparsers(dest="kind", required=True, parser_class=type(parser))
     for kind in KINDS:
         sp = kinds.add_parser(kind, help=f"mesh the {kind}")
         sp.add_argument("--out", required=True, help="output folder")
         sp.add_argument("--design", default=None, help="design file (.json or .toml) to start from")
         sp.add_argument("--edge-length", type=float, default=None, help="target tet edge length (mm)")
-        sp.add_argument("--cache-dir", default=None, help="mesh cache (default $SOFTCRAWL_CACHE or "
-                                                          "~/.cache/softcrawl/meshes)")
+        sp.add_argument(
+            "--cache-dir",
+            default=None,
+            help="mesh cache (default $SOFTCRAWL_CACHE or ~/.cache/softcrawl/meshes)",
+        )
         sp.add_argument("--no-cache", action="store_true", help="always mesh anew")
         sp.add_argument("--no-png", action="store_true", help="skip the PNG render")
         for name, typ in _scalar_fields(classes[kind]):
@@ -75,8 +86,10 @@ def build_design(kind: str, params: dict, base=None):
     if kind != "robot":
         return (base or cls()).replace(**params) if base else cls(**params)
     top = {k: v for k, v in params.items() if "." not in k}
-    nested = {part: {k.split(".", 1)[1]: v for k, v in params.items() if k.startswith(part + ".")}
-              for part in ("epsa", "foot", "ring")}
+    nested = {
+        part: {k.split(".", 1)[1]: v for k, v in params.items() if k.startswith(part + ".")}
+        for part in ("epsa", "foot", "ring")
+    }
     base = base or RobotDesign()
     epsa = _part(base.epsa, "epsa", nested["epsa"])
     d = top.get("d", base.d)
@@ -106,8 +119,8 @@ def run(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
 
-    from geometry.design import EPSADesign, load_design
     from geometry.assembly import MESHERS
+    from geometry.design import EPSADesign, load_design
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
     base = load_design(args.design) if args.design else None
@@ -125,16 +138,26 @@ def run(args: argparse.Namespace) -> int:
     mesh.write(out / "mesh.vtu")
     mesh.write(out / "mesh.msh")
     design.save(out / "design.json")
-    summary = {"kind": args.kind, **mesh.summary(), "seconds": round(seconds, 2),
-               "physical_ids": mesh.physical_ids(), "design": design.to_dict()}
+    summary = {
+        "kind": args.kind,
+        **mesh.summary(),
+        "seconds": round(seconds, 2),
+        "physical_ids": mesh.physical_ids(),
+        "design": design.to_dict(),
+    }
     if isinstance(design, EPSADesign):
-        summary["analytic"] = {"volume_mm3": design.body_volume, "helix_length_mm": design.helix_length,
-                               "chamber_wall_area_mm2": design.chamber_wall_area}
+        summary["analytic"] = {
+            "volume_mm3": design.body_volume,
+            "helix_length_mm": design.helix_length,
+            "chamber_wall_area_mm2": design.chamber_wall_area,
+        }
     if not args.no_png:
         from studies.plots.mesh_render import render_png
 
         summary["png_renderer"] = render_png(mesh, out / "mesh.png")
     (out / "mesh.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")
-    print(f"{args.kind}: {mesh.n_nodes} nodes, {mesh.n_tets} tets, volume {mesh.volume():.1f} mm^3, "
-          f"min quality {summary['min_quality']:.3f}, {seconds:.1f} s -> {out}")
+    print(
+        f"{args.kind}: {mesh.n_nodes} nodes, {mesh.n_tets} tets, volume {mesh.volume():.1f} mm^3, "
+        f"min quality {summary['min_quality']:.3f}, {seconds:.1f} s -> {out}"
+    )
     return 0

@@ -7,28 +7,36 @@ Reads DIR/chamber-radius/<material>/curves.csv and DIR/fiber-turns/<material>/cu
 material (every material found, or those given with --material), one row per Table 1 parameter
 (paper value, our value, rule, material, agreement and why). The foot and ring rows are pending.
 """
+
 from __future__ import annotations
 
 import argparse
 
 
 def register(subparsers) -> None:
-    parser = subparsers.add_parser("table1", help="reproduce Table 1 from the study outputs",
-                                   description=__doc__.splitlines()[0])
-    parser.add_argument("--out", required=True, help="folder for table1.md (and, by default, "
-                                                     "the study results to read)")
-    parser.add_argument("--results", default=None,
-                        help="results folder with the study outputs (default: --out)")
-    parser.add_argument("--material", action="append", default=None,
-                        help="material to report (repeatable; default: every material found)")
+    parser = subparsers.add_parser(
+        "table1", help="reproduce Table 1 from the study outputs", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument(
+        "--out", required=True, help="folder for table1.md (and, by default, the study results to read)"
+    )
+    parser.add_argument(
+        "--results", default=None, help="results folder with the study outputs (default: --out)"
+    )
+    parser.add_argument(
+        "--material",
+        action="append",
+        default=None,
+        help="material to report (repeatable; default: every material found)",
+    )
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from studies.sweeps.engine import StudyError
     from studies.review.table1 import find_materials, write_table1
+    from studies.sweeps.engine import StudyError
 
     results = Path(args.results if args.results is not None else args.out)
     if not results.is_dir():

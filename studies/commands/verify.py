@@ -4,6 +4,7 @@ Runs the verification cases of `fem.verification` on coarse meshes (about a minu
 cores), prints each case's error, tolerance and pass/fail, and writes them as JSON. Exit code 0
 when every case passes, 1 otherwise.
 """
+
 from __future__ import annotations
 
 import json
@@ -14,11 +15,11 @@ import time
 def register(subparsers) -> None:
     from fem.verification import CASES
 
-    p = subparsers.add_parser("verify", help="run the solver verification cases",
-                              description=__doc__.splitlines()[0])
+    p = subparsers.add_parser(
+        "verify", help="run the solver verification cases", description=__doc__.splitlines()[0]
+    )
     p.add_argument("--json", metavar="FILE", help="write the results as JSON")
-    p.add_argument("--case", action="append", choices=sorted(CASES),
-                   help="run only this case (repeatable)")
+    p.add_argument("--case", action="append", choices=sorted(CASES), help="run only this case (repeatable)")
     p.set_defaults(func=run)
 
 
@@ -43,10 +44,21 @@ def run(args) -> int:
         t0 = time.perf_counter()
         result = CASES[name]()
         dt = time.perf_counter() - t0
-        rows.append({"case": name, "error": float(result.error), "tolerance": result.tolerance,
-                     "passed": result.passed, "seconds": round(dt, 2), "details": _plain(result.details)})
-        print(f"{name:<15}{result.error:>12.3e}{result.tolerance:>12.1e}  "
-              f"{'pass' if result.passed else 'FAIL':<6} {dt:6.1f} s", flush=True)
+        rows.append(
+            {
+                "case": name,
+                "error": float(result.error),
+                "tolerance": result.tolerance,
+                "passed": result.passed,
+                "seconds": round(dt, 2),
+                "details": _plain(result.details),
+            }
+        )
+        print(
+            f"{name:<15}{result.error:>12.3e}{result.tolerance:>12.1e}  "
+            f"{'pass' if result.passed else 'FAIL':<6} {dt:6.1f} s",
+            flush=True,
+        )
     if args.json:
         with open(args.json, "w") as fh:
             json.dump({"cases": rows, "all_passed": all(r["passed"] for r in rows)}, fh, indent=2)

@@ -2,7 +2,8 @@
 
     design (EPSADesign) -> swept tetrahedral mesh with the ABS seal head (geometry.swept) -> P2-P1
     solid model with the chamber pressure, the end z = 0 fixed (and the seal head's top fixed too
-    for the blocked force) and the Kevlar double helix as embedded trusses (fem) -> pressure ramp with limit-point continuation
+    for the blocked force) and the Kevlar double helix as embedded trusses (fem) -> pressure ramp with
+    limit-point continuation
     (fem.path) -> one CurveRow per converged state (fem.post).
 
 Everything the sweeps, the optimiser and the CLI know about an actuator comes from here. A solve
@@ -14,6 +15,7 @@ Mesh. `MeshSettings` of the swept mesher; the presets are "default" (the converg
 convergence study, `softcrawl epsa --convergence`) and "quick" (coarse, for CI and quick sweeps).
 Material: a preset name of `materials` (Neo-Hookean), converted to MPa constants here.
 """
+
 from __future__ import annotations
 
 import math
@@ -43,11 +45,11 @@ def same_pressure(a: float, b: float) -> bool:
 class MeshSettings:
     n_around: int = 16
     n_radial: int = 2
-    axial_size: float = 5.0          # mm
+    axial_size: float = 5.0  # mm
     fiber_points_per_turn: int = 32
 
     @classmethod
-    def from_size(cls, h: float, design: EPSADesign) -> "MeshSettings":
+    def from_size(cls, h: float, design: EPSADesign) -> MeshSettings:
         """A mesh of element size about h (mm): axial h, at most 0.8 h around the outer surface
         (a multiple of 4 cells, at least 12), ~h/1.5 across the wall, and at least two fiber
         points per cell around. For the Table 1 ePSA, h = 10 and 5 mm give the "quick" and
@@ -56,8 +58,12 @@ class MeshSettings:
             raise DesignError("mesh_size", f"must be a positive length in mm, got {h}")
         wall = design.outer_radius - design.chamber_radius
         n_around = max(12, 4 * math.ceil(2 * math.pi * design.outer_radius / (4 * 0.8 * h)))
-        return cls(n_around=n_around, n_radial=max(1, round(1.5 * wall / h)), axial_size=float(h),
-                   fiber_points_per_turn=max(32, 2 * n_around))
+        return cls(
+            n_around=n_around,
+            n_radial=max(1, round(1.5 * wall / h)),
+            axial_size=float(h),
+            fiber_points_per_turn=max(32, 2 * n_around),
+        )
 
 
 #: How the Kevlar winding is modelled (`build_model`). The default is the smeared sheet, because
@@ -82,7 +88,7 @@ class CurveRow:
     max_fiber_tension_n: float
     status: str
     blocked_force_n: float = float("nan")
-    tip_lateral_mm: float = float("nan")      # sideways displacement of the top face's centroid
+    tip_lateral_mm: float = float("nan")  # sideways displacement of the top face's centroid
 
 
 @dataclass(frozen=True)
@@ -98,7 +104,7 @@ class ActuatorCurve:
     design: dict = field(default_factory=dict)
     mesh: dict = field(default_factory=dict)
     events: tuple[str, ...] = ()
-    fibers: str = ""                     # the winding model (FIBER_MODELS), "" when not recorded
+    fibers: str = ""  # the winding model (FIBER_MODELS), "" when not recorded
 
     def to_dict(self) -> dict:
         out = asdict(self)
@@ -112,10 +118,14 @@ class ActuatorCurve:
         """curve.csv rows: numbers to 6 significant digits; the blocked force when `blocked`."""
         out = []
         for r in self.rows:
-            row = {"pressure_kPa": r.pressure_kpa, "length_mm": r.length_mm,
-                   "outer_radius_mm": r.outer_radius_mm, "chamber_volume_mm3": r.chamber_volume_mm3,
-                   "max_principal_stretch": r.max_principal_stretch,
-                   "max_fiber_tension_N": r.max_fiber_tension_n}
+            row = {
+                "pressure_kPa": r.pressure_kpa,
+                "length_mm": r.length_mm,
+                "outer_radius_mm": r.outer_radius_mm,
+                "chamber_volume_mm3": r.chamber_volume_mm3,
+                "max_principal_stretch": r.max_principal_stretch,
+                "max_fiber_tension_N": r.max_fiber_tension_n,
+            }
             row = {k: f"{float(v):.6g}" for k, v in row.items()}
             row |= {"status": r.status, "tip_lateral_mm": f"{r.tip_lateral_mm:.6g}"}
             if blocked:
@@ -142,10 +152,18 @@ def solid_material(name):
     return mat, solid_law(mat, hyperelastic_only=True)
 
 
-def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings | str = "default",
-                blocked: bool = False, fiber_material: str = "kevlar", seal_material: str = "abs",
-                end_load_n: float | None = None, guided: bool = False, fibers: str = DEFAULT_FIBERS,
-                side_load_n: float | None = None):
+def build_model(
+    design: EPSADesign,
+    material="ecoflex-00-50",
+    mesh: MeshSettings | str = "default",
+    blocked: bool = False,
+    fiber_material: str = "kevlar",
+    seal_material: str = "abs",
+    end_load_n: float | None = None,
+    guided: bool = False,
+    fibers: str = DEFAULT_FIBERS,
+    side_load_n: float | None = None,
+):
     """The actuator model: body (Neo-Hookean `material`), ABS seal head on top (tied, stiff
     Neo-Hookean with the ABS shear and bulk moduli: at 20-100 kPa its strains are ~1e-4, so the
     hyperelastic and linear-elastic ABS agree), Kevlar fibers, base z = 0 fixed (glued to the
@@ -170,23 +188,30 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
     Newton path can follow the straight (unstable) branch past a bending bifurcation; the helix
     ends of the line fibers are a built-in imperfection of this kind."""
     from fem.mechanics import Dirichlet, SolidModel
-    from materials import get_material
-    from materials.fem_law import solid_law
     from fem.sheets import FiberSheet
     from geometry.epsa_shape import helix_families
     from geometry.swept import mesh_epsa_swept
+    from materials import get_material
+    from materials.fem_law import solid_law
 
     if fibers not in FIBER_MODELS:
         raise DesignError("fibers", f"{fibers!r} is not one of {FIBER_MODELS}")
     if side_load_n is not None and not (math.isfinite(side_load_n) and side_load_n > 0):
         raise DesignError("side_load", f"must be a small force > 0 N, got {side_load_n}")
     if side_load_n is not None and (blocked or guided or end_load_n is not None):
-        raise DesignError("side_load", "the sideways probe is for the free actuator (no guide, block or weight)")
+        raise DesignError(
+            "side_load", "the sideways probe is for the free actuator (no guide, block or weight)"
+        )
     settings = MESH_PRESETS[mesh] if isinstance(mesh, str) else mesh
     mat, neo = solid_material(material)
-    tagged = mesh_epsa_swept(design, n_around=settings.n_around, n_radial=settings.n_radial,
-                             axial_size=settings.axial_size,
-                             fiber_points_per_turn=settings.fiber_points_per_turn, seal_head=True)
+    tagged = mesh_epsa_swept(
+        design,
+        n_around=settings.n_around,
+        n_radial=settings.n_radial,
+        axial_size=settings.axial_size,
+        fiber_points_per_turn=settings.fiber_points_per_turn,
+        seal_head=True,
+    )
     if blocked and (end_load_n is not None or guided):
         raise DesignError("blocked", "a blocked actuator (top fixed) takes no end load and no guide")
     if end_load_n is not None and not (math.isfinite(end_load_n) and end_load_n >= 0):
@@ -201,15 +226,24 @@ def build_model(design: EPSADesign, material="ecoflex-00-50", mesh: MeshSettings
         dead_loads = {"seal_top": (float(side_load_n), 0.0, 0.0)}
     kevlar, abs_ = get_material(fiber_material), get_material(seal_material)
     materials = {"epsa": neo, "seal_head": solid_law(abs_)}
-    axial = kevlar.youngs_modulus * math.pi * design.fiber_diameter ** 2 / 4
+    axial = kevlar.youngs_modulus * math.pi * design.fiber_diameter**2 / 4
     lines = fibers == "lines"
-    sheets = () if lines else [FiberSheet("outer", direction, axial, density)
-                               for direction, density in helix_families(design)]
-    model = SolidModel(tagged.to_skfem(order=2), materials, dirichlet=bcs,
-                       chamber=("chamber_wall", "chamber_ends"),
-                       fibers=(tagged.fibers or None) if lines else None,
-                       fiber_youngs=kevlar.youngs_modulus, fiber_diameter=design.fiber_diameter,
-                       dead_loads=dead_loads, fiber_sheets=sheets)
+    sheets = (
+        ()
+        if lines
+        else [FiberSheet("outer", direction, axial, density) for direction, density in helix_families(design)]
+    )
+    model = SolidModel(
+        tagged.to_skfem(order=2),
+        materials,
+        dirichlet=bcs,
+        chamber=("chamber_wall", "chamber_ends"),
+        fibers=(tagged.fibers or None) if lines else None,
+        fiber_youngs=kevlar.youngs_modulus,
+        fiber_diameter=design.fiber_diameter,
+        dead_loads=dead_loads,
+        fiber_sheets=sheets,
+    )
     return model, mat, settings
 
 
@@ -232,11 +266,22 @@ def parse_pressures(spec: str) -> tuple[float, ...]:
     return tuple(float(v) for v in values)
 
 
-def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa=(20, 40, 60, 80, 100),
-                  mesh: MeshSettings | str = "default", mesh_size: float | None = None,
-                  quick: bool = False, blocked: bool = False, progress=None,
-                  keep_model: bool = False, end_load_n: float | None = None, guided: bool = False,
-                  fibers: str = DEFAULT_FIBERS, side_load_n: float | None = None):
+def simulate_epsa(
+    design: EPSADesign,
+    *,
+    material="ecoflex-00-50",
+    pressures_kpa=(20, 40, 60, 80, 100),
+    mesh: MeshSettings | str = "default",
+    mesh_size: float | None = None,
+    quick: bool = False,
+    blocked: bool = False,
+    progress=None,
+    keep_model: bool = False,
+    end_load_n: float | None = None,
+    guided: bool = False,
+    fibers: str = DEFAULT_FIBERS,
+    side_load_n: float | None = None,
+):
     """Simulate the closed actuator under a pressure ramp. Returns an `ActuatorCurve`
     (or `Solved` with the model and path when `keep_model`).
 
@@ -266,8 +311,16 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
     pressures = tuple(float(p) for p in pressures_kpa)
     if not pressures or min(pressures) <= 0:
         raise DesignError("pressures", "give positive pressures in kPa")
-    model, mat, settings = build_model(design, material, mesh, blocked, end_load_n=end_load_n,
-                                       guided=guided, fibers=fibers, side_load_n=side_load_n)
+    model, mat, settings = build_model(
+        design,
+        material,
+        mesh,
+        blocked,
+        end_load_n=end_load_n,
+        guided=guided,
+        fibers=fibers,
+        side_load_n=side_load_n,
+    )
     top_nodes = model.boundary_nodes("end_top")
     factor = 0.0 if end_load_n is None and side_load_n is None else 1.0
 
@@ -276,34 +329,58 @@ def simulate_epsa(design: EPSADesign, *, material="ecoflex-00-50", pressures_kpa
         tension = model.fiber_tension(x)
         force = -model.reaction(x, "seal_top", step.pressure)[2] if blocked else float("nan")
         sway = float(np.hypot(*model.displacement(x)[:2, top_nodes].mean(axis=1)))
-        return CurveRow(step.pressure * 1e3, actuator_length(model, x),
-                        outer_radius_at(model, x, design.length / 2), step.volume,
-                        max_principal_stretch(model, x), float(tension.max()) if tension.size else 0.0,
-                        status, float(force), sway)
+        return CurveRow(
+            step.pressure * 1e3,
+            actuator_length(model, x),
+            outer_radius_at(model, x, design.length / 2),
+            step.volume,
+            max_principal_stretch(model, x),
+            float(tension.max()) if tension.size else 0.0,
+            status,
+            float(force),
+            sway,
+        )
 
     def on_step(step):
         if progress is not None:
-            progress(f"P = {step.pressure * 1e3:7.2f} kPa  ({step.control} control, "
-                     f"{step.newton.iterations} Newton iterations)")
+            progress(
+                f"P = {step.pressure * 1e3:7.2f} kPa  ({step.control} control, "
+                f"{step.newton.iterations} Newton iterations)"
+            )
 
     targets = [(p * 1e-3, factor) for p in pressures]
     result = load_path(model, ([(0.0, 1.0)] if factor else []) + targets, on_step=on_step)
     x0 = model.initial_state()
     from fem.path import NewtonRecord, Step
 
-    rows = [row(Step(0.0, 0.0, model.chamber_volume(x0), x0, "pressure", NewtonRecord((0.0,), True)),
-                "reference")]
+    rows = [
+        row(Step(0.0, 0.0, model.chamber_volume(x0), x0, "pressure", NewtonRecord((0.0,), True)), "reference")
+    ]
     rows += [row(s, "volume-control" if s.past_limit else "converged") for s in result.steps]
     reached = max([s.pressure for s in result.steps if not s.past_limit], default=0.0) * 1e3
     nan = float("nan")
     if not result.converged:
-        rows += [CurveRow(p, nan, nan, nan, nan, nan, "failed") for p in pressures
-                 if p > reached and not same_pressure(reached, p)]
+        rows += [
+            CurveRow(p, nan, nan, nan, nan, nan, "failed")
+            for p in pressures
+            if p > reached and not same_pressure(reached, p)
+        ]
     limit = None if result.limit_pressure is None else result.limit_pressure * 1e3
     events = tuple(result.events) + _sway_events(rows)
-    curve = ActuatorCurve(tuple(rows), bool(result.converged), limit, result.message,
-                          time.perf_counter() - t0, int(model.n_dofs), mat.name, float(mat.mu),
-                          design.to_dict(), asdict(settings), events, fibers)
+    curve = ActuatorCurve(
+        tuple(rows),
+        bool(result.converged),
+        limit,
+        result.message,
+        time.perf_counter() - t0,
+        int(model.n_dofs),
+        mat.name,
+        float(mat.mu),
+        design.to_dict(),
+        asdict(settings),
+        events,
+        fibers,
+    )
     return Solved(curve, model, result) if keep_model else curve
 
 
@@ -317,8 +394,10 @@ def _sway_events(rows) -> tuple[str, ...]:
     for r in rows[1:]:
         ext = r.length_mm - length0
         if np.isfinite(r.tip_lateral_mm) and r.tip_lateral_mm > SWAY_WARNING * r.length_mm:
-            return (f"the top sways sideways by {r.tip_lateral_mm:.3g} mm at P = {r.pressure_kpa:.4g} kPa "
-                    f"(extension {ext:.3g} mm): the free actuator bends over (Euler-type bending of "
-                    "an inflated tube); the length is then the axial projection. --guided keeps "
-                    "the top on the axis",)
+            return (
+                f"the top sways sideways by {r.tip_lateral_mm:.3g} mm at P = {r.pressure_kpa:.4g} kPa "
+                f"(extension {ext:.3g} mm): the free actuator bends over (Euler-type bending of "
+                "an inflated tube); the length is then the axial projection. --guided keeps "
+                "the top on the axis",
+            )
     return ()

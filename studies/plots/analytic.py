@@ -1,4 +1,5 @@
 """Figures of the paper's analytic models (package `robot`): the workspace cloud and a gait plan."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -61,17 +62,19 @@ def plot_plan(plan, path) -> None:
         rot = rot @ kin.arc_rotation(c.kappa * step, c.phi)
     ax.set_aspect("equal"), ax.set_xlabel("x [mm]"), ax.set_ylabel("z [mm]")
     status = "passes" if plan.success else "FAILS"
-    ax.set_title(f"{pipe.kind} D = {pipe.diameter:g} mm"
-                 + (f", R = {pipe.bend_radius:g} mm" if pipe.kind == "elbow" else "")
-                 + f": {status} in {len(plan.cycles)} cycles\n(squares: rear foot, circles: front "
-                   "foot; dotted: body-centreline limit)", fontsize=9)
+    ax.set_title(
+        f"{pipe.kind} D = {pipe.diameter:g} mm"
+        + (f", R = {pipe.bend_radius:g} mm" if pipe.kind == "elbow" else "")
+        + f": {status} in {len(plan.cycles)} cycles\n(squares: rear foot, circles: front "
+        "foot; dotted: body-centreline limit)",
+        fontsize=9,
+    )
     gait = plan.gait()
     if gait:
         P = np.array([g[1:] for g in gait])
         x = np.arange(len(gait) + 1)
         for i, ls in zip(range(3), ("-", "--", ":")):
-            ag.step(x, np.append(P[:, i], P[-1, i]), where="post", ls=ls, lw=2 - 0.4 * i,
-                    label=f"P{i + 1}")
+            ag.step(x, np.append(P[:, i], P[-1, i]), where="post", ls=ls, lw=2 - 0.4 * i, label=f"P{i + 1}")
         ag.set_xlabel("phase (inflate, deflate, ...)"), ag.set_ylabel("pressure [kPa]")
         ag.set_ylim(-5, 105), ag.legend(), ag.grid(alpha=0.3), ag.set_title("gait sequence")
     save(fig, path)

@@ -3,6 +3,7 @@
 pyvista renders off screen (``pyvista.OFF_SCREEN``); if VTK cannot render on the machine, a
 matplotlib (Agg) drawing of the boundary triangles is written instead. Returns the renderer used.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -43,13 +44,24 @@ def render_png(mesh: TaggedMesh, path: str | Path, window_size=(900, 700)) -> st
         pv.OFF_SCREEN = True
         surf, tags = _surface(mesh)
         pl = pv.Plotter(off_screen=True, window_size=list(window_size))
-        pl.add_mesh(surf, scalars="tag", cmap="tab20", show_edges=True, edge_color="#555555",
-                    line_width=0.3, opacity=0.85, show_scalar_bar=False)
+        pl.add_mesh(
+            surf,
+            scalars="tag",
+            cmap="tab20",
+            show_edges=True,
+            edge_color="#555555",
+            line_width=0.3,
+            opacity=0.85,
+            show_scalar_bar=False,
+        )
         for f in mesh.fibers:
             pl.add_mesh(pv.lines_from_points(f), color="gold", line_width=2)
         if len(tags) <= 16:
-            pl.add_legend([[t, pv.plotting.colors.Color(c).hex_rgb] for t, c in
-                           zip(tags, _tab20(len(tags)))], bcolor="white", size=(0.25, 0.3))
+            pl.add_legend(
+                [[t, pv.plotting.colors.Color(c).hex_rgb] for t, c in zip(tags, _tab20(len(tags)))],
+                bcolor="white",
+                size=(0.25, 0.3),
+            )
         pl.view_isometric()
         pl.screenshot(str(path))
         pl.close()
@@ -74,13 +86,26 @@ def _render_matplotlib(mesh: TaggedMesh, path: Path) -> str:
     groups = sorted({_group(mesh, t) for t in mesh.facets})
     colors = dict(zip(groups, _tab20(len(groups))))
     for tag in sorted(mesh.facets):
-        ax.add_collection3d(Poly3DCollection(mesh.points[mesh.facets[tag]], facecolor=colors[_group(mesh, tag)],
-                                             edgecolor="k", linewidth=0.05, alpha=0.6))
+        ax.add_collection3d(
+            Poly3DCollection(
+                mesh.points[mesh.facets[tag]],
+                facecolor=colors[_group(mesh, tag)],
+                edgecolor="k",
+                linewidth=0.05,
+                alpha=0.6,
+            )
+        )
     for f in mesh.fibers:
         ax.plot(f[:, 0], f[:, 1], f[:, 2], color="goldenrod", lw=0.8)
     lo, hi = mesh.points.min(axis=0), mesh.points.max(axis=0)
     c, r = (lo + hi) / 2, (hi - lo).max() / 2
-    ax.set(xlim=(c[0] - r, c[0] + r), ylim=(c[1] - r, c[1] + r), zlim=(c[2] - r, c[2] + r),
-           xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
+    ax.set(
+        xlim=(c[0] - r, c[0] + r),
+        ylim=(c[1] - r, c[1] + r),
+        zlim=(c[2] - r, c[2] + r),
+        xlabel="x (mm)",
+        ylabel="y (mm)",
+        zlabel="z (mm)",
+    )
     save(fig, path, tight=False)
     return "matplotlib"

@@ -4,6 +4,7 @@ All PNGs of the project go through `pyplot()` (the non-interactive Agg backend, 
 needed) and `save()` (tight layout, the folder created, the figure closed). One resolution and one
 font size keep the figures of a design review alike.
 """
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -21,10 +21,12 @@ Definitions (every threshold is a named constant below):
 * **nearly linear**: R^2 of a least-squares line through (0, L0) and the computed points is at
   least ``LINEARITY_R2``.
 """
+
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from studies.parts.epsa_model import same_pressure
 
@@ -54,7 +56,7 @@ class DesignCurve:
     of the undeformed actuator), else the design's length and outer radius."""
 
     value: float
-    trial_status: str                   #: completed | failed | running | waiting | missing
+    trial_status: str  #: completed | failed | running | waiting | missing
     reason: str
     limit_pressure: float | None
     length0: float
@@ -72,8 +74,11 @@ class DesignCurve:
 
     @property
     def withstands(self) -> bool:
-        return (self.trial_status == "completed" and self.at(TARGET_PRESSURE_KPA) is not None
-                and (self.limit_pressure is None or self.limit_pressure >= TARGET_PRESSURE_KPA))
+        return (
+            self.trial_status == "completed"
+            and self.at(TARGET_PRESSURE_KPA) is not None
+            and (self.limit_pressure is None or self.limit_pressure >= TARGET_PRESSURE_KPA)
+        )
 
     @property
     def reached(self) -> float:
@@ -89,7 +94,7 @@ class Selection:
     value: float | None
     rule: str
     evidence: tuple[str, ...] = ()
-    status: str = "selected"            #: selected | undetermined | input | pending
+    status: str = "selected"  #: selected | undetermined | input | pending
     reason: str = ""
 
     @property
@@ -120,8 +125,7 @@ def design_curves(rows: Sequence[Mapping[str, Any]], param: str) -> dict[float, 
         length0, radius0 = _f(first.get("length")) or 100.0, _f(first.get("outer_radius")) or 9.0
         path = []
         for r in group:
-            p, length, radius = (_f(r.get(k)) for k in ("pressure_kpa", "length_mm",
-                                                         "outer_radius_mm"))
+            p, length, radius = (_f(r.get(k)) for k in ("pressure_kpa", "length_mm", "outer_radius_mm"))
             status = r.get("row_status")
             if None in (p, length, radius):
                 continue
@@ -131,11 +135,17 @@ def design_curves(rows: Sequence[Mapping[str, Any]], param: str) -> dict[float, 
                 path.append((p, length, radius, status))
         controlled = sorted((p, x, y) for p, x, y, st in path if st == "converged")
         out[value] = DesignCurve(
-            value=value, trial_status=str(first.get("trial_status", "")),
+            value=value,
+            trial_status=str(first.get("trial_status", "")),
             reason=str(first.get("reason", "") or ""),
-            limit_pressure=_f(first.get("limit_pressure_kpa")), length0=length0, radius0=radius0,
-            pressures=[p for p, _, _ in controlled], lengths=[x for _, x, _ in controlled],
-            radii=[y for _, _, y in controlled], path=path)
+            limit_pressure=_f(first.get("limit_pressure_kpa")),
+            length0=length0,
+            radius0=radius0,
+            pressures=[p for p, _, _ in controlled],
+            lengths=[x for _, x, _ in controlled],
+            radii=[y for _, _, y in controlled],
+            path=path,
+        )
     return out
 
 
@@ -174,11 +184,11 @@ def linearity_r2(curve: DesignCurve) -> float:
 CHAMBER_RADIUS_RULE = (
     f"among chamber radii that withstand {TARGET_PRESSURE_KPA:g} kPa without fibers (no limit "
     "point, not diverged), drop those whose length-pressure curve fluctuates, then take the one "
-    f"with the smallest radial expansion at {TARGET_PRESSURE_KPA:g} kPa")
+    f"with the smallest radial expansion at {TARGET_PRESSURE_KPA:g} kPa"
+)
 
 
-def select_chamber_radius(rows: Sequence[Mapping[str, Any]], mu: float | None = None
-                          ) -> Selection:
+def select_chamber_radius(rows: Sequence[Mapping[str, Any]], mu: float | None = None) -> Selection:
     """Paper: r = 5, 6 cannot withstand > 80 kPa; r = 2, 4 fluctuate; r = 3 has a small radial
     expansion -> 3 mm. Rows: the chamber-radius study (no fibers).
 
@@ -193,8 +203,10 @@ def select_chamber_radius(rows: Sequence[Mapping[str, Any]], mu: float | None = 
             if c.trial_status == "completed" and c.limit_pressure is not None:
                 why = f"limit point at {c.limit_pressure:.3g} kPa"
                 if mu is not None and c.limit_pressure > 0:
-                    why += (f" (would withstand {TARGET_PRESSURE_KPA:g} kPa for mu >= "
-                            f"{mu * TARGET_PRESSURE_KPA / c.limit_pressure:.3g} MPa)")
+                    why += (
+                        f" (would withstand {TARGET_PRESSURE_KPA:g} kPa for mu >= "
+                        f"{mu * TARGET_PRESSURE_KPA / c.limit_pressure:.3g} MPa)"
+                    )
             elif c.trial_status == "failed":
                 why = f"diverged/failed after {c.reached:.3g} kPa ({c.reason})"
             elif c.trial_status != "completed":
@@ -209,28 +221,39 @@ def select_chamber_radius(rows: Sequence[Mapping[str, Any]], mu: float | None = 
         if fluct:
             evidence.append(f"r = {r:g}: withstands; fluctuating: {how}")
             continue
-        evidence.append(f"r = {r:g}: withstands; not fluctuating ({how}); extension {ext:.3g} mm, "
-                        f"radial expansion {rad:.3g} mm")
+        evidence.append(
+            f"r = {r:g}: withstands; not fluctuating ({how}); extension {ext:.3g} mm, "
+            f"radial expansion {rad:.3g} mm"
+        )
         candidates.append((rad, r))
     if not curves:
-        return Selection("chamber_radius", None, CHAMBER_RADIUS_RULE, (), "undetermined",
-                         "no chamber-radius study data")
+        return Selection(
+            "chamber_radius", None, CHAMBER_RADIUS_RULE, (), "undetermined", "no chamber-radius study data"
+        )
     if not candidates:
         n_ok = sum(c.withstands for c in curves.values())
-        why = (f"no studied radius withstands {TARGET_PRESSURE_KPA:g} kPa" if n_ok == 0 else
-               f"the {n_ok} radii that withstand {TARGET_PRESSURE_KPA:g} kPa all fluctuate")
-        return Selection("chamber_radius", None, CHAMBER_RADIUS_RULE, tuple(evidence),
-                         "undetermined", why)
+        why = (
+            f"no studied radius withstands {TARGET_PRESSURE_KPA:g} kPa"
+            if n_ok == 0
+            else f"the {n_ok} radii that withstand {TARGET_PRESSURE_KPA:g} kPa all fluctuate"
+        )
+        return Selection("chamber_radius", None, CHAMBER_RADIUS_RULE, tuple(evidence), "undetermined", why)
     rad, r = min(candidates)
-    return Selection("chamber_radius", r, CHAMBER_RADIUS_RULE, tuple(evidence),
-                     reason=f"r = {r:g} mm: smallest radial expansion ({rad:.3g} mm) of "
-                            f"{len(candidates)} admissible radii")
+    return Selection(
+        "chamber_radius",
+        r,
+        CHAMBER_RADIUS_RULE,
+        tuple(evidence),
+        reason=f"r = {r:g} mm: smallest radial expansion ({rad:.3g} mm) of "
+        f"{len(candidates)} admissible radii",
+    )
 
 
 FIBER_TURNS_RULE = (
     f"the fewest winding turns whose extension at {TARGET_PRESSURE_KPA:g} kPa is within "
     f"{SIMILAR_EXTENSION_REL:.0%} of the most-turned design's and whose length-pressure curve is "
-    f"nearly linear (R^2 >= {LINEARITY_R2})")
+    f"nearly linear (R^2 >= {LINEARITY_R2})"
+)
 
 
 def select_fiber_turns(rows: Sequence[Mapping[str, Any]]) -> Selection:
@@ -238,46 +261,74 @@ def select_fiber_turns(rows: Sequence[Mapping[str, Any]]) -> Selection:
     fewest such turns (fabrication and weight), 20. Rows: the fiber-turns study (r = 3 mm)."""
     curves = design_curves(rows, "fiber_turns")
     if not curves:
-        return Selection("fiber_turns", None, FIBER_TURNS_RULE, (), "undetermined",
-                         "no fiber-turns study data")
+        return Selection(
+            "fiber_turns", None, FIBER_TURNS_RULE, (), "undetermined", "no fiber-turns study data"
+        )
     evidence = []
     ok = {}
     for n, c in sorted(curves.items()):
         if not c.withstands:
-            why = (f"limit point at {c.limit_pressure:.3g} kPa" if c.limit_pressure is not None
-                   else f"{c.trial_status} after {c.reached:.3g} kPa: {c.reason}".strip())
+            why = (
+                f"limit point at {c.limit_pressure:.3g} kPa"
+                if c.limit_pressure is not None
+                else f"{c.trial_status} after {c.reached:.3g} kPa: {c.reason}".strip()
+            )
             evidence.append(f"N = {n:g}: does not reach {TARGET_PRESSURE_KPA:g} kPa ({why})")
             continue
         length, radius = c.at(TARGET_PRESSURE_KPA)
         ok[n] = (length - c.length0, radius - c.radius0, linearity_r2(c))
     n_ref = max(curves)
     if n_ref not in ok:
-        return Selection("fiber_turns", None, FIBER_TURNS_RULE, tuple(evidence), "undetermined",
-                         f"the most-turned design N = {n_ref:g} has no result at "
-                         f"{TARGET_PRESSURE_KPA:g} kPa to compare with")
+        return Selection(
+            "fiber_turns",
+            None,
+            FIBER_TURNS_RULE,
+            tuple(evidence),
+            "undetermined",
+            f"the most-turned design N = {n_ref:g} has no result at "
+            f"{TARGET_PRESSURE_KPA:g} kPa to compare with",
+        )
     ext_ref = ok[n_ref][0]
     chosen = None
     for n, (ext, rad, r2) in sorted(ok.items()):
         close = abs(ext - ext_ref) <= SIMILAR_EXTENSION_REL * abs(ext_ref)
         linear = r2 >= LINEARITY_R2
         rel = (ext - ext_ref) / ext_ref if ext_ref else 0.0
-        evidence.append(f"N = {n:g}: extension {ext:.3g} mm ({rel:+.1%} vs "
-                        f"N = {n_ref:g}), radial expansion {rad:.3g} mm, R^2 {r2:.4f}"
-                        f" -> {'admissible' if close and linear else 'not admissible'}")
+        evidence.append(
+            f"N = {n:g}: extension {ext:.3g} mm ({rel:+.1%} vs "
+            f"N = {n_ref:g}), radial expansion {rad:.3g} mm, R^2 {r2:.4f}"
+            f" -> {'admissible' if close and linear else 'not admissible'}"
+        )
         if close and linear and chosen is None:
             chosen = n
     if chosen is None:  # cannot happen when the reference is linear; say why otherwise
-        return Selection("fiber_turns", None, FIBER_TURNS_RULE, tuple(evidence), "undetermined",
-                         f"no design is nearly linear (R^2 >= {LINEARITY_R2})")
-    return Selection("fiber_turns", chosen, FIBER_TURNS_RULE, tuple(evidence),
-                     reason=f"N = {chosen:g}: fewest admissible turns")
+        return Selection(
+            "fiber_turns",
+            None,
+            FIBER_TURNS_RULE,
+            tuple(evidence),
+            "undetermined",
+            f"no design is nearly linear (R^2 >= {LINEARITY_R2})",
+        )
+    return Selection(
+        "fiber_turns",
+        chosen,
+        FIBER_TURNS_RULE,
+        tuple(evidence),
+        reason=f"N = {chosen:g}: fewest admissible turns",
+    )
 
 
 def input_parameter(parameter: str, value: float, source: str) -> Selection:
     """A Table 1 value the paper's FE takes as a fixed input, not a study outcome."""
-    return Selection(parameter, value, "input of the paper's FE model, not selected by a study",
-                     (source,), status="input",
-                     reason="fixed input (paper Section V-A); no study selects it")
+    return Selection(
+        parameter,
+        value,
+        "input of the paper's FE model, not selected by a study",
+        (source,),
+        status="input",
+        reason="fixed input (paper Section V-A); no study selects it",
+    )
 
 
 def pending(parameter: str, why: str) -> Selection:

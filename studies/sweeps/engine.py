@@ -34,6 +34,7 @@ them. Signature: ``evaluator(params: dict, fixed: dict, settings: dict) -> Evalu
 ``studies.parts.epsa_model.simulate_epsa`` (or the ``settings["simulate"]`` reference, which tests use to
 inject fast fakes).
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -47,9 +48,10 @@ import sqlite3
 import threading
 import time
 import traceback
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterator, Mapping, Sequence
+from typing import Any
 
 #: Seconds between two heartbeats of a running trial.
 DEFAULT_HEARTBEAT_S = 10
@@ -58,8 +60,16 @@ DEFAULT_GRACE_S = 60
 #: Default evaluator (ePSA knowledge still in the engine: to be removed, see docs/DESIGN.md).
 EPSA_EVALUATOR = "studies.catalogue.epsa_evaluator:evaluate_epsa"
 #: Columns of an ActuatorCurve row, in CSV order.
-CURVE_COLUMNS = ("pressure_kpa", "length_mm", "outer_radius_mm", "chamber_volume_mm3",
-                 "max_principal_stretch", "max_fiber_tension_n", "status", "tip_lateral_mm")
+CURVE_COLUMNS = (
+    "pressure_kpa",
+    "length_mm",
+    "outer_radius_mm",
+    "chamber_volume_mm3",
+    "max_principal_stretch",
+    "max_fiber_tension_n",
+    "status",
+    "tip_lateral_mm",
+)
 #: SQLite busy timeout (s): how long a writer waits for another process's lock.
 SQLITE_TIMEOUT_S = 60
 
@@ -123,8 +133,9 @@ class SweepSpec:
         object.__setattr__(self, "out_dir", str(self.out_dir))
         object.__setattr__(self, "directions", tuple(self.directions))
         if self.heartbeat_interval < 1 or self.grace_period <= self.heartbeat_interval:
-            raise StudyError("grace_period", "needs heartbeat_interval >= 1 and grace_period > "
-                                             "heartbeat_interval")
+            raise StudyError(
+                "grace_period", "needs heartbeat_interval >= 1 and grace_period > heartbeat_interval"
+            )
 
     @property
     def storage_url(self) -> str:
@@ -143,8 +154,10 @@ class SweepSpec:
 
 def point_key(params: Mapping[str, Any]) -> str:
     """Canonical identity of a grid point (floats and equal ints compare equal)."""
+
     def norm(v):
         return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+
     return json.dumps({k: norm(v) for k, v in sorted(params.items())}, sort_keys=True)
 
 
@@ -165,7 +178,7 @@ def load_callable(ref: str) -> Callable:
 def _sqlite_path(url: str) -> Path | None:
     if not url.startswith("sqlite:///"):
         return None
-    path = url[len("sqlite:///"):]
+    path = url[len("sqlite:///") :]
     return None if path in ("", ":memory:") else Path(path)
 
 
@@ -199,9 +212,12 @@ def make_storage(spec: SweepSpec):
                 con.close()
         engine_kwargs = {"creator": _sqlite_creator(str(db))}
     with _file_lock(db):  # table creation by two processes at once races on SQLite
-        return optuna.storages.RDBStorage(url, engine_kwargs=engine_kwargs,
-                                          heartbeat_interval=spec.heartbeat_interval,
-                                          grace_period=spec.grace_period)
+        return optuna.storages.RDBStorage(
+            url,
+            engine_kwargs=engine_kwargs,
+            heartbeat_interval=spec.heartbeat_interval,
+            grace_period=spec.grace_period,
+        )
 
 
 class _sqlite_creator:
@@ -241,8 +257,13 @@ def open_study(spec: SweepSpec):
     storage = make_storage(spec)
     sampler = optuna.samplers.GridSampler({k: list(v) for k, v in spec.grid.items()})
     with _file_lock(_sqlite_path(spec.storage_url)):
-        study = optuna.create_study(study_name=spec.name, storage=storage, sampler=sampler,
-                                    directions=list(spec.directions), load_if_exists=True)
+        study = optuna.create_study(
+            study_name=spec.name,
+            storage=storage,
+            sampler=sampler,
+            directions=list(spec.directions),
+            load_if_exists=True,
+        )
     stored = study.user_attrs.get("spec")
     if stored is None:
         study.set_user_attr("spec", spec.to_dict())
@@ -259,20 +280,23 @@ _LOCAL_SETTINGS = ("vtu_dir",)
 def _check_same_study(stored: Mapping[str, Any], new: Mapping[str, Any]) -> None:
     """Refuse to resume a study with different grid, evaluator or settings: its points would
     mix two different computations."""
+
     def core(d):
         d = json.loads(json.dumps(_jsonable(dict(d))))
         for key in _LOCAL_FIELDS:
             d.pop(key, None)
-        d["settings"] = {k: v for k, v in d.get("settings", {}).items()
-                         if k not in _LOCAL_SETTINGS}
+        d["settings"] = {k: v for k, v in d.get("settings", {}).items() if k not in _LOCAL_SETTINGS}
         return d
 
     a, b = core(stored), core(new)
     if a != b:
         diff = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
-        raise StudyError("storage", f"study {new.get('name')!r} exists with different "
-                                    f"{', '.join(diff)}; use another --out/--storage or the "
-                                    "same options")
+        raise StudyError(
+            "storage",
+            f"study {new.get('name')!r} exists with different "
+            f"{', '.join(diff)}; use another --out/--storage or the "
+            "same options",
+        )
 
 
 # -- trial bookkeeping --------------------------------------------------------------------------
@@ -291,8 +315,8 @@ def is_lost(trial, retry_before: int = 0) -> bool:
     from optuna.trial import TrialState
 
     return trial.state == TrialState.FAIL and (
-        "failure" not in trial.user_attrs or "duplicate_of" in trial.user_attrs
-        or trial.number < retry_before)
+        "failure" not in trial.user_attrs or "duplicate_of" in trial.user_attrs or trial.number < retry_before
+    )
 
 
 def retry_failed(study) -> None:
@@ -351,8 +375,11 @@ def _fail_stale(study, grace_period: float, trials) -> bool:
     now = datetime.datetime.now()
     changed = False
     for t in trials:
-        if t.state != TrialState.RUNNING or t.datetime_start is None or (
-                now - t.datetime_start).total_seconds() < grace_period:
+        if (
+            t.state != TrialState.RUNNING
+            or t.datetime_start is None
+            or (now - t.datetime_start).total_seconds() < grace_period
+        ):
             continue
         with contextlib.suppress(Exception):
             if not _has_heartbeat(storage, t._trial_id):
@@ -393,11 +420,9 @@ def _duplicate_of(study, trial_id: int, trials=None) -> int | None:
     for t in trials_by_point(study, trials).get(key, []):
         if t._trial_id == trial_id:
             continue
-        if t.state == TrialState.COMPLETE or (t.state == TrialState.FAIL
-                                              and not is_lost(t, retry)):
+        if t.state == TrialState.COMPLETE or (t.state == TrialState.FAIL and not is_lost(t, retry)):
             return t.number
-        if t.state == TrialState.RUNNING and (t.datetime_start, t.number) < (me.datetime_start,
-                                                                             me.number):
+        if t.state == TrialState.RUNNING and (t.datetime_start, t.number) < (me.datetime_start, me.number):
             return t.number
     return None
 
@@ -407,8 +432,7 @@ class _Heartbeat:
 
     def __init__(self, storage, trial_id: int, interval: float):
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, args=(storage, trial_id, interval),
-                                        daemon=True)
+        self._thread = threading.Thread(target=self._run, args=(storage, trial_id, interval), daemon=True)
 
     def _run(self, storage, trial_id, interval):
         while not self._stop.wait(interval):
@@ -434,8 +458,7 @@ def _jsonable(value):
     return value
 
 
-def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable,
-                   trials=None) -> str:
+def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable, trials=None) -> str:
     """Evaluate a claimed trial and tell the study. Returns "completed" | "failed" | "duplicate".
     ``trials``: the snapshot the claim was made from, if it was taken under the SQLite lock."""
     import optuna
@@ -453,8 +476,11 @@ def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable,
         try:
             result = evaluator(params, dict(spec.fixed), dict(spec.settings))
         except Exception as exc:  # noqa: BLE001 - any failure is a failed trial, never a crash
-            result = Evaluation(ok=False, message=f"{type(exc).__name__}: {exc}",
-                                attrs={"traceback": traceback.format_exc(limit=8)})
+            result = Evaluation(
+                ok=False,
+                message=f"{type(exc).__name__}: {exc}",
+                attrs={"traceback": traceback.format_exc(limit=8)},
+            )
 
     for key, value in result.attrs.items():
         trial.set_user_attr(key, _jsonable(value))
@@ -471,8 +497,9 @@ def evaluate_trial(study, trial_id: int, spec: SweepSpec, evaluator: Callable,
 # -- workers ------------------------------------------------------------------------------------
 
 
-def run_worker(spec: SweepSpec, *, progress: bool = False, max_trials: int | None = None,
-               poll_s: float = 1.0) -> dict[str, int]:
+def run_worker(
+    spec: SweepSpec, *, progress: bool = False, max_trials: int | None = None, poll_s: float = 1.0
+) -> dict[str, int]:
     """Claim and evaluate grid points until none is waiting or running. Returns counts.
 
     ``max_trials`` stops after that many evaluations (for tests). While other workers still run
@@ -501,8 +528,7 @@ def _sigterm_as_exit() -> Iterator[None]:
         signal.signal(signal.SIGTERM, previous)
 
 
-def _run_worker(spec: SweepSpec, *, progress: bool, max_trials: int | None,
-                poll_s: float) -> dict[str, int]:
+def _run_worker(spec: SweepSpec, *, progress: bool, max_trials: int | None, poll_s: float) -> dict[str, int]:
     import optuna
     from optuna.trial import TrialState
 
@@ -531,8 +557,11 @@ def _run_worker(spec: SweepSpec, *, progress: bool, max_trials: int | None,
                     continue
                 break
             try:
-                counts[evaluate_trial(study, trial_id, spec, evaluator,
-                                      trials if lock_path is not None else None)] += 1
+                counts[
+                    evaluate_trial(
+                        study, trial_id, spec, evaluator, trials if lock_path is not None else None
+                    )
+                ] += 1
             except BaseException:  # Ctrl-C, SIGTERM: give the point back at once (lost trial)
                 with contextlib.suppress(Exception):
                     study._storage.set_trial_state_values(trial_id, state=TrialState.FAIL)
@@ -549,8 +578,7 @@ def _worker_main(spec_dict: dict[str, Any]) -> None:
     run_worker(SweepSpec(**spec_dict))
 
 
-def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True,
-              retry: bool = False) -> list[dict]:
+def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True, retry: bool = False) -> list[dict]:
     """Run (or resume) a sweep with ``workers`` processes and return :func:`collect` rows.
     ``retry``: evaluate the points whose evaluation failed again (see :func:`retry_failed`)."""
     if not isinstance(workers, int) or workers < 1:
@@ -567,8 +595,9 @@ def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True,
         import multiprocessing as mp
 
         ctx = mp.get_context("spawn")
-        procs = [ctx.Process(target=_worker_main, args=(spec.to_dict(),), daemon=False)
-                 for _ in range(workers)]
+        procs = [
+            ctx.Process(target=_worker_main, args=(spec.to_dict(),), daemon=False) for _ in range(workers)
+        ]
         for p in procs:
             p.start()
         bar = _progress_bar(study, spec, f"{spec.name} ({workers} workers)") if progress else None
@@ -591,8 +620,10 @@ def run_sweep(spec: SweepSpec, *, workers: int = 1, progress: bool = True,
                 bar.close()
         bad = [p.exitcode for p in procs if p.exitcode != 0]
         if bad:
-            raise SweepInterrupted(f"{len(bad)} of {workers} workers exited with codes {bad}; "
-                                   "run the same command again to resume")
+            raise SweepInterrupted(
+                f"{len(bad)} of {workers} workers exited with codes {bad}; "
+                "run the same command again to resume"
+            )
     return collect(study, spec)
 
 
@@ -624,10 +655,13 @@ def point_status(study, spec: SweepSpec) -> dict[str, tuple[str, Any]]:
     by_point = trials_by_point(study)
     retry = _retry_before(study)
     out = {}
-    rank = {TrialState.COMPLETE: 0, TrialState.FAIL: 1, TrialState.RUNNING: 2,
-            TrialState.WAITING: 3}
-    names = {TrialState.COMPLETE: "completed", TrialState.FAIL: "failed",
-             TrialState.RUNNING: "running", TrialState.WAITING: "waiting"}
+    rank = {TrialState.COMPLETE: 0, TrialState.FAIL: 1, TrialState.RUNNING: 2, TrialState.WAITING: 3}
+    names = {
+        TrialState.COMPLETE: "completed",
+        TrialState.FAIL: "failed",
+        TrialState.RUNNING: "running",
+        TrialState.WAITING: "waiting",
+    }
     for params in spec.points():
         key = point_key(params)
         trials = [t for t in by_point.get(key, []) if t.state in rank and not is_lost(t, retry)]
@@ -656,10 +690,13 @@ def collect(study, spec: SweepSpec) -> list[dict[str, Any]]:
         for key in DESIGN_COLUMNS:  # the undeformed reference of the curve
             if key not in base and isinstance(attrs.get("design"), dict):
                 base[key] = attrs["design"].get(key, "")
-        base |= {"trial": trial.number if trial is not None else "", "trial_status": state,
-                 "reason": attrs.get("failure", "") if state == "failed" else "",
-                 "converged": attrs.get("converged", ""),
-                 "limit_pressure_kpa": _blank(attrs.get("limit_pressure_kpa"))}
+        base |= {
+            "trial": trial.number if trial is not None else "",
+            "trial_status": state,
+            "reason": attrs.get("failure", "") if state == "failed" else "",
+            "converged": attrs.get("converged", ""),
+            "limit_pressure_kpa": _blank(attrs.get("limit_pressure_kpa")),
+        }
         scalars = {k: v for k, v in attrs.items() if k in SCALAR_METRICS}
         curve_rows = attrs.get("rows") or [None]
         for row in curve_rows:
@@ -743,8 +780,7 @@ class SearchSpec:
 
     def __post_init__(self):
         if self.sampler not in SAMPLERS:
-            raise StudyError("sampler", f"unknown sampler {self.sampler!r}; valid: "
-                                        f"{', '.join(SAMPLERS)}")
+            raise StudyError("sampler", f"unknown sampler {self.sampler!r}; valid: {', '.join(SAMPLERS)}")
         if not isinstance(self.n_trials, int) or self.n_trials < 1:
             raise StudyError("trials", f"must be a positive integer, got {self.n_trials!r}")
         for key, (kind, low, high) in self.space.items():
@@ -789,9 +825,13 @@ def open_search(spec: SearchSpec, worker: int = 0):
                 done = optuna.load_study(study_name=spec.name, storage=storage)
                 seed = spec.seed + 1000 * worker + len(done.get_trials(deepcopy=False))
             seed = spec.seed + 1000 * worker if seed is None else seed
-        study = optuna.create_study(study_name=spec.name, storage=storage,
-                                    sampler=_make_sampler(spec, seed),
-                                    directions=list(spec.directions), load_if_exists=True)
+        study = optuna.create_study(
+            study_name=spec.name,
+            storage=storage,
+            sampler=_make_sampler(spec, seed),
+            directions=list(spec.directions),
+            load_if_exists=True,
+        )
         stored = study.user_attrs.get("spec")
         if stored is not None:
             _check_same_study({**stored, "n_trials": 0}, {**spec.to_dict(), "n_trials": 0})
@@ -805,9 +845,11 @@ def open_search(spec: SearchSpec, worker: int = 0):
 def _finished_results(study) -> int:
     from optuna.trial import TrialState
 
-    return sum(1 for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,
-                                                                    TrialState.FAIL))
-               if not is_lost(t))
+    return sum(
+        1
+        for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE, TrialState.FAIL))
+        if not is_lost(t)
+    )
 
 
 def search_worker(spec: SearchSpec, *, progress: bool = False, worker: int = 0) -> None:
@@ -819,22 +861,32 @@ def search_worker(spec: SearchSpec, *, progress: bool = False, worker: int = 0) 
     def objective(trial):
         params = {}
         for key, (kind, low, high) in spec.space.items():
-            params[key] = (trial.suggest_int(key, int(low), int(high)) if kind == "int"
-                           else trial.suggest_float(key, float(low), float(high)))
+            params[key] = (
+                trial.suggest_int(key, int(low), int(high))
+                if kind == "int"
+                else trial.suggest_float(key, float(low), float(high))
+            )
         trial.set_user_attr("worker_pid", os.getpid())
         twin = _twin(study, params, trial.number)
         if twin is not None:  # NSGA-II crossover repeats points: reuse, do not recompute
-            result = Evaluation(ok=twin.state.name == "COMPLETE", values=tuple(twin.values or ()),
-                                attrs={k: v for k, v in twin.user_attrs.items()
-                                       if k not in ("initial", "failure", "worker_pid")}
-                                | {"copied_from": twin.number},
-                                message=twin.user_attrs.get("failure", ""))
+            result = Evaluation(
+                ok=twin.state.name == "COMPLETE",
+                values=tuple(twin.values or ()),
+                attrs={
+                    k: v for k, v in twin.user_attrs.items() if k not in ("initial", "failure", "worker_pid")
+                }
+                | {"copied_from": twin.number},
+                message=twin.user_attrs.get("failure", ""),
+            )
         else:
             try:
                 result = evaluator(params, dict(spec.fixed), dict(spec.settings))
             except Exception as exc:  # noqa: BLE001
-                result = Evaluation(ok=False, message=f"{type(exc).__name__}: {exc}",
-                                    attrs={"traceback": traceback.format_exc(limit=8)})
+                result = Evaluation(
+                    ok=False,
+                    message=f"{type(exc).__name__}: {exc}",
+                    attrs={"traceback": traceback.format_exc(limit=8)},
+                )
         for key, value in result.attrs.items():
             trial.set_user_attr(key, _jsonable(value))
         values = [float(v) for v in result.values]
@@ -849,8 +901,13 @@ def search_worker(spec: SearchSpec, *, progress: bool = False, worker: int = 0) 
 
     remaining = spec.n_trials - _finished_results(study)
     if remaining > 0:
-        study.optimize(objective, n_trials=remaining, catch=(_EvaluationFailed, Exception),
-                       callbacks=[stop_when_done], show_progress_bar=progress)
+        study.optimize(
+            objective,
+            n_trials=remaining,
+            catch=(_EvaluationFailed, Exception),
+            callbacks=[stop_when_done],
+            show_progress_bar=progress,
+        )
 
 
 def _twin(study, params: Mapping[str, Any], number: int):
@@ -881,8 +938,7 @@ def run_search(spec: SearchSpec, *, workers: int = 1, progress: bool = True) -> 
         import multiprocessing as mp
 
         ctx = mp.get_context("spawn")
-        procs = [ctx.Process(target=_search_main, args=(spec.to_dict(), i))
-                 for i in range(workers)]
+        procs = [ctx.Process(target=_search_main, args=(spec.to_dict(), i)) for i in range(workers)]
         for p in procs:
             p.start()
         for p in procs:
@@ -894,22 +950,35 @@ def collect_search(study, spec: SearchSpec) -> list[dict[str, Any]]:
     """One row per (non-lost) trial: params, status, reason, objectives, metrics, pareto flag."""
     from optuna.trial import TrialState
 
-    pareto = {t.number for t in study.best_trials} if any(
-        t.state == TrialState.COMPLETE for t in study.get_trials(deepcopy=False)) else set()
-    names = spec.settings.get("objective_names") or [f"value_{i}" for i in
-                                                     range(len(spec.directions))]
+    pareto = (
+        {t.number for t in study.best_trials}
+        if any(t.state == TrialState.COMPLETE for t in study.get_trials(deepcopy=False))
+        else set()
+    )
+    names = spec.settings.get("objective_names") or [f"value_{i}" for i in range(len(spec.directions))]
     rows = []
     for t in study.get_trials(deepcopy=False):
         if is_lost(t) or t.state not in (TrialState.COMPLETE, TrialState.FAIL):
             continue
         attrs = flat_attrs(t)
         row = {"trial": t.number} | dict(t.params)
-        row |= {"trial_status": "completed" if t.state == TrialState.COMPLETE else "failed",
-                "reason": attrs.get("failure", ""), "initial": bool(attrs.get("initial", False))}
+        row |= {
+            "trial_status": "completed" if t.state == TrialState.COMPLETE else "failed",
+            "reason": attrs.get("failure", ""),
+            "initial": bool(attrs.get("initial", False)),
+        }
         for i, name in enumerate(names):
             row[name] = t.values[i] if t.values else ""
-        for key in ("extension_mm", "radial_expansion_mm", "top_pressure_kpa",
-                    "limit_pressure_kpa", "fiber_length_mm", "mass_g", "wall_s", "copied_from"):
+        for key in (
+            "extension_mm",
+            "radial_expansion_mm",
+            "top_pressure_kpa",
+            "limit_pressure_kpa",
+            "fiber_length_mm",
+            "mass_g",
+            "wall_s",
+            "copied_from",
+        ):
             row[key] = _blank(attrs.get(key))
         row["pareto"] = t.number in pareto
         rows.append(row)

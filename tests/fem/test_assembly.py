@@ -1,6 +1,7 @@
 """The vectorised assembly of `fem.mechanics` against a plain einsum of the 81-component tangent
 on a distorted mesh with a random state (several chunkings, so the threaded chunk loop is covered),
 and its tangent against central differences of the residual (chamber pressure and "p2")."""
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -16,24 +17,24 @@ def distorted_box_model(formulation):
     rng = np.random.default_rng(1)
     m = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 4)] * 3)
     shift = 0.08 * rng.uniform(-1, 1, m.p.shape)
-    shift[2, m.p[2] == 0.0] = 0.0                       # the bottom stays plane
+    shift[2, m.p[2] == 0.0] = 0.0  # the bottom stays plane
     m = skfem.MeshTet(m.p + shift, m.t).with_boundaries({"z0": lambda x: np.abs(x[2]) < 1e-12})
     m = m.with_subdomains({"soft": lambda x: x[0] < 0.5, "hard": lambda x: x[0] >= 0.5})
     mats = {"soft": NeoHookean.nearly_incompressible(0.03, 50.0), "hard": NeoHookean(mu=0.1, bulk=2.0)}
     model = SolidModel(m, mats, dirichlet=[Dirichlet.fixed("z0")], formulation=formulation)
     x = model.initial_state()
-    X = model.nodes                                  # a smooth large deformation + noise
+    X = model.nodes  # a smooth large deformation + noise
     u = 0.2 * rng.uniform(-1, 1, (3, 3)) @ X + 0.05 * np.sin(3 * X[[1, 2, 0]])
     x[: model.n_u] = (u + 0.003 * rng.standard_normal(u.shape)).T.ravel()
     if model.mixed:
-        x[model.n_u:] = 0.01 * rng.standard_normal(model.n_p)
+        x[model.n_u :] = 0.01 * rng.standard_normal(model.n_p)
     return model, x
 
 
 def reference(model, x):
     """Element residuals and matrices straight from `fem.neohooke`, assembled on all dofs."""
     dN, dx, mu, K = model.dN, model.dx, model.mu, model.bulk
-    ue = x[: model.n_u].reshape(-1, 3)[model.node_dofs]                      # (10, E, 3)
+    ue = x[: model.n_u].reshape(-1, 3)[model.node_dofs]  # (10, E, 3)
     F = np.einsum("aei,aJeq->iJeq", ue, dN) + np.eye(3)[:, :, None, None]
     J, H = det3(F), inv_transpose3(F)
     p = np.einsum("ce,ceq->eq", x[model.p_dofs], model.Np) if model.mixed else K * (J - 1)
@@ -41,10 +42,10 @@ def reference(model, x):
     if not model.mixed:
         A = A + K * J * J * H[:, :, None, None] * H[None, None]
     P = iso_stress(F, mu, J, H) + p * J * H
-    u_dofs = 3 * model.node_dofs[:, None, :] + np.arange(3)[None, :, None]   # (10, 3, E)
+    u_dofs = 3 * model.node_dofs[:, None, :] + np.arange(3)[None, :, None]  # (10, 3, E)
     rows, cols, vals = [], [], []
 
-    def add(block, r, c):                        # block (E, nr, nc); r (nr, E), c (nc, E)
+    def add(block, r, c):  # block (E, nr, nc); r (nr, E), c (nc, E)
         rows.append(np.broadcast_to(r.T[:, :, None], block.shape).ravel())
         cols.append(np.broadcast_to(c.T[:, None, :], block.shape).ravel())
         vals.append(block.ravel())
@@ -60,8 +61,9 @@ def reference(model, x):
         add(Kup.transpose(0, 2, 1), model.p_dofs, u)
         add(-np.einsum("ceq,deq,eq->ecd", Np, Np, dx / K), model.p_dofs, model.p_dofs)
         np.add.at(R, model.p_dofs.ravel(), np.einsum("ceq,eq->ce", Np, (J - 1 - p / K) * dx).ravel())
-    Kfull = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(model.n_dofs,) * 2).tocsr()
+    Kfull = sp.coo_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(model.n_dofs,) * 2
+    ).tocsr()
     return R, Kfull[model.free_dofs][:, model.free_dofs]
 
 
@@ -107,12 +109,12 @@ def test_mirrored_groups_assemble_like_full_blocks():
     free_index = np.arange(n_dofs)
     free_index[[3, 17]] = -1
     free_index[free_index >= 0] = np.arange(n_dofs - 2)
-    a = np.array([rng.choice(30, 6, replace=False) for _ in range(n_items)]).T    # (6, n_items)
+    a = np.array([rng.choice(30, 6, replace=False) for _ in range(n_items)]).T  # (6, n_items)
     b = np.array([rng.choice(np.arange(30, 40), 2, replace=False) for _ in range(n_items)]).T
     both = np.vstack([a, b])
     Ke = rng.standard_normal((n_items, 8, 8))
     Ke = Ke + Ke.transpose(0, 2, 1)
-    facets = a[:3, :7]                                   # a non-symmetric group on a few dofs
+    facets = a[:3, :7]  # a non-symmetric group on a few dofs
     Kf = rng.standard_normal((7, 3, 3))
     full = Pattern(free_index, [both, facets]).assemble([Ke, Kf])
     r, c = np.triu_indices(6)

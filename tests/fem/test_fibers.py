@@ -1,12 +1,13 @@
 """Embedded fibers: truss stiffness through the tie, hoop reinforcement, discretisation."""
+
 import numpy as np
 import pytest
 
 from fem.errors import SolverInputError
 from fem.mechanics import Dirichlet, SolidModel
-from fem.structured import box
 from fem.neohooke import NeoHookean
 from fem.path import load_path
+from fem.structured import box
 from geometry.design import EPSADesign
 from studies.parts.epsa_model import MeshSettings, simulate_epsa
 
@@ -16,10 +17,20 @@ MU = 0.03
 def bar_force(fibers, E_f=100.0, d_f=0.1, strain=1e-4):
     """Quarter bar 1 x 1 x 10 (symmetry x = 0, y = 0), axial strain `strain`; reaction on z1."""
     mesh = box((1.0, 1.0, 10.0), (2, 2, 6))
-    bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2),
-           Dirichlet.prescribed("z1", 2, strain * 10.0)]
-    model = SolidModel(mesh, NeoHookean.nearly_incompressible(MU, 1000.0), dirichlet=bcs,
-                       fibers=fibers, fiber_youngs=E_f, fiber_diameter=d_f)
+    bcs = [
+        Dirichlet.symmetry("x0", 0),
+        Dirichlet.symmetry("y0", 1),
+        Dirichlet.symmetry("z0", 2),
+        Dirichlet.prescribed("z1", 2, strain * 10.0),
+    ]
+    model = SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(MU, 1000.0),
+        dirichlet=bcs,
+        fibers=fibers,
+        fiber_youngs=E_f,
+        fiber_diameter=d_f,
+    )
     res = load_path(model, [(0.0, 1.0)], control="displacement")
     assert res.converged
     return model.reaction(res.steps[-1].x, "z1")[2], model
@@ -31,9 +42,9 @@ def test_embedded_axial_fiber_adds_EA_over_L():
     axis = np.column_stack([np.zeros(41), np.zeros(41), np.linspace(0.0, 10.0, 41)])
     f_solid, _ = bar_force(None, strain=strain)
     f_both, model = bar_force([axis], E_f, d_f, strain)
-    E_s = 9 * 1000 * MU * MU / (3 * 1000 * MU + MU)          # Young's modulus from mu, K
+    E_s = 9 * 1000 * MU * MU / (3 * 1000 * MU + MU)  # Young's modulus from mu, K
     assert f_solid == pytest.approx(E_s * 1.0 * strain, rel=1e-3)
-    EA = E_f * np.pi * d_f ** 2 / 4
+    EA = E_f * np.pi * d_f**2 / 4
     assert f_both - f_solid == pytest.approx(EA * strain, rel=0.01)
     tension = model.fiber_tension(load_path(model, [(0.0, 1.0)], control="displacement").steps[-1].x)
     assert np.allclose(tension, EA * strain, rtol=1e-6)
@@ -76,8 +87,9 @@ def test_fiber_discretisation_changes_results_by_less_than_one_percent(short_tub
     16-point chords sag 0.17 mm inside the surface)."""
     _, wound = short_tubes
     finer = MeshSettings(n_around=12, n_radial=1, axial_size=4.0, fiber_points_per_turn=64)
-    fine = simulate_epsa(EPSADesign(fiber_turns=40, **SHORT), pressures_kpa=(4.0, 8.0), mesh=finer,
-                         fibers="lines")
+    fine = simulate_epsa(
+        EPSADesign(fiber_turns=40, **SHORT), pressures_kpa=(4.0, 8.0), mesh=finer, fibers="lines"
+    )
     ext_c, ext_f = wound.rows[-1].length_mm - 40.0, fine.rows[-1].length_mm - 40.0
     assert ext_f == pytest.approx(ext_c, rel=0.01)
     assert fine.rows[-1].outer_radius_mm == pytest.approx(wound.rows[-1].outer_radius_mm, rel=0.01)
@@ -97,7 +109,7 @@ def test_table1_epsa_quick_mesh_runs_to_100_kpa_with_monotone_length():
     assert pressures[-1] == pytest.approx(100.0, rel=1e-4)
     lengths = [r.length_mm for r in rows]
     assert all(b > a for a, b in zip(lengths, lengths[1:]))
-    assert all(abs(r.outer_radius_mm - 9.0) < 0.7 for r in rows)     # the fibers hold the radius
+    assert all(abs(r.outer_radius_mm - 9.0) < 0.7 for r in rows)  # the fibers hold the radius
 
 
 @pytest.mark.slow

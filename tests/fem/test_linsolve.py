@@ -1,4 +1,5 @@
 """Linear solvers: PARDISO (symmetric and non-symmetric paths) against SuperLU."""
+
 import numpy as np
 import pytest
 

@@ -1,4 +1,5 @@
 """Neo-Hookean stress and tangent against finite differences; material validation."""
+
 import numpy as np
 import pytest
 
@@ -27,17 +28,24 @@ def test_stress_free_reference_and_uniaxial_limit():
     mat = NeoHookean.nearly_incompressible(0.03, 1e6)
     assert np.abs(mat.stress(np.eye(3)[:, :, None])).max() < 1e-15
     lam = 1.5
-    F = np.diag([lam ** -0.5, lam ** -0.5, lam])[:, :, None]
+    F = np.diag([lam**-0.5, lam**-0.5, lam])[:, :, None]
     sigma = cauchy_stress(mat.stress(F), F)
     # incompressible uniaxial Cauchy stress difference: mu (lam^2 - 1/lam)
-    assert sigma[2, 2, 0] - sigma[0, 0, 0] == pytest.approx(0.03 * (lam ** 2 - 1 / lam), rel=1e-9)
-    assert von_mises(sigma)[0] == pytest.approx(0.03 * (lam ** 2 - 1 / lam), rel=1e-9)
+    assert sigma[2, 2, 0] - sigma[0, 0, 0] == pytest.approx(0.03 * (lam**2 - 1 / lam), rel=1e-9)
+    assert von_mises(sigma)[0] == pytest.approx(0.03 * (lam**2 - 1 / lam), rel=1e-9)
 
 
-@pytest.mark.parametrize("mu, bulk, parameter", [
-    (0.0, 1.0, "mu"), (-0.03, 30.0, "mu"), (np.nan, 30.0, "mu"),
-    (0.03, 0.0, "bulk"), (0.03, -1.0, "bulk"), (0.03, 0.01, "bulk"),
-])
+@pytest.mark.parametrize(
+    "mu, bulk, parameter",
+    [
+        (0.0, 1.0, "mu"),
+        (-0.03, 30.0, "mu"),
+        (np.nan, 30.0, "mu"),
+        (0.03, 0.0, "bulk"),
+        (0.03, -1.0, "bulk"),
+        (0.03, 0.01, "bulk"),
+    ],
+)
 def test_unphysical_material_names_the_parameter(mu, bulk, parameter):
     with pytest.raises(SolverInputError) as err:
         NeoHookean(mu=mu, bulk=bulk)
@@ -50,5 +58,9 @@ def test_mixed_tangent_is_the_sum_of_isochoric_and_pressure_parts():
     rng = np.random.default_rng(5)
     F = np.eye(3)[:, :, None] + 0.2 * rng.standard_normal((3, 3, 4))
     J, H, p = det3(F), inv_transpose3(F), rng.standard_normal(4)
-    assert np.allclose(mixed_tangent(F, 0.03, p, J, H), iso_tangent(F, 0.03, J, H) + pressure_tangent(p, J, H),
-                       rtol=1e-13, atol=1e-15)
+    assert np.allclose(
+        mixed_tangent(F, 0.03, p, J, H),
+        iso_tangent(F, 0.03, J, H) + pressure_tangent(p, J, H),
+        rtol=1e-13,
+        atol=1e-15,
+    )

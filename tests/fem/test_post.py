@@ -1,14 +1,15 @@
 """Post-processing and VTU export on small solved states."""
+
 import meshio
 import numpy as np
 import pytest
 
 from fem import verification as V
 from fem.mechanics import Dirichlet, SolidModel
-from fem.structured import box
 from fem.neohooke import NeoHookean
 from fem.path import load_path
 from fem.post import actuator_length, element_fields, max_principal_stretch, outer_radius_at
+from fem.structured import box
 from fem.vtu import write_path
 
 
@@ -16,8 +17,12 @@ from fem.vtu import write_path
 def stretched_box():
     """A 2 x 2 x 4 box stretched to lambda = 1.3 along z, lateral faces free."""
     mesh = box((2.0, 2.0, 4.0), (2, 2, 2))
-    bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2),
-           Dirichlet.prescribed("z1", 2, 1.2)]
+    bcs = [
+        Dirichlet.symmetry("x0", 0),
+        Dirichlet.symmetry("y0", 1),
+        Dirichlet.symmetry("z0", 2),
+        Dirichlet.prescribed("z1", 2, 1.2),
+    ]
     model = SolidModel(mesh, NeoHookean.nearly_incompressible(0.03, 1e4), dirichlet=bcs)
     res = load_path(model, [(0.0, 0.5), (0.0, 1.0)], control="displacement")
     assert res.converged
@@ -32,7 +37,7 @@ def test_length_radius_stretch_and_stress_of_a_homogeneous_state(stretched_box):
     assert max_principal_stretch(model, x) == pytest.approx(lam, rel=1e-8)
     fields = element_fields(model, x)
     # uniaxial incompressible Cauchy stress mu (lam^2 - 1/lam), lateral stresses zero
-    expected = 0.03 * (lam ** 2 - 1 / lam)
+    expected = 0.03 * (lam**2 - 1 / lam)
     assert np.allclose(fields.cauchy[2, 2], expected, rtol=2e-3)
     assert np.abs(fields.cauchy[0, 0]).max() < 1e-3 * expected
     assert np.allclose(fields.von_mises, expected, rtol=2e-3)
@@ -46,6 +51,7 @@ def test_outer_radius_of_the_tube_matches_the_analytic_one():
     res = load_path(model, [(0.01, 0.0)])
     x = res.steps[-1].x
     from fem import analytic
+
     la = analytic.tube_inner_stretch(0.03, 0.01, 3.0, 9.0)
     expected = analytic.tube_outer_stretch(la, 3.0, 9.0) * 9.0
     assert outer_radius_at(model, x, 0.5, tag="outer") == pytest.approx(expected, rel=2e-3)

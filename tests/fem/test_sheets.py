@@ -1,5 +1,6 @@
 """Fiber sheets (`fem.sheets`): exact bar and wrapped-tube solutions, the consistent tangent,
 the smeared helix against the line fibers, named errors."""
+
 import numpy as np
 import pytest
 
@@ -7,9 +8,9 @@ from fem import sheets
 from fem import verification as V
 from fem.errors import SolverInputError
 from fem.mechanics import Dirichlet, SolidModel
-from fem.structured import box
 from fem.neohooke import NeoHookean
 from fem.sheets import FiberSheet
+from fem.structured import box
 from geometry.design import EPSADesign
 from geometry.epsa_shape import helix_families
 
@@ -34,13 +35,26 @@ def test_sheet_tangent_is_the_derivative_of_the_residual():
     mesh = V.tube_sector(3.0, 9.0, height=2.0, n_radial=2, n_angle=3, n_height=2)
 
     def helix(sign):
-        return lambda X: np.vstack([-sign * 0.8 * X[1] / np.hypot(X[0], X[1]),
-                                    sign * 0.8 * X[0] / np.hypot(X[0], X[1]), np.ones(X.shape[1])])
+        return lambda X: np.vstack(
+            [
+                -sign * 0.8 * X[1] / np.hypot(X[0], X[1]),
+                sign * 0.8 * X[0] / np.hypot(X[0], X[1]),
+                np.ones(X.shape[1]),
+            ]
+        )
 
-    families = [FiberSheet("outer", helix(+1), 5.0, 2.0), FiberSheet("outer", helix(-1), 5.0, 2.0),
-              FiberSheet("inner", helix(+1), 3.0, 1.0, tension_only=True)]
-    model = SolidModel(mesh, NeoHookean.nearly_incompressible(0.03, 50.0), chamber=("inner",),
-                       dirichlet=[Dirichlet.fixed("bottom")], fiber_sheets=families)
+    families = [
+        FiberSheet("outer", helix(+1), 5.0, 2.0),
+        FiberSheet("outer", helix(-1), 5.0, 2.0),
+        FiberSheet("inner", helix(+1), 3.0, 1.0, tension_only=True),
+    ]
+    model = SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(0.03, 50.0),
+        chamber=("inner",),
+        dirichlet=[Dirichlet.fixed("bottom")],
+        fiber_sheets=families,
+    )
     rng = np.random.default_rng(3)
     x = model.apply_dirichlet(np.r_[5e-2 * rng.standard_normal(model.n_u), np.zeros(model.n_p)], 0.0)
     _, lam, strain = sheets.stretch(model.sheets, x[: model.n_u].reshape(-1, 3))
@@ -65,7 +79,7 @@ def test_helix_families_carry_the_winding_length():
     assert len(fams) == 2 and helix_families(EPSADesign(fiber_turns=0)) == ()
     area = 2 * np.pi * d.outer_radius * d.length
     one_fiber = d.fiber_turns * np.hypot(2 * np.pi * d.outer_radius, d.length / d.fiber_turns)
-    for direction, density in fams:
+    for _direction, density in fams:
         assert density * area == pytest.approx(one_fiber, rel=1e-12)
     X = np.array([[d.outer_radius], [0.0], [50.0]])
     a = [f(X)[:, 0] / np.linalg.norm(f(X)) for f, _ in fams]
@@ -73,8 +87,13 @@ def test_helix_families_carry_the_winding_length():
     assert np.degrees(np.arccos(a[0] @ a[1])) == pytest.approx(np.degrees(2 * pitch_angle))
 
 
-@pytest.mark.parametrize("kw, name", [(dict(axial_stiffness=-1.0, density=1.0), "fiber_sheet.axial_stiffness"),
-                                      (dict(axial_stiffness=1.0, density=0.0), "fiber_sheet.density")])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        (dict(axial_stiffness=-1.0, density=1.0), "fiber_sheet.axial_stiffness"),
+        (dict(axial_stiffness=1.0, density=0.0), "fiber_sheet.density"),
+    ],
+)
 def test_unphysical_sheet_is_a_named_error(kw, name):
     """(Also for numbers that are not numbers.)"""
     with pytest.raises(SolverInputError):
@@ -109,8 +128,9 @@ def test_dense_helix_sheet_suppresses_radial_expansion_and_extends_more():
     from studies.parts.epsa_model import MeshSettings, simulate_epsa
 
     short = dict(length=40.0, end_cap_thickness=4.0, seal_head_thickness=2.0)
-    kw = dict(pressures_kpa=(4.0, 8.0), mesh=MeshSettings(n_around=12, n_radial=1, axial_size=4.0),
-              fibers="sheet")
+    kw = dict(
+        pressures_kpa=(4.0, 8.0), mesh=MeshSettings(n_around=12, n_radial=1, axial_size=4.0), fibers="sheet"
+    )
     bare = simulate_epsa(EPSADesign(fiber_turns=0, **short), **kw)
     wound = simulate_epsa(EPSADesign(fiber_turns=40, **short), **kw)
     assert bare.converged and wound.converged
@@ -123,7 +143,8 @@ def test_dense_helix_sheet_suppresses_radial_expansion_and_extends_more():
 
 def test_table1_epsa_with_tensile_modulus_runs_to_100_kpa_on_the_default_mesh():
     """Issue 4 acceptance (default mesh, ~45 s; kept in the default run on purpose: it is the one
-    check that the shipped default model reaches the paper's pressure range): the Table 1 ePSA (N = 20, Ecoflex 00-50 tensile
+    check that the shipped default model reaches the paper's pressure range): the Table 1 ePSA (N = 20,
+    Ecoflex 00-50 tensile
     fit mu = 0.03 MPa, smeared winding) with a 1e-4 N sideways probe on its free top reaches
     100 kPa, its length grows with every step and it does not bend over (the tip stays within
     the 5 % sway limit). Measured: 290.7 mm at 100 kPa, tip 1.4 mm off the axis."""
@@ -144,7 +165,10 @@ def test_undeformed_sheet_carries_exactly_no_force():
     exactly zero, not a round-off force (a weight of 0 N in the identification study stalled on it)."""
     mesh = V.tube_sector(3.0, 9.0, height=2.0, n_radial=2, n_angle=3, n_height=2)
     oblique = lambda X: np.vstack([-X[1], X[0], 0.37 * np.hypot(X[0], X[1])])  # noqa: E731
-    model = SolidModel(mesh, NeoHookean.nearly_incompressible(0.03, 50.0),
-                       dirichlet=[Dirichlet.fixed("bottom")],
-                       fiber_sheets=[FiberSheet("outer", oblique, 2196.0, 0.3)])
+    model = SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(0.03, 50.0),
+        dirichlet=[Dirichlet.fixed("bottom")],
+        fiber_sheets=[FiberSheet("outer", oblique, 2196.0, 0.3)],
+    )
     assert np.all(model.internal_force(model.initial_state()) == 0.0)

@@ -1,13 +1,14 @@
 """The solver against closed-form solutions (DESIGN.md section 6), on coarse meshes."""
+
 import numpy as np
 import pytest
 
 from fem import verification as V
 from fem.errors import SolverInputError
 from fem.mechanics import Dirichlet, SolidModel
-from fem.structured import box
 from fem.neohooke import NeoHookean
 from fem.path import NewtonOptions, load_path
+from fem.structured import box
 
 
 def test_patch_test_reproduces_homogeneous_stretch():
@@ -19,15 +20,20 @@ def test_patch_test_reproduces_homogeneous_stretch():
 def test_dead_load_gives_the_homogeneous_uniaxial_stretch():
     r = V.dead_load_test()
     assert r.passed, r.details
-    assert r.details["incompressible_error"] <= 5e-3, r.details      # K/mu = 1e4 vs incompressible
+    assert r.details["incompressible_error"] <= 5e-3, r.details  # K/mu = 1e4 vs incompressible
     # the load really is dead: doubling it follows the material law, not a linear spring
     r2 = V.dead_load_test(stretch=2.5)
     assert r2.passed and abs(r2.details["stretch"] - 2.5) / 1.5 < 5e-3, r2.details
 
 
-@pytest.mark.parametrize("loads, word", [({"nowhere": (0, 0, 1)}, "unknown boundary"),
-                                         ({"z1": (0, 1)}, "finite total force"),
-                                         ({"z1": (0, 0, float("nan"))}, "finite total force")])
+@pytest.mark.parametrize(
+    "loads, word",
+    [
+        ({"nowhere": (0, 0, 1)}, "unknown boundary"),
+        ({"z1": (0, 1)}, "finite total force"),
+        ({"z1": (0, 0, float("nan"))}, "finite total force"),
+    ],
+)
 def test_bad_dead_load_names_the_parameter(loads, word):
     with pytest.raises(SolverInputError) as e:
         SolidModel(box((1, 1, 1), (1, 1, 1)), NeoHookean(mu=0.03, bulk=30.0), dead_loads=loads)
@@ -67,7 +73,7 @@ def test_newton_converges_quadratically_under_follower_pressure():
 
 def test_diverging_solve_returns_a_failure_naming_the_last_converged_load():
     mesh = box((1.0, 1.0, 1.0), (1, 1, 1))
-    bcs = [Dirichlet.fixed("z0"), Dirichlet.prescribed("z1", 2, -3.0)]   # crush through itself
+    bcs = [Dirichlet.fixed("z0"), Dirichlet.prescribed("z1", 2, -3.0)]  # crush through itself
     model = SolidModel(mesh, NeoHookean.nearly_incompressible(0.03, 10.0), dirichlet=bcs)
     res = load_path(model, [(0.0, 1.0)], control="displacement")
     assert not res.converged

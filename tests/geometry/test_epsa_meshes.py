@@ -2,6 +2,7 @@
 
 The mesh is built once per session (pytetwild takes seconds to a minute) into a temporary cache.
 """
+
 import json
 import math
 import time
@@ -12,8 +13,8 @@ import pytest
 from geometry.design import EPSADesign
 from geometry.epsa_shape import epsa_analytic_areas
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tetwild import mesh_epsa
 from geometry.tagging import boundary_facets, distance_to_surface
+from geometry.tetwild import mesh_epsa
 
 EPSA_TAGS = {"chamber_wall", "chamber_ends", "outer", "end_bottom", "end_top"}
 #: Fiber points must lie within this distance of the meshed outer surface (mm): one third of the
@@ -73,7 +74,7 @@ def test_tags_lie_on_their_surfaces(mesh, design):
     R, r, L, c = design.outer_radius, design.chamber_radius, design.length, design.end_cap_thickness
     rho = lambda tag: np.hypot(p[np.unique(mesh.facets[tag]), 0], p[np.unique(mesh.facets[tag]), 1])  # noqa: E731
     z = lambda tag: p[np.unique(mesh.facets[tag]), 2]  # noqa: E731
-    assert np.allclose(rho("outer"), R, atol=1e-9)           # snapped onto the exact cylinder
+    assert np.allclose(rho("outer"), R, atol=1e-9)  # snapped onto the exact cylinder
     assert np.allclose(rho("chamber_wall"), r, atol=1e-9)
     assert np.allclose(z("end_bottom"), 0.0, atol=1e-9) and np.allclose(z("end_top"), L, atol=1e-9)
     assert np.all(np.isclose(z("chamber_ends"), c) | np.isclose(z("chamber_ends"), L - c))
@@ -142,9 +143,17 @@ def test_transformed_keeps_orientation(mesh):
     moved = mesh.transformed(30.0, (1.0, 2.0, 3.0))
     assert (moved.tet_volumes() > 0).all()
     assert moved.volume() == pytest.approx(mesh.volume())
-    assert moved.fibers[0][0] == pytest.approx(mesh.fibers[0][0] @ np.array(
-        [[math.cos(math.radians(30)), math.sin(math.radians(30)), 0], [-math.sin(math.radians(30)),
-         math.cos(math.radians(30)), 0], [0, 0, 1]]) + [1, 2, 3])
+    assert moved.fibers[0][0] == pytest.approx(
+        mesh.fibers[0][0]
+        @ np.array(
+            [
+                [math.cos(math.radians(30)), math.sin(math.radians(30)), 0],
+                [-math.sin(math.radians(30)), math.cos(math.radians(30)), 0],
+                [0, 0, 1],
+            ]
+        )
+        + [1, 2, 3]
+    )
 
 
 def test_cli_mesh_epsa_writes_outputs(mesh, cache_dir, tmp_path):
@@ -157,7 +166,11 @@ def test_cli_mesh_epsa_writes_outputs(mesh, cache_dir, tmp_path):
         assert key in data
     assert set(data["area_mm2"]) == EPSA_TAGS
     assert data["n_tets"] == mesh.n_tets
-    assert (out / "mesh.vtu").exists() and (out / "mesh.msh").exists() and (out / "mesh.png").stat().st_size > 1000
+    assert (
+        (out / "mesh.vtu").exists()
+        and (out / "mesh.msh").exists()
+        and (out / "mesh.png").stat().st_size > 1000
+    )
 
 
 def test_embed_fibers_on_outer_facets(mesh):

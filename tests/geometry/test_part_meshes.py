@@ -1,14 +1,14 @@
 """Meshes of the foot, the ring and the assembled robot (slow: several pytetwild runs)."""
+
 import numpy as np
 import pytest
 
+from geometry.assembly import actuator_clearance, mesh_robot
 from geometry.design import FootDesign, RingDesign, RobotDesign
 from geometry.foot import foot_segments, foot_volume
-from geometry.assembly import mesh_robot
-from geometry.tetwild import mesh_foot, mesh_ring
 from geometry.ring import ring_volume
-from geometry.assembly import actuator_clearance
 from geometry.tagging import boundary_facets
+from geometry.tetwild import mesh_foot, mesh_ring
 
 pytestmark = pytest.mark.slow
 
@@ -55,19 +55,37 @@ def test_robot_mesh(cache_dir):
     mesh = mesh_robot(design, cache_dir=cache_dir)
     _check_common(mesh)
     names = set(mesh.region_names.values())
-    assert names == {"epsa1", "epsa2", "epsa3", "seal_head1", "seal_head2", "seal_head3", "ring1", "ring2",
-                     "ring3", "foot_rear", "foot_front"}
+    assert names == {
+        "epsa1",
+        "epsa2",
+        "epsa3",
+        "seal_head1",
+        "seal_head2",
+        "seal_head3",
+        "ring1",
+        "ring2",
+        "ring3",
+        "foot_rear",
+        "foot_front",
+    }
     for i in (1, 2, 3):
         assert mesh.volume(f"epsa{i}") == pytest.approx(design.epsa.body_volume, rel=0.01)
-        for tag in (f"epsa{i}:chamber_wall", f"epsa{i}:chamber_ends", f"interface:epsa{i}/foot_rear",
-                    f"interface:foot_rear/epsa{i}", f"interface:epsa{i}/seal_head{i}",
-                    f"interface:seal_head{i}/foot_front", f"interface:foot_front/seal_head{i}",
-                    f"interface:epsa{i}/ring2", f"interface:ring2/epsa{i}"):
+        for tag in (
+            f"epsa{i}:chamber_wall",
+            f"epsa{i}:chamber_ends",
+            f"interface:epsa{i}/foot_rear",
+            f"interface:foot_rear/epsa{i}",
+            f"interface:epsa{i}/seal_head{i}",
+            f"interface:seal_head{i}/foot_front",
+            f"interface:foot_front/seal_head{i}",
+            f"interface:epsa{i}/ring2",
+            f"interface:ring2/epsa{i}",
+        ):
             assert len(mesh.facets[tag]) > 0, tag
     # tie partners cover the same area on both sides
     assert mesh.area("interface:epsa1/ring1") == pytest.approx(mesh.area("interface:ring1/epsa1"), rel=0.03)
     clearance = actuator_clearance(mesh, design)
-    assert clearance["max_intrusion_mm"] < 0          # no actuator node inside another actuator
+    assert clearance["max_intrusion_mm"] < 0  # no actuator node inside another actuator
     assert clearance["channel_radius_mm"] == pytest.approx(design.d - design.epsa.outer_radius, abs=0.05)
     assert len(mesh.fibers) == 6
     m = mesh.to_skfem(1)

@@ -1,14 +1,15 @@
 """Surfaces and fibers (no meshing): watertight, right volumes, fibers on the outer surface, robot layout."""
+
 import math
 
 import numpy as np
 import pytest
 
+from geometry.assembly import robot_surfaces
 from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
 from geometry.epsa_shape import epsa_surface, fiber_helices, seal_head_surface
 from geometry.foot import foot_profile, foot_segments, foot_surface, foot_volume
 from geometry.ring import ring_surface, ring_volume
-from geometry.assembly import robot_surfaces
 from geometry.surfaces import signed_volume
 
 
@@ -44,8 +45,15 @@ def test_fiber_helices(N):
     assert fiber_helices(EPSADesign(fiber_turns=0)) == ()
 
 
-@pytest.mark.parametrize("foot", [FootDesign(), FootDesign(angle=100, groove_height=2.0, n_grooves=3),
-                                  FootDesign(angle=180, hub_thickness=3.0), FootDesign(bore_radius=0.0)])
+@pytest.mark.parametrize(
+    "foot",
+    [
+        FootDesign(),
+        FootDesign(angle=100, groove_height=2.0, n_grooves=3),
+        FootDesign(angle=180, hub_thickness=3.0),
+        FootDesign(bore_radius=0.0),
+    ],
+)
 def test_foot_surface(foot):
     s = foot_surface(foot)
     assert _closed(s)
@@ -82,7 +90,9 @@ def test_robot_actuators_do_not_intersect_and_channel_radius():
     parts = robot_surfaces(design)
     R0, d = design.epsa.outer_radius, design.d
     centres = design.actuator_centres
-    channel = min(np.hypot(parts[f"epsa{i}"].points[:, 0], parts[f"epsa{i}"].points[:, 1]).min() for i in (1, 2, 3))
+    channel = min(
+        np.hypot(parts[f"epsa{i}"].points[:, 0], parts[f"epsa{i}"].points[:, 1]).min() for i in (1, 2, 3)
+    )
     assert channel == pytest.approx(d - R0, abs=1e-9) and design.channel_radius == d - R0
     for i in (1, 2, 3):
         p = np.asarray(parts[f"epsa{i}"].points)
@@ -93,8 +103,19 @@ def test_robot_actuators_do_not_intersect_and_channel_radius():
     # psi = 90, 210, 330 deg on radius d
     assert np.allclose([math.degrees(math.atan2(y, x)) % 360 for x, y in centres], [90, 210, 330])
     assert np.allclose([math.hypot(x, y) for x, y in centres], d)
-    assert set(parts) == {"epsa1", "epsa2", "epsa3", "seal_head1", "seal_head2", "seal_head3",
-                          "ring1", "ring2", "ring3", "foot_rear", "foot_front"}
+    assert set(parts) == {
+        "epsa1",
+        "epsa2",
+        "epsa3",
+        "seal_head1",
+        "seal_head2",
+        "seal_head3",
+        "ring1",
+        "ring2",
+        "ring3",
+        "foot_rear",
+        "foot_front",
+    }
     # rings within the actuator length, feet at both ends
     for k in (1, 2, 3):
         zb = parts[f"ring{k}"].bounds

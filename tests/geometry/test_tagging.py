@@ -1,4 +1,5 @@
 """Tagging by geometric predicates, without pytetwild: a Delaunay tet mesh of a (convex) cylinder."""
+
 import math
 
 import numpy as np
@@ -7,13 +8,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tetwild import tag_boundary
 from geometry.tagging import RevolvedSegment, boundary_facets, point_triangle_distance, tet_volumes
+from geometry.tetwild import tag_boundary
 
 R, H = 2.0, 5.0
-SEGMENTS = [RevolvedSegment("bottom", (0.0, 0.0), (R, 0.0)),
-            RevolvedSegment("side", (R, 0.0), (R, H), curved=True),
-            RevolvedSegment("top", (R, H), (0.0, H))]
+SEGMENTS = [
+    RevolvedSegment("bottom", (0.0, 0.0), (R, 0.0)),
+    RevolvedSegment("side", (R, 0.0), (R, H), curved=True),
+    RevolvedSegment("top", (R, H), (0.0, H)),
+]
 
 
 @pytest.fixture(scope="module")
@@ -34,8 +37,11 @@ def cylinder():
     for layer in range(len(zs) - 1):
         b, t = layer * n, (layer + 1) * n
         i, j, k = tri[:, 0], tri[:, 1], tri[:, 2]
-        tets += [np.column_stack([i + b, j + b, k + b, k + t]), np.column_stack([i + b, j + b, j + t, k + t]),
-                 np.column_stack([i + b, i + t, j + t, k + t])]
+        tets += [
+            np.column_stack([i + b, j + b, k + b, k + t]),
+            np.column_stack([i + b, j + b, j + t, k + t]),
+            np.column_stack([i + b, i + t, j + t, k + t]),
+        ]
     tets = np.vstack(tets).astype(np.int64)
     vol = tet_volumes(pts, tets)
     tets[vol < 0] = tets[vol < 0][:, [0, 2, 1, 3]]
@@ -82,5 +88,10 @@ def test_segment_projection_idempotent_and_nearest(x, y, z):
 
 def test_point_triangle_distance():
     a, b, c = (np.array([[0.0, 0, 0]]), np.array([[1.0, 0, 0]]), np.array([[0.0, 1, 0]]))
-    for x, expected in [([0.2, 0.2, 0.5], 0.5), ([2, 0, 0], 1.0), ([-1, -1, 0], math.sqrt(2)), ([0.5, 0.5, 1], 1.0)]:
+    for x, expected in [
+        ([0.2, 0.2, 0.5], 0.5),
+        ([2, 0, 0], 1.0),
+        ([-1, -1, 0], math.sqrt(2)),
+        ([0.5, 0.5, 1], 1.0),
+    ]:
         assert point_triangle_distance(np.array([x], float), a, b, c)[0] == pytest.approx(expected)

@@ -1,4 +1,5 @@
 """Cache keys: design hash + mesh settings; default location from $SOFTCRAWL_CACHE."""
+
 from pathlib import Path
 
 from geometry.design import EPSADesign

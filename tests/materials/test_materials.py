@@ -1,4 +1,5 @@
 """Tests of materials: validation, presets, Gent's relation, data reading and fits."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -60,8 +61,7 @@ BAD_INPUTS = [
     (dict(name="l", model="linear-elastic", youngs=-5.0, poisson=0.3, density=1e-9), "youngs"),
     (dict(name="l", model="linear-elastic", poisson=0.3, density=1e-9), "youngs"),
     (dict(name="l", model="linear-elastic", youngs=2000.0, density=1e-9), "poisson"),
-    (dict(name="l", model="linear-elastic", youngs=2000.0, poisson=0.3, mu=1.0, density=1e-9),
-     "mu"),
+    (dict(name="l", model="linear-elastic", youngs=2000.0, poisson=0.3, mu=1.0, density=1e-9), "mu"),
 ]
 
 
@@ -79,7 +79,7 @@ def test_material_is_frozen_and_keyword_only():
     with pytest.raises(AttributeError):
         m.mu = 1.0
     with pytest.raises(TypeError):
-        Material("x", "neo-hookean", 1e-9)  # noqa: positional use is rejected
+        Material("x", "neo-hookean", 1e-9)  # positional use is rejected
 
 
 def test_with_mu_returns_scaled_copy():
@@ -146,10 +146,12 @@ def test_load_shipped_tensile_data(name):
 
 def test_reader_handles_reordered_columns_decimal_comma_and_junk(tmp_path):
     path = tmp_path / "t.csv"
-    path.write_text("PARAMETER;INFO\nMaterial;Test\n;\n"
-                    "Engineering Stress (MPa);Time (s);Engineering Strain\n"
-                    "-0,001;0;0,0\n0,01;1;0,1\n\n;;\nn/a;2;0,2\n0,02;3;0,2\n0,03;4;0,3\n"
-                    "0,001;5;0,31\n")
+    path.write_text(
+        "PARAMETER;INFO\nMaterial;Test\n;\n"
+        "Engineering Stress (MPa);Time (s);Engineering Strain\n"
+        "-0,001;0;0,0\n0,01;1;0,1\n\n;;\nn/a;2;0,2\n0,02;3;0,2\n0,03;4;0,3\n"
+        "0,001;5;0,31\n"
+    )
     data = materials.load_tensile(str(path))
     assert data.strain.tolist() == [0.0, 0.1, 0.2, 0.3]  # junk skipped, post-failure dropped
     assert data.nominal_stress.tolist() == [-0.001, 0.01, 0.02, 0.03]
@@ -197,8 +199,9 @@ def test_neo_hookean_fit_recovers_known_mu_from_noisy_data():
 
 def test_yeoh_fit_recovers_known_constants():
     c = (0.011, 0.0009, 0.00005)
-    lam, stress = _synthetic(lambda l: materials.yeoh_uniaxial(l, c), noise=0.005, seed=3,
-                             max_strain=2.0, n=88)
+    lam, stress = _synthetic(
+        lambda l: materials.yeoh_uniaxial(l, c), noise=0.005, seed=3, max_strain=2.0, n=88
+    )
     fit = materials.fit_yeoh(lam, stress, max_strain=2.0)
     # Tolerances hold for 200 noise seeds (worst: 2.5 %, 8 %, 13 %).
     assert fit.values[0] == pytest.approx(c[0], rel=0.03)
@@ -220,14 +223,17 @@ def test_yeoh_fit_on_data_is_stable_and_usable():
     assert np.allclose(m.uniaxial_nominal_stress(data.stretch[:5]), fit.predict(data.stretch[:5]))
 
 
-@pytest.mark.parametrize("kwargs, parameter", [
-    (dict(max_strain=0.0), "max_strain"),
-    (dict(max_strain=float("inf")), "max_strain"),
-    (dict(max_strain=0.05), "max_strain"),
-    (dict(stretch=[1.0, 1.1]), "nominal_stress"),
-    (dict(stretch=[[1.1, 1.2, 1.3]]), "stretch"),
-    (dict(stretch=[0.0, 1.1, 1.2]), "stretch"),
-])
+@pytest.mark.parametrize(
+    "kwargs, parameter",
+    [
+        (dict(max_strain=0.0), "max_strain"),
+        (dict(max_strain=float("inf")), "max_strain"),
+        (dict(max_strain=0.05), "max_strain"),
+        (dict(stretch=[1.0, 1.1]), "nominal_stress"),
+        (dict(stretch=[[1.1, 1.2, 1.3]]), "stretch"),
+        (dict(stretch=[0.0, 1.1, 1.2]), "stretch"),
+    ],
+)
 def test_bad_fit_input_names_the_parameter(kwargs, parameter):
     args = dict(stretch=[1.05, 1.1, 1.2], nominal_stress=[0.001, 0.003, 0.006])
     args.update(kwargs)

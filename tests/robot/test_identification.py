@@ -1,4 +1,5 @@
 """Identification recovers known k_p, f_p from noisy synthetic data (paper Section VII-A)."""
+
 import numpy as np
 import pytest
 
@@ -6,8 +7,8 @@ from robot.errors import ModelInputError
 from robot.identification import fit_piecewise, identify, synthetic_table
 from robot.prototype import prototype_epsa
 
-PRESSURES = np.arange(10.0, 101.0, 10.0)      # the paper's 10 kPa steps
-LOADS = [0.0, 0.5, 1.0, 2.0]                   # N
+PRESSURES = np.arange(10.0, 101.0, 10.0)  # the paper's 10 kPa steps
+LOADS = [0.0, 0.5, 1.0, 2.0]  # N
 
 
 @pytest.mark.parametrize("index", [1, 2, 3])

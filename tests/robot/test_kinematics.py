@@ -1,7 +1,9 @@
 """Acceptance tests of the constant-curvature kinematics (eqs. 4-6, 9) and the exact IK."""
+
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from robot import kinematics as kin
 from robot.errors import ModelInputError
@@ -25,19 +27,21 @@ def test_printed_ik_does_not_invert_fk():
     c = kin.configuration([110.0, 125.0, 140.0])
     printed = kin.printed_ik_lengths(c.kappa, c.phi, c.length)
     np.testing.assert_allclose(printed, [103.1, 117.2, 109.1], atol=0.05)
-    np.testing.assert_allclose(kin.inverse(kin.tip([110.0, 125.0, 140.0])), [110, 125, 140],
-                               rtol=1e-12)
+    np.testing.assert_allclose(kin.inverse(kin.tip([110.0, 125.0, 140.0])), [110, 125, 140], rtol=1e-12)
 
 
 def test_transform_matches_printed_matrix():
     T = kin.transform([110.0, 125.0, 140.0])
     c = kin.configuration([110.0, 125.0, 140.0])
     ct, st_, cp, sp = np.cos(c.theta), np.sin(c.theta), np.cos(c.phi), np.sin(c.phi)
-    expected = np.array([
-        [cp**2 * ct + sp**2, cp * sp * (ct - 1), cp * st_, cp * (1 - ct) / c.kappa],
-        [cp * sp * (ct - 1), sp**2 * ct + cp**2, sp * st_, sp * (1 - ct) / c.kappa],
-        [-cp * st_, -sp * st_, ct, st_ / c.kappa],
-        [0, 0, 0, 1]])
+    expected = np.array(
+        [
+            [cp**2 * ct + sp**2, cp * sp * (ct - 1), cp * st_, cp * (1 - ct) / c.kappa],
+            [cp * sp * (ct - 1), sp**2 * ct + cp**2, sp * st_, sp * (1 - ct) / c.kappa],
+            [-cp * st_, -sp * st_, ct, st_ / c.kappa],
+            [0, 0, 0, 1],
+        ]
+    )
     np.testing.assert_allclose(T, expected, atol=1e-12)
     np.testing.assert_allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-14)
 

@@ -1,4 +1,5 @@
 """Gait planner (Section IV): straight and vertical pipes, elbows, containment."""
+
 import numpy as np
 import pytest
 
@@ -30,7 +31,7 @@ def _check_inside(result, samples=41):
 def test_straight_pipe_gives_equal_pressures(kind):
     result = plan(Pipe(kind, 70.0, entry=300.0), step_kpa=10.0)
     assert result.success
-    for phase, *P in result.gait():
+    for _phase, *P in result.gait():
         assert P[0] == P[1] == P[2]
     assert result.cycles[0].pressures_inflated == (100.0, 100.0, 100.0)
     assert all(c.theta == 0.0 for c in result.cycles)
@@ -77,7 +78,7 @@ def test_elbow_r40_acceptance():
 
 def test_refine_simulator_matches_the_planner_model():
     """The batched planar simulator of robot.refine and its perturbed runs against replay."""
-    pipe = Pipe("elbow", 600.0, 40.0)                      # wide: every cycle is run
+    pipe = Pipe("elbow", 600.0, 40.0)  # wide: every cycle is run
     rng = np.random.default_rng(5)
     P = rng.uniform(0.0, 100.0, (6, 2))
     triples = [(p1, p23, p23) for p1, p23 in P]
@@ -89,8 +90,9 @@ def test_refine_simulator_matches_the_planner_model():
     assert len(ref.cycles) == 6
     for i, c in enumerate(ref.cycles):
         assert pipe.diameter / 2 - 23.0 - dist[0, i].max() == pytest.approx(c.clearance, abs=1e-9)
-        np.testing.assert_allclose([rear[0, i + 1, 0], rear[0, i + 1, 1]],
-                                   [c.rear_after[0], c.rear_after[2]], atol=1e-9)
+        np.testing.assert_allclose(
+            [rear[0, i + 1, 0], rear[0, i + 1, 1]], [c.rear_after[0], c.rear_after[2]], atol=1e-9
+        )
     h = 1e-3
     dp, rp = _perturbed(pipe, lengths, h, rest, 14.0, 4, 21)
     bumped = np.vstack([lengths.ravel(), lengths.ravel() + h * np.eye(12)]).reshape(13, 6, 2)
@@ -116,11 +118,12 @@ def test_replay_reproduces_the_planned_cycles():
 def test_failed_plan_is_reported_not_raised():
     result = plan(Pipe("elbow", 70.0, 40.0), step_kpa=20.0)
     assert not result.success and result.message
-    _check_inside(result)   # what it did plan is still inside the pipe
+    _check_inside(result)  # what it did plan is still inside the pipe
 
 
 def test_body_too_wide_raises():
     from robot.errors import ModelInputError
+
     with pytest.raises(ModelInputError) as e:
         plan(Pipe("straight", 40.0))
     assert e.value.parameter == "diameter"
@@ -153,8 +156,7 @@ def test_continuous_elbows_clearance_grows_with_the_radius():
         result = continuous_plan(Pipe("elbow", 70.0, radius), cycles=25, margin=None, attempts=1)
         assert result.success, result.message
         _check_inside(result)
-        fine = replay(result.pipe, [c.pressures_inflated for c in result.cycles], stages=64,
-                      samples=161)
+        fine = replay(result.pipe, [c.pressures_inflated for c in result.cycles], stages=64, samples=161)
         assert fine.success
         spare[radius] = min(c.clearance for c in fine.cycles)
     assert 0.03 < spare[40.0] < 0.2 < spare[45.0] < spare[50.0]

@@ -1,17 +1,24 @@
 """ePSA statics, prototype parameters, the 60 kPa jumps, loads, friction, speed and dynamics."""
+
 import numpy as np
 import pytest
 
 from robot import dynamics, loads
-from robot.statics import G_STANDARD
 from robot.errors import ModelInputError
-from robot.prototype import (EPSA_MASS_T, F_EPSA_MAX_N, ROBOT_MASS_T, actuator_set, nominal_epsa,
-                             prototype_epsa)
+from robot.prototype import (
+    EPSA_MASS_T,
+    F_EPSA_MAX_N,
+    ROBOT_MASS_T,
+    actuator_set,
+    nominal_epsa,
+    prototype_epsa,
+)
+from robot.statics import G_STANDARD
 
 
 def test_units_boundary_n_per_m_to_n_per_mm():
     a = prototype_epsa(1)
-    assert a.k_p(0.0) == pytest.approx(0.2668)          # 266.8 N/m
+    assert a.k_p(0.0) == pytest.approx(0.2668)  # 266.8 N/m
     assert a.k_p(100.0) == pytest.approx((91.25 + 62.19) * 1e-3)
     assert a.f_p(100.0) == pytest.approx(14.63 - 6.534)
     # y = f_p/k_p in m for the printed units equals our mm value / 1000.
@@ -54,13 +61,13 @@ def test_inverse_statics_roundtrip_and_jump_policy(index):
         length = float(a.length(p, g=0.0))
         q = a.pressure_for_length(length, g=0.0)
         assert float(a.length(q, g=0.0)) == pytest.approx(length, abs=1e-9)
-        assert q <= p + 1e-9   # the smallest pressure wins
+        assert q <= p + 1e-9  # the smallest pressure wins
     lo, hi, d = a.length_jump(0.0)
     if d > 0:  # a length inside the gap maps to the breakpoint, or raises when strict
         assert a.pressure_for_length(0.5 * (lo + hi), g=0.0) == 60.0
         with pytest.raises(ModelInputError):
             a.pressure_for_length(0.5 * (lo + hi), g=0.0, strict=True)
-    else:     # a length reached twice takes the lower branch
+    else:  # a length reached twice takes the lower branch
         assert a.pressure_for_length(0.5 * (lo + hi), g=0.0) < 60.0
     with pytest.raises(ModelInputError) as e:
         a.pressure_for_length(200.0, g=0.0)
@@ -87,7 +94,7 @@ def test_crawl_speed_estimate():
     assert free.stride_mm == pytest.approx(53.22, abs=0.01)
     assert free.speed_mm_s == pytest.approx(26.61, abs=0.01)
     paper = loads.crawl_speed(acts, 100.0, 15.3)
-    assert 9.0 < paper.speed_mm_s < 10.0     # the paper measured 18.3 mm/s: see the report
+    assert 9.0 < paper.speed_mm_s < 10.0  # the paper measured 18.3 mm/s: see the report
     f = loads.friction_for_speed(acts, 100.0, 18.3)
     assert loads.crawl_speed(acts, 100.0, f).speed_mm_s == pytest.approx(18.3, rel=1e-9)
 

@@ -1,6 +1,7 @@
 """Fast fake ePSA simulators for the study tests (no FE solver). Importable by spawned workers as
 ``tests.studies.fakes:NAME``; behaviour is steered by environment variables so that worker
 processes see it too."""
+
 from __future__ import annotations
 
 import os
@@ -34,36 +35,55 @@ def _log(design):
             handle.write(f"{design.chamber_radius:g},{design.fiber_turns},{os.getpid()}\n")
 
 
-def analytic_curve(design, pressures_kpa, *, material="fake", limit_kpa=None, wobble=0.0,
-                   stiff=1.0):
+def analytic_curve(design, pressures_kpa, *, material="fake", limit_kpa=None, wobble=0.0, stiff=1.0):
     """A smooth made-up response: extension grows with chamber radius, fibers cut radial growth."""
     seal = 3.0  # like the FE evaluator, the measured length includes the seal head
-    rows = [CurveRow(0.0, design.length + seal, design.outer_radius, 1000.0, 1.0, 0.0,
-                     "reference")]
+    rows = [CurveRow(0.0, design.length + seal, design.outer_radius, 1000.0, 1.0, 0.0, "reference")]
     n = design.fiber_turns
     for i, p in enumerate(pressures_kpa):
         if limit_kpa is not None and p > limit_kpa:
-            rows.append(CurveRow(p, float("nan"), float("nan"), float("nan"), float("nan"),
-                                 float("nan"), "failed"))
+            rows.append(
+                CurveRow(p, float("nan"), float("nan"), float("nan"), float("nan"), float("nan"), "failed")
+            )
             continue
         a = design.chamber_radius / 3.0
         ext = 0.2 * p * a / stiff * (1 + 0.5 * n / (n + 10)) + wobble * (-1) ** i * p / 20
         rad = 0.02 * p * a**2 / stiff / (1 + n / 5)
-        rows.append(CurveRow(p, design.length + seal + ext, design.outer_radius + rad, 1000.0 + p,
-                             1.0 + p / 200, 0.1 * n * p / 100, "converged"))
-    return ActuatorCurve(rows=tuple(rows), converged=True, limit_pressure_kpa=limit_kpa,
-                         material=material)
+        rows.append(
+            CurveRow(
+                p,
+                design.length + seal + ext,
+                design.outer_radius + rad,
+                1000.0 + p,
+                1.0 + p / 200,
+                0.1 * n * p / 100,
+                "converged",
+            )
+        )
+    return ActuatorCurve(rows=tuple(rows), converged=True, limit_pressure_kpa=limit_kpa, material=material)
 
 
-def fake_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 80, 100),
-                  mesh_size=None, quick=False, progress=None):
+def fake_simulate(
+    design,
+    *,
+    material="fake",
+    pressures_kpa=(20, 40, 60, 80, 100),
+    mesh_size=None,
+    quick=False,
+    progress=None,
+):
     """Instant; sleeps SOFTCRAWL_FAKE_SLEEP s; chamber radius 5 "diverges"; 6 has a limit at 80."""
     _log(design)
     time.sleep(float(os.environ.get("SOFTCRAWL_FAKE_SLEEP", "0")))
     if design.chamber_radius == 5.0 and os.environ.get("SOFTCRAWL_FAKE_DIVERGE"):
         good = analytic_curve(design, [p for p in pressures_kpa if p <= 40], material=material)
-        return ActuatorCurve(rows=good.rows, converged=False, limit_pressure_kpa=None,
-                             message="Newton diverged at 60 kPa", material=material)
+        return ActuatorCurve(
+            rows=good.rows,
+            converged=False,
+            limit_pressure_kpa=None,
+            message="Newton diverged at 60 kPa",
+            material=material,
+        )
     if design.chamber_radius == 6.0 and os.environ.get("SOFTCRAWL_FAKE_DIVERGE"):
         return analytic_curve(design, pressures_kpa, material=material, limit_kpa=80.0)
     return analytic_curve(design, pressures_kpa, material=material)
@@ -76,8 +96,15 @@ def raising_simulate(design, **kwargs):
     return fake_simulate(design, **kwargs)
 
 
-def paper_like_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 80, 100),
-                        mesh_size=None, quick=False, progress=None):
+def paper_like_simulate(
+    design,
+    *,
+    material="fake",
+    pressures_kpa=(20, 40, 60, 80, 100),
+    mesh_size=None,
+    quick=False,
+    progress=None,
+):
     """Mimics the paper's Fig. 8-9 findings: r = 5, 6 reach a limit point at 80 kPa, the lengths
     of r = 2, 4 fluctuate; fibers stiffen the radial response (N = 20, 25, 50 differ little)."""
     r = design.chamber_radius
@@ -87,16 +114,32 @@ def paper_like_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 8
     return analytic_curve(design, pressures_kpa, material=material, wobble=wobble)
 
 
-def early_limit_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 80, 100),
-                         mesh_size=None, quick=False, progress=None):
+def early_limit_simulate(
+    design,
+    *,
+    material="fake",
+    pressures_kpa=(20, 40, 60, 80, 100),
+    mesh_size=None,
+    quick=False,
+    progress=None,
+):
     """r = 6 bursts at 15 kPa, below the first target: only volume-controlled states."""
     if design.chamber_radius != 6.0:
         return fake_simulate(design, material=material, pressures_kpa=pressures_kpa)
     ref = analytic_curve(design, (), material=material).rows
-    rows = ref + tuple(CurveRow(p, design.length + 3 + p / 5, design.outer_radius + p / 10,
-                                1000 + p, 1.0, 0.0, "volume-control") for p in (5.0, 10.0, 15.0))
-    return ActuatorCurve(rows=rows, converged=True, limit_pressure_kpa=15.0,
-                         message="limit point at P ~ 15 kPa", material=material)
+    rows = ref + tuple(
+        CurveRow(
+            p, design.length + 3 + p / 5, design.outer_radius + p / 10, 1000 + p, 1.0, 0.0, "volume-control"
+        )
+        for p in (5.0, 10.0, 15.0)
+    )
+    return ActuatorCurve(
+        rows=rows,
+        converged=True,
+        limit_pressure_kpa=15.0,
+        message="limit point at P ~ 15 kPa",
+        material=material,
+    )
 
 
 #: The law of `loaded_simulate` (N/mm, N against P in kPa): k_p = 0.05 + 2e-4 P, f_p = 0.04 P; at
@@ -110,29 +153,49 @@ def fake_f_p(p):
     return 0.04 * p
 
 
-def loaded_simulate(design, *, material="fake", pressures_kpa=(20, 40), mesh_size=None, quick=False,
-                    progress=None, end_load_n=None):
+def loaded_simulate(
+    design,
+    *,
+    material="fake",
+    pressures_kpa=(20, 40),
+    mesh_size=None,
+    quick=False,
+    progress=None,
+    end_load_n=None,
+):
     """A weight W on the top: extension y = (f_p(P) - W) / k_p(P) exactly (eq. 3, m g = 0)."""
     w = 0.0 if end_load_n is None else float(end_load_n)
     fail_heavy = os.environ.get("SOFTCRAWL_FAKE_FAIL_HEAVY") and w >= 1.0
-    rows = [CurveRow(0.0, design.length, design.outer_radius, 1000.0, 1.0, 0.0, "reference"),
-            CurveRow(0.0, design.length - w / fake_k_p(0.0), design.outer_radius, 1000.0, 1.0, 0.0,
-                     "converged")]
+    rows = [
+        CurveRow(0.0, design.length, design.outer_radius, 1000.0, 1.0, 0.0, "reference"),
+        CurveRow(0.0, design.length - w / fake_k_p(0.0), design.outer_radius, 1000.0, 1.0, 0.0, "converged"),
+    ]
     nan = float("nan")
     for p in pressures_kpa:
         if fail_heavy and p >= 70:
             rows.append(CurveRow(p, nan, nan, nan, nan, nan, "failed"))
             continue
         y = (fake_f_p(p) - w) / fake_k_p(p)
-        rows.append(CurveRow(p, design.length + y, design.outer_radius, 1000.0 + p, 1.0, 0.0,
-                             "converged"))
+        rows.append(CurveRow(p, design.length + y, design.outer_radius, 1000.0 + p, 1.0, 0.0, "converged"))
     failed = any(r.status == "failed" for r in rows)
-    return ActuatorCurve(rows=tuple(rows), converged=not failed, limit_pressure_kpa=None,
-                         material=material, message="diverged at 70 kPa" if failed else "")
+    return ActuatorCurve(
+        rows=tuple(rows),
+        converged=not failed,
+        limit_pressure_kpa=None,
+        material=material,
+        message="diverged at 70 kPa" if failed else "",
+    )
 
 
-def limited_simulate(design, *, material="fake", pressures_kpa=(20, 40, 60, 80, 100), mesh_size=None,
-                     quick=False, progress=None):
+def limited_simulate(
+    design,
+    *,
+    material="fake",
+    pressures_kpa=(20, 40, 60, 80, 100),
+    mesh_size=None,
+    quick=False,
+    progress=None,
+):
     """Like fake_simulate, but chamber radii above 4 mm meet a limit point at 60 kPa."""
     limit = 60.0 if design.chamber_radius > 4.0 else None
     return analytic_curve(design, pressures_kpa, material=material, limit_kpa=limit)

@@ -1,4 +1,5 @@
 """The calibration loop recovers a known modulus (fake evaluator: length = L_proto(P * mu* / mu))."""
+
 import pytest
 
 from studies.catalogue import calibration as calibrate
@@ -12,7 +13,8 @@ def test_calibration_recovers_a_known_modulus(monkeypatch):
     def fake(design, *, material, pressures_kpa, mesh):
         scaled = calibrate.prototype_lengths([p * mu_true / material.mu for p in pressures_kpa])
         rows = (actuator.CurveRow(0.0, 100.0, 9.0, 1.0, 1.0, 0.0, "reference"),) + tuple(
-            actuator.CurveRow(p, L, 9.0, 1.0, 1.0, 0.0, "converged") for p, L in zip(pressures_kpa, scaled))
+            actuator.CurveRow(p, L, 9.0, 1.0, 1.0, 0.0, "converged") for p, L in zip(pressures_kpa, scaled)
+        )
         return actuator.ActuatorCurve(rows, True, None, "ok", 0.0, 0, material.name, material.mu)
 
     monkeypatch.setattr(actuator, "simulate_epsa", fake)

@@ -1,4 +1,5 @@
 """`softcrawl epsa` and `softcrawl verify` end to end on tiny problems; the swept ePSA mesh."""
+
 import csv
 import json
 
@@ -19,8 +20,9 @@ def test_swept_mesh_volume_tags_and_orientation():
     det = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
     assert det.min() > 0
     import skfem
+
     m2 = m.to_skfem(order=2)
-    exact = skfem.Basis(m2, skfem.ElementTetP2()).dx.sum()       # curved P2 geometry
+    exact = skfem.Basis(m2, skfem.ElementTetP2()).dx.sum()  # curved P2 geometry
     assert exact == pytest.approx(d.body_volume, rel=1e-3)
     assert m.area("chamber_wall") == pytest.approx(d.chamber_wall_area, rel=0.02)
     with_head = mesh_epsa_swept(d, seal_head=True)
@@ -30,8 +32,20 @@ def test_swept_mesh_volume_tags_and_orientation():
 
 def test_epsa_command_writes_curve_summary_vtu_and_plot(tmp_path, capsys):
     out = tmp_path / "run"
-    code = main(["epsa", "--length", "40", "--fiber-turns", "8", "--quick", "--pressures", "0:10:5",
-                 "--out", str(out)])
+    code = main(
+        [
+            "epsa",
+            "--length",
+            "40",
+            "--fiber-turns",
+            "8",
+            "--quick",
+            "--pressures",
+            "0:10:5",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0
     rows = list(csv.DictReader(open(out / "curve.csv")))
     assert [r["status"] for r in rows] == ["reference", "converged", "converged"]
@@ -46,8 +60,25 @@ def test_epsa_command_writes_curve_summary_vtu_and_plot(tmp_path, capsys):
 
 def test_epsa_blocked_force_grows_with_pressure(tmp_path):
     out = tmp_path / "blocked"
-    assert main(["epsa", "--length", "40", "--fiber-turns", "8", "--quick", "--blocked", "--no-vtu",
-                 "--pressures", "5,10", "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "epsa",
+                "--length",
+                "40",
+                "--fiber-turns",
+                "8",
+                "--quick",
+                "--blocked",
+                "--no-vtu",
+                "--pressures",
+                "5,10",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     rows = list(csv.DictReader(open(out / "curve.csv")))
     force = [float(r["blocked_force_N"]) for r in rows]
     assert force[0] == pytest.approx(0.0, abs=1e-9)
@@ -56,13 +87,16 @@ def test_epsa_blocked_force_grows_with_pressure(tmp_path):
     assert [float(r["length_mm"]) for r in rows] == pytest.approx([40.0] * 3, abs=1e-9)
 
 
-@pytest.mark.parametrize("argv, parameter", [
-    (["epsa", "--chamber-radius", "9.5", "--out", "x"], "chamber_radius"),
-    (["epsa", "--fiber-turns", "-1", "--out", "x"], "fiber_turns"),
-    (["epsa", "--pressures", "100:0:20", "--out", "x"], "pressures"),
-    (["epsa", "--material", "unobtainium", "--out", "x"], "material"),
-    (["epsa", "--material", "abs", "--out", "x"], "material"),
-])
+@pytest.mark.parametrize(
+    "argv, parameter",
+    [
+        (["epsa", "--chamber-radius", "9.5", "--out", "x"], "chamber_radius"),
+        (["epsa", "--fiber-turns", "-1", "--out", "x"], "fiber_turns"),
+        (["epsa", "--pressures", "100:0:20", "--out", "x"], "pressures"),
+        (["epsa", "--material", "unobtainium", "--out", "x"], "material"),
+        (["epsa", "--material", "abs", "--out", "x"], "material"),
+    ],
+)
 def test_epsa_bad_input_is_one_line_and_exit_2(argv, parameter, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
@@ -108,7 +142,7 @@ def test_guided_top_stays_on_the_axis():
     free = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), fibers="lines")
     guided = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), guided=True, fibers="lines")
     assert free.converged and guided.converged
-    assert free.rows[-1].tip_lateral_mm > 0.05             # the helix ends are not symmetric
+    assert free.rows[-1].tip_lateral_mm > 0.05  # the helix ends are not symmetric
     # the seal head's top is held; the body's top, 3 mm below it, only follows its small tilt
     assert guided.rows[-1].tip_lateral_mm < 0.05 * free.rows[-1].tip_lateral_mm
     # the guide holds the top sideways only: the extension barely changes at 20 kPa
@@ -125,12 +159,17 @@ def test_side_load_probe_moves_the_free_top_and_is_checked():
     from geometry.design import DesignError, EPSADesign
     from studies.parts.epsa_model import simulate_epsa
 
-    sway = [simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), side_load_n=f).rows[-1].tip_lateral_mm
-            for f in (None, 1e-4, 2e-4)]
+    sway = [
+        simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), side_load_n=f).rows[-1].tip_lateral_mm
+        for f in (None, 1e-4, 2e-4)
+    ]
     assert sway[0] < 0.2 * sway[1]
-    assert sway[2] == pytest.approx(2 * sway[1], rel=0.1)     # the baseline adds a little
-    for bad, name in ((dict(side_load_n=-1.0), "side_load"), (dict(side_load_n=1e-4, guided=True), "side_load"),
-                      (dict(fibers="braid"), "fibers")):
+    assert sway[2] == pytest.approx(2 * sway[1], rel=0.1)  # the baseline adds a little
+    for bad, name in (
+        (dict(side_load_n=-1.0), "side_load"),
+        (dict(side_load_n=1e-4, guided=True), "side_load"),
+        (dict(fibers="braid"), "fibers"),
+    ):
         with pytest.raises(DesignError) as err:
             simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), **bad)
         assert err.value.parameter == name

@@ -1,4 +1,5 @@
 """Tests of `softcrawl material` (run in-process through studies.cli.main)."""
+
 from __future__ import annotations
 
 import json
@@ -26,8 +27,18 @@ def test_fit_json_is_valid_and_complete(capsys):
 
 
 def test_fit_out_writes_json_and_png(capsys, tmp_path):
-    code, out, err = run(capsys, "fit", "--data", "dragon-skin-30", "--model", "yeoh",
-                         "--max-strain", "0.5", "--out", str(tmp_path))
+    code, out, err = run(
+        capsys,
+        "fit",
+        "--data",
+        "dragon-skin-30",
+        "--model",
+        "yeoh",
+        "--max-strain",
+        "0.5",
+        "--out",
+        str(tmp_path),
+    )
     assert code == 0, err
     record = json.loads((tmp_path / "fit.json").read_text())
     assert record["model"] == "yeoh" and set(record["params_mpa"]) == {"C10", "C20", "C30"}
@@ -39,16 +50,26 @@ def test_fit_out_writes_json_and_png(capsys, tmp_path):
 def test_list_shows_every_preset(capsys):
     code, out, _ = run(capsys, "list")
     assert code == 0
-    for name in ("ecoflex-00-50", "ecoflex-00-50-fit", "ecoflex-00-30", "dragon-skin-30",
-                 "rubber-70a", "abs", "kevlar"):
+    for name in (
+        "ecoflex-00-50",
+        "ecoflex-00-50-fit",
+        "ecoflex-00-30",
+        "dragon-skin-30",
+        "rubber-70a",
+        "abs",
+        "kevlar",
+    ):
         assert f"\n{name} " in out
 
 
-@pytest.mark.parametrize("argv, parameter", [
-    (("show", "no-such-material"), "material"),
-    (("fit", "--data", "no-such-data"), "data"),
-    (("fit", "--max-strain", "-1"), "max_strain"),
-])
+@pytest.mark.parametrize(
+    "argv, parameter",
+    [
+        (("show", "no-such-material"), "material"),
+        (("fit", "--data", "no-such-data"), "data"),
+        (("fit", "--max-strain", "-1"), "max_strain"),
+    ],
+)
 def test_user_errors_exit_2_with_one_line_naming_the_parameter(capsys, argv, parameter):
     code, out, err = run(capsys, *argv)
     assert code == 2 and out == ""
@@ -60,7 +81,11 @@ def test_console_entry_point_unknown_preset_exit_code_2():
     import subprocess
     import sys
 
-    result = subprocess.run([sys.executable, "-m", "studies", "material", "show", "nope"],
-                            capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [sys.executable, "-m", "studies", "material", "show", "nope"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 2 and result.stdout == ""
     assert len(result.stderr.strip().splitlines()) == 1 and "material:" in result.stderr

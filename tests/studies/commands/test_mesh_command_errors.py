@@ -1,30 +1,37 @@
 """CLI user errors: one line naming the parameter, exit code 2 (no meshing happens)."""
+
 import pytest
 
 from studies.cli import main
 
 
-@pytest.mark.parametrize("argv, parameter", [
-    (["mesh", "epsa", "--chamber_radius", "10"], "chamber_radius"),
-    (["mesh", "epsa", "--fiber-turns", "-3"], "fiber_turns"),
-    (["mesh", "foot", "--groove_height", "5"], "groove_height"),
-    (["mesh", "ring", "--outer_radius", "10"], "outer_radius"),
-    (["mesh", "robot", "--d", "9"], "d"),
-    (["mesh", "robot", "--epsa.chamber_radius", "9"], "epsa.chamber_radius"),
-    (["mesh", "robot", "--foot.angle", "190"], "foot.angle"),
-    (["mesh", "epsa", "--edge-length", "-1"], "edge_length"),
-])
+@pytest.mark.parametrize(
+    "argv, parameter",
+    [
+        (["mesh", "epsa", "--chamber_radius", "10"], "chamber_radius"),
+        (["mesh", "epsa", "--fiber-turns", "-3"], "fiber_turns"),
+        (["mesh", "foot", "--groove_height", "5"], "groove_height"),
+        (["mesh", "ring", "--outer_radius", "10"], "outer_radius"),
+        (["mesh", "robot", "--d", "9"], "d"),
+        (["mesh", "robot", "--epsa.chamber_radius", "9"], "epsa.chamber_radius"),
+        (["mesh", "robot", "--foot.angle", "190"], "foot.angle"),
+        (["mesh", "epsa", "--edge-length", "-1"], "edge_length"),
+    ],
+)
 def test_invalid_parameter(argv, parameter, tmp_path, capsys):
     assert main(argv + ["--out", str(tmp_path / "o"), "--no-cache"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and parameter in err
 
 
-@pytest.mark.parametrize("argv, word", [
-    (["mesh", "epsa", "--radius", "3"], "--radius"),
-    (["mesh", "epsa", "--length", "abc"], "--length"),
-    (["mesh", "tube"], "tube"),
-])
+@pytest.mark.parametrize(
+    "argv, word",
+    [
+        (["mesh", "epsa", "--radius", "3"], "--radius"),
+        (["mesh", "epsa", "--length", "abc"], "--length"),
+        (["mesh", "tube"], "tube"),
+    ],
+)
 def test_unknown_or_malformed_parameter(argv, word, tmp_path, capsys):
     with pytest.raises(SystemExit) as info:
         main(argv + ["--out", str(tmp_path / "o")])

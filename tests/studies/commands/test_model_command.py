@@ -1,4 +1,5 @@
 """`softcrawl model ...` end to end (in-process)."""
+
 import json
 
 import pytest
@@ -31,8 +32,7 @@ def test_ik_json_roundtrip(capsys):
 
 
 def test_statics_and_load(capsys):
-    code, out, _ = run(capsys, "statics", "--pressure", "100", "--actuator", "1", "--g", "0",
-                       "--json")
+    code, out, _ = run(capsys, "statics", "--pressure", "100", "--actuator", "1", "--g", "0", "--json")
     data = json.loads(out)
     assert code == 0 and data["length_mm"] == pytest.approx(152.763, abs=1e-3)
     assert data["blocked_force_n"] == pytest.approx(8.096)
@@ -42,16 +42,33 @@ def test_statics_and_load(capsys):
     assert json.loads(out)["load_kg"] == pytest.approx(2.505, abs=5e-4)
 
 
-@pytest.mark.parametrize("argv, parameter", [
-    (["statics", "--pressure", "-1"], "pressure"),
-    (["ik", "--tip", "0", "0", "-1"], "tip"),
-    (["fk", "--lengths", "100", "0", "100"], "lengths"),
-    (["plan", "--pipe", "elbow", "--out", "unused"], "bend-radius"),
-    (["plan", "--pipe", "straight", "--diameter", "40", "--out", "unused"], "diameter"),
-    (["plan", "--pipe", "straight", "--search", "continuous", "--out", "unused"], "search"),
-    (["plan", "--pipe", "elbow", "--bend-radius", "40", "--search", "continuous", "--cycles", "0",
-      "--out", "unused"], "cycles"),
-])
+@pytest.mark.parametrize(
+    "argv, parameter",
+    [
+        (["statics", "--pressure", "-1"], "pressure"),
+        (["ik", "--tip", "0", "0", "-1"], "tip"),
+        (["fk", "--lengths", "100", "0", "100"], "lengths"),
+        (["plan", "--pipe", "elbow", "--out", "unused"], "bend-radius"),
+        (["plan", "--pipe", "straight", "--diameter", "40", "--out", "unused"], "diameter"),
+        (["plan", "--pipe", "straight", "--search", "continuous", "--out", "unused"], "search"),
+        (
+            [
+                "plan",
+                "--pipe",
+                "elbow",
+                "--bend-radius",
+                "40",
+                "--search",
+                "continuous",
+                "--cycles",
+                "0",
+                "--out",
+                "unused",
+            ],
+            "cycles",
+        ),
+    ],
+)
 def test_user_errors_exit_2_naming_the_parameter(capsys, argv, parameter, tmp_path):
     argv = [a if a != "unused" else str(tmp_path) for a in argv]
     code, out, err = run(capsys, *argv)
@@ -63,8 +80,19 @@ def test_workspace_and_plan_write_files(capsys, tmp_path):
     code, out, _ = run(capsys, "workspace", "--out", str(tmp_path / "ws"), "--n", "5", "--json")
     assert code == 0 and json.loads(out)["points"] == 125
     assert (tmp_path / "ws" / "workspace.png").stat().st_size > 1000
-    code, out, _ = run(capsys, "plan", "--pipe", "straight", "--length", "200", "--step", "20",
-                       "--out", str(tmp_path / "p"), "--json")
+    code, out, _ = run(
+        capsys,
+        "plan",
+        "--pipe",
+        "straight",
+        "--length",
+        "200",
+        "--step",
+        "20",
+        "--out",
+        str(tmp_path / "p"),
+        "--json",
+    )
     data = json.loads(out)
     assert code == 0 and data["success"]
     for g in data["gait"]:
@@ -82,8 +110,13 @@ def test_identify_from_csv(capsys, tmp_path):
     a = prototype_epsa(1)
     P, W, y = synthetic_table(a, np.arange(10.0, 101.0, 10.0), [0.0, 1.0, 2.0])
     path = tmp_path / "t.csv"
-    np.savetxt(path, np.column_stack([P, W, y]), delimiter=",", comments="",
-               header="pressure_kpa,load_n,extension_mm")
+    np.savetxt(
+        path,
+        np.column_stack([P, W, y]),
+        delimiter=",",
+        comments="",
+        header="pressure_kpa,load_n,extension_mm",
+    )
     code, out, _ = run(capsys, "identify", "--table", str(path), "--json")
     data = json.loads(out)
     assert code == 0
@@ -94,10 +127,24 @@ def test_identify_from_csv(capsys, tmp_path):
 
 
 def test_continuous_elbow_plan(capsys, tmp_path):
-    code, out, _ = run(capsys, "plan", "--pipe", "elbow", "--bend-radius", "80", "--search",
-                       "continuous", "--cycles", "12", "--out", str(tmp_path), "--json")
+    code, out, _ = run(
+        capsys,
+        "plan",
+        "--pipe",
+        "elbow",
+        "--bend-radius",
+        "80",
+        "--search",
+        "continuous",
+        "--cycles",
+        "12",
+        "--out",
+        str(tmp_path),
+        "--json",
+    )
     data = json.loads(out)
     assert code == 0 and data["success"] and data["search"] == "continuous"
-    assert all(g["pressures_kpa"][1] == g["pressures_kpa"][2] for g in data["gait"]
-               if g["phase"] == "inflate")
+    assert all(
+        g["pressures_kpa"][1] == g["pressures_kpa"][2] for g in data["gait"] if g["phase"] == "inflate"
+    )
     assert (tmp_path / "gait.csv").exists()

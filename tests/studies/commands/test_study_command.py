@@ -1,4 +1,5 @@
 """`softcrawl study` with a fake simulator (no FE): outputs, optimiser, input errors."""
+
 from __future__ import annotations
 
 import csv
@@ -6,15 +7,28 @@ import csv
 import pytest
 
 pytest.importorskip("optuna")
-from studies.cli import main  # noqa: E402
+from studies.cli import main
 
 FAKE = "tests.studies.fakes:fake_simulate"
 
 
 def test_sweep_outputs_every_grid_point_with_status(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("SOFTCRAWL_FAKE_DIVERGE", "1")
-    assert main(["study", "chamber-radius", "--quick", "--simulator", FAKE, "--out",
-                 str(tmp_path), "--no-progress"]) == 0
+    assert (
+        main(
+            [
+                "study",
+                "chamber-radius",
+                "--quick",
+                "--simulator",
+                FAKE,
+                "--out",
+                str(tmp_path),
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
     folder = tmp_path / "chamber-radius" / "ecoflex-00-50-quick"
     rows = list(csv.DictReader(open(folder / "curves.csv")))
     assert {float(r["chamber_radius"]) for r in rows} == {2.0, 3.0, 4.0, 5.0, 6.0}
@@ -30,8 +44,23 @@ def test_sweep_outputs_every_grid_point_with_status(tmp_path, monkeypatch, capsy
 
 
 def test_optimise_actuator_marks_table1(tmp_path, capsys):
-    assert main(["study", "optimise-actuator", "--quick", "--trials", "8", "--simulator", FAKE,
-                 "--out", str(tmp_path), "--no-progress"]) == 0
+    assert (
+        main(
+            [
+                "study",
+                "optimise-actuator",
+                "--quick",
+                "--trials",
+                "8",
+                "--simulator",
+                FAKE,
+                "--out",
+                str(tmp_path),
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
     folder = tmp_path / "optimise-actuator" / "ecoflex-00-50-quick"
     rows = list(csv.DictReader(open(folder / "trials.csv")))
     assert len(rows) == 8
@@ -42,18 +71,36 @@ def test_optimise_actuator_marks_table1(tmp_path, capsys):
     assert any(r["pareto"] == "True" for r in rows)
     assert (folder / "pareto.png").stat().st_size > 10_000
     # resume: the budget is already spent, nothing new
-    assert main(["study", "optimise-actuator", "--quick", "--trials", "8", "--simulator", FAKE,
-                 "--out", str(tmp_path), "--no-progress"]) == 0
+    assert (
+        main(
+            [
+                "study",
+                "optimise-actuator",
+                "--quick",
+                "--trials",
+                "8",
+                "--simulator",
+                FAKE,
+                "--out",
+                str(tmp_path),
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
     assert len(list(csv.DictReader(open(folder / "trials.csv")))) == 8
     assert "Table 1 design" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("argv, parameter", [
-    (["--material", "nope"], "material"),
-    (["--workers", "0"], "workers"),
-    (["--simulator", "nocolon"], "simulator"),
-    (["--storage", "study.db"], "storage"),
-])
+@pytest.mark.parametrize(
+    "argv, parameter",
+    [
+        (["--material", "nope"], "material"),
+        (["--workers", "0"], "workers"),
+        (["--simulator", "nocolon"], "simulator"),
+        (["--storage", "study.db"], "storage"),
+    ],
+)
 def test_input_errors_exit_2(tmp_path, capsys, argv, parameter):
     assert main(["study", "fiber-turns", "--out", str(tmp_path), *argv]) == 2
     err = capsys.readouterr().err
@@ -61,8 +108,23 @@ def test_input_errors_exit_2(tmp_path, capsys, argv, parameter):
 
 
 def test_optimiser_failed_trials_are_results_not_tracebacks(tmp_path, capfd):
-    assert main(["study", "optimise-actuator", "--quick", "--trials", "10", "--simulator",
-                 "tests.studies.fakes:limited_simulate", "--out", str(tmp_path), "--no-progress"]) == 0
+    assert (
+        main(
+            [
+                "study",
+                "optimise-actuator",
+                "--quick",
+                "--trials",
+                "10",
+                "--simulator",
+                "tests.studies.fakes:limited_simulate",
+                "--out",
+                str(tmp_path),
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
     rows = list(csv.DictReader(open(tmp_path / "optimise-actuator" / "ecoflex-00-50-quick" / "trials.csv")))
     failed = [r for r in rows if r["trial_status"] == "failed"]
     assert failed and all("does not reach 100 kPa" in r["reason"] for r in failed)

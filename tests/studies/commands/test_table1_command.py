@@ -1,4 +1,5 @@
 """`softcrawl table1` from study outputs made with a fake simulator (no FE)."""
+
 from __future__ import annotations
 
 import csv
@@ -6,15 +7,30 @@ import csv
 import pytest
 
 pytest.importorskip("optuna")
-from studies.cli import main  # noqa: E402
+from studies.cli import main
 
 PAPER_LIKE = "tests.studies.fakes:paper_like_simulate"
 FAKE = "tests.studies.fakes:fake_simulate"
 
 
 def _study(tmp_path, name, material, simulator):
-    assert main(["study", name, "--quick", "--material", material, "--simulator", simulator,
-                 "--out", str(tmp_path), "--no-progress"]) == 0
+    assert (
+        main(
+            [
+                "study",
+                name,
+                "--quick",
+                "--material",
+                material,
+                "--simulator",
+                simulator,
+                "--out",
+                str(tmp_path),
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
 
 
 def _row(md: str, label: str) -> list[str]:

@@ -1,4 +1,5 @@
 """Study runner: resumable, exactly-once, failure-tolerant sweeps (fake evaluators, no FE)."""
+
 from __future__ import annotations
 
 import multiprocessing as mp
@@ -19,9 +20,13 @@ FAKE = "tests.studies.fakes:fake_simulate"
 
 
 def _spec(tmp_path, radii=(2.0, 3.0, 4.0, 5.0, 6.0), turns=(0,), simulate=FAKE, **kw):
-    return SweepSpec(name="t", grid={"chamber_radius": radii, "fiber_turns": turns},
-                     out_dir=str(tmp_path), settings={"material": "fake", "simulate": simulate},
-                     **kw)
+    return SweepSpec(
+        name="t",
+        grid={"chamber_radius": radii, "fiber_turns": turns},
+        out_dir=str(tmp_path),
+        settings={"material": "fake", "simulate": simulate},
+        **kw,
+    )
 
 
 def _complete_counts(spec):
@@ -42,7 +47,8 @@ def test_sweep_completes_every_point_once(tmp_path, monkeypatch):
     assert len(trial.user_attrs["rows"]) == 6 and "extension_mm" in trial.user_attrs["metrics"]
     # extension is measured from the 0 kPa reference row (here 103 mm, seal head included)
     assert trial.user_attrs["metrics"]["extension_mm"] == pytest.approx(
-        trial.user_attrs["rows"][-1]["length_mm"] - trial.user_attrs["rows"][0]["length_mm"])
+        trial.user_attrs["rows"][-1]["length_mm"] - trial.user_attrs["rows"][0]["length_mm"]
+    )
     # running again computes nothing
     runner.run_sweep(spec, progress=False)
     assert len((tmp_path / "log").read_text().splitlines()) == 5
@@ -68,11 +74,17 @@ def test_failed_and_invalid_designs_do_not_stop_the_sweep(tmp_path, monkeypatch)
     failed = study.get_trials(states=(TrialState.FAIL,))
     assert len(failed) == 2 and all("failure" in t.user_attrs for t in failed)
     # an invalid design that the grid itself produces (chamber radius >= outer radius)
-    spec2 = SweepSpec(name="bad", grid={"chamber_radius": (3.0, 9.5)}, out_dir=str(tmp_path / "b"),
-                      settings={"simulate": FAKE})
+    spec2 = SweepSpec(
+        name="bad",
+        grid={"chamber_radius": (3.0, 9.5)},
+        out_dir=str(tmp_path / "b"),
+        settings={"simulate": FAKE},
+    )
     rows2 = runner.run_sweep(spec2, progress=False)
     assert [r["trial_status"] for r in rows2 if r["chamber_radius"] == 9.5] == ["failed"]
-    assert "must be smaller than outer_radius" in [r for r in rows2 if r["chamber_radius"] == 9.5][0]["reason"]
+    assert (
+        "must be smaller than outer_radius" in [r for r in rows2 if r["chamber_radius"] == 9.5][0]["reason"]
+    )
     # failed evaluations are results: a restart does not recompute them
     runner.run_sweep(spec, progress=False)
     assert len(runner.open_study(spec).get_trials(states=(TrialState.FAIL,))) == 2
@@ -80,8 +92,7 @@ def test_failed_and_invalid_designs_do_not_stop_the_sweep(tmp_path, monkeypatch)
     monkeypatch.delenv("SOFTCRAWL_FAKE_DIVERGE")
     rows = runner.run_sweep(spec, progress=False, retry=True)
     status = {r["chamber_radius"]: r["trial_status"] for r in rows}
-    assert status == {2.0: "completed", 3.0: "completed", 4.0: "failed", 5.0: "completed",
-                      6.0: "completed"}
+    assert status == {2.0: "completed", 3.0: "completed", 4.0: "failed", 5.0: "completed", 6.0: "completed"}
     assert len(runner.open_study(spec).get_trials()) == 7  # 5 + the two retried points
 
 
@@ -93,8 +104,7 @@ def test_killed_worker_resumes_without_loss_or_duplicates(tmp_path, monkeypatch)
     log = tmp_path / "log"
     monkeypatch.setenv("SOFTCRAWL_FAKE_LOG", str(log))
     monkeypatch.setenv("SOFTCRAWL_FAKE_SLEEP", "0.6")
-    spec = _spec(tmp_path, radii=(2.0, 3.0, 4.0), turns=(0, 20), heartbeat_interval=1,
-                 grace_period=2)
+    spec = _spec(tmp_path, radii=(2.0, 3.0, 4.0), turns=(0, 20), heartbeat_interval=1, grace_period=2)
     study = runner.open_study(spec)
     proc = mp.get_context("spawn").Process(target=_worker, args=(spec.to_dict(),))
     proc.start()
