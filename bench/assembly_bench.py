@@ -59,22 +59,16 @@ def main(argv=None):
         f"dofs={model.n_dofs} SOFTCRAWL_THREADS={os.environ.get('SOFTCRAWL_THREADS', '-')}"
     )
     parts = {}
-    stress = model._stress(x)
-    parts["_stress"] = lambda: model._stress(x)
-    if hasattr(model.pattern, "assemble_values"):  # element matrices into one flat array
-        values = model.pattern.new_values()
-        blocks = model.pattern.views(values)
-        parts["_element_residual"] = lambda: model._element_residual(stress)
-        parts["_element_tangent"] = lambda: model._element_tangent(stress, blocks)
-        parts["new_values"] = model.pattern.new_values
-        assemble = lambda: model.pattern.assemble_values(values)  # noqa: E731
-    else:  # before issue 3
-        parts["_element_residual"] = lambda: model._element_residual(x, stress)
-        parts["_element_tangent"] = lambda: model._element_tangent(x, stress)
-        blocks = [model._element_tangent(x, stress), -P * model._chamber_load(x, True)[1]]
-        assemble = lambda: model.pattern.assemble(blocks)  # noqa: E731
-    parts["_chamber_load(tangent)"] = lambda: model._chamber_load(x, True)
-    parts["pattern scatter"] = assemble
+    solid, chamber = model.solid, model.chambers[0]
+    stress = solid.stress(x)
+    parts["solid.stress"] = lambda: solid.stress(x)
+    values = model.pattern.new_values()
+    blocks = model.pattern.views(values)
+    parts["solid.element_residual"] = lambda: solid.element_residual(stress)
+    parts["solid.element_tangent"] = lambda: solid.element_tangent(stress, blocks)
+    parts["new_values"] = model.pattern.new_values
+    parts["chamber.load(tangent)"] = lambda: chamber.load(x, True)
+    parts["pattern scatter"] = lambda: model.pattern.assemble_values(values)
 
     def fresh(fn):  # forget the state remembered from the last call
         def run():
@@ -85,8 +79,7 @@ def main(argv=None):
 
     parts["residual"] = fresh(lambda: model.residual(x, P))
     parts["residual_and_tangent"] = fresh(lambda: model.residual_and_tangent(x, P))
-    if hasattr(model, "_memo"):
-        parts["  same x as a residual"] = lambda: model.residual_and_tangent(x, P)
+    parts["  same x as a residual"] = lambda: model.residual_and_tangent(x, P)
     R, K = model.residual_and_tangent(x, P)
     solver = LinearSolver()
     solver.factor(K)

@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 def newton_matrix(cells=(5, 8, 16)):
     from solver_bench import K_OVER_MU, LENGTH, MU, A, B
 
-    from fem.mechanics import Dirichlet, SolidModel
+    from fem.model import ChamberSpec, Dirichlet, SolidModel
     from fem.neohooke import NeoHookean
     from fem.structured import tube_sector
 
@@ -39,8 +39,7 @@ def newton_matrix(cells=(5, 8, 16)):
         mesh,
         NeoHookean.nearly_incompressible(MU, K_OVER_MU),
         dirichlet=bcs,
-        chamber=("inner",),
-        volume_weights=(1, 1, 0),
+        chambers=ChamberSpec(("inner",), (1, 1, 0)),
     )
     R, K = model.residual_and_tangent(model.initial_state(), 0.004)
     return K, R[model.free_dofs]

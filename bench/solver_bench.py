@@ -53,7 +53,7 @@ def tube_model(points, tets):
     """The softcrawl model of the benchmark tube on the given linear mesh (midside nodes curved)."""
     import skfem
 
-    from fem.mechanics import Dirichlet, SolidModel
+    from fem.model import ChamberSpec, Dirichlet, SolidModel
     from fem.neohooke import NeoHookean
     from fem.structured import _curve, _tag
 
@@ -83,8 +83,7 @@ def tube_model(points, tets):
         mesh,
         NeoHookean.nearly_incompressible(MU, K_OVER_MU),
         dirichlet=bcs,
-        chamber=("inner",),
-        volume_weights=(1, 1, 0),
+        chambers=ChamberSpec(("inner",), (1, 1, 0)),
     )
 
 

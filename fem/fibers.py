@@ -42,6 +42,17 @@ from fem.errors import SolverInputError
 
 
 @dataclass(frozen=True)
+class FiberLines:
+    """Fibers to embed: reference polylines (each (n, 3), mm), Young's modulus (MPa), diameter
+    (mm), and whether they carry tension only."""
+
+    polylines: tuple = field(repr=False)
+    youngs: float
+    diameter: float
+    tension_only: bool = False
+
+
+@dataclass(frozen=True)
 class FiberSet:
     """Fiber polylines embedded in a P2 basis (all arrays concern fiber points or segments)."""
 
@@ -64,16 +75,14 @@ class FiberSet:
         return self.segments.shape[0]
 
 
-def embed(
-    basis: skfem.CellBasis,
-    polylines,
-    *,
-    youngs: float,
-    diameter: float,
-    tension_only: bool = False,
-    max_outside: float = 0.05,
-) -> FiberSet:
+def embed(basis: skfem.CellBasis, lines: FiberLines, max_outside: float = 0.05) -> FiberSet:
     """Locate every polyline point in `basis` (scalar ElementTetP2) and build the fiber set."""
+    polylines, youngs, diameter, tension_only = (
+        lines.polylines,
+        lines.youngs,
+        lines.diameter,
+        lines.tension_only,
+    )
     if not np.isfinite(youngs) or youngs <= 0:
         raise SolverInputError("fiber_youngs", f"must be positive, got {youngs} MPa")
     if not np.isfinite(diameter) or diameter <= 0:

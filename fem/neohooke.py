@@ -5,7 +5,7 @@ Decoupled (isochoric/volumetric) Neo-Hookean solid with shear modulus mu and bul
     W(F) = mu/2 (J^{-2/3} I1 - 3) + K/2 (J - 1)^2,     I1 = F:F,  J = det F,  H = F^{-T}.
 
 Small K/mu is a compressible solid; K/mu >= 1000 is the nearly incompressible silicone. The split
-lets the mixed u-p formulation (`fem.mechanics`) replace the volumetric part by an independent
+lets the mixed u-p formulation (`fem.model`) replace the volumetric part by an independent
 pressure p: W_mixed = W_iso + p (J - 1) - p^2 / (2K).
 
 Isochoric part (derivatives with dJ/dF = J H, dH_iJ/dF_kL = -H_iL H_kJ):

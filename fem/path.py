@@ -41,7 +41,7 @@ import numpy as np
 
 from fem.errors import SolverInputError
 from fem.linsolve import LinearSolver
-from fem.mechanics import InvertedElement, SolidModel
+from fem.model import InvertedElement, SolidModel
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -187,8 +187,8 @@ class _Solver:
         constraint residual is below tol x the solid volume (it has units of volume)."""
         m = self.model
         fint = R[: m.n_u] + f * m.dead_load[: m.n_u]
-        if m.chamber:
-            fint = fint + P * m.pressure_load(x)[: m.n_u]
+        if m.chambers:
+            fint = fint + m.pressure_force(x, P)[: m.n_u]
         scale = max(np.linalg.norm(fint), abs(P) * self._q0_norm, abs(f) * self._dead_norm, _force_floor(m))
         merit = float(np.linalg.norm(R[self.free_u]) / scale)
         p_ok = (not m.mixed) or np.linalg.norm(R[m.n_u :]) <= self.opt.tol * self._volume
@@ -287,7 +287,7 @@ def load_path(
             record, n_sub = _advance(solver, history, target, opt)
         except _Diverged as exc:
             load = history.load
-            if not model.chamber or target[0] <= load[0]:
+            if not model.chambers or target[0] <= load[0]:
                 return _failed(steps, events, solver, t0, load, str(exc))
             # Pressure control cannot advance: volume control from the last converged state,
             # through the remaining targets (module docstring).
@@ -347,6 +347,7 @@ def _advance(solver, history, end, opt):
                 raise
             continue
         history.accept(x_new, load)
+        solver.model.commit(x_new)
         t = s
         n_sub += 1
         if record.iterations <= 6:
@@ -354,6 +355,7 @@ def _advance(solver, history, end, opt):
     if record is None:  # zero-length segment
         x_new, record = solver.load_step(history.x, *end)
         history.accept(x_new, end)
+        solver.model.commit(x_new)
     return record, n_sub
 
 
@@ -408,11 +410,13 @@ def _volume_continuation(solver, history, remaining, steps, events, opt, t0):
                     break
                 lo, hi = ((Vs, P_hit), hi) if P_hit < target else (lo, (Vs, P_hit))
             vh.accept(x_hit, (P_hit, f), V_hit)
+            m.commit(x_hit)
             steps.append(Step(P_hit, f, V_hit, x_hit, "volume", rec_hit))
             samples.append((V_hit, P_hit))
             pending.pop(0)
             continue
         vh.accept(x_new, (P_new, f), V_new)
+        m.commit(x_new)
         samples.append((V_new, P_new))
         if (
             peak is None
@@ -472,7 +476,7 @@ def volume_path(
 ) -> PathResult:
     """Prescribe the cavity volume through `volumes` (mm^3); the pressure is an unknown."""
     opt = options or NewtonOptions()
-    if not model.chamber:
+    if not model.chambers:
         raise SolverInputError("chamber", "volume control needs a chamber surface")
     solver = _Solver(model, opt)
     t0 = time.perf_counter()
@@ -497,6 +501,7 @@ def volume_path(
                     return _failed(steps, events, solver, t0, (P, factor), str(exc), volume=V)
                 continue
             x, P, t = x_new, P_new, t + h
+            model.commit(x)
             V = start_V + t * (Vt - start_V)
         steps.append(Step(P, factor, V, x, "volume", record))
         if best is None or P > best:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.mechanics import SolidModel
+from fem.model import SolidModel
 from fem.neohooke import cauchy_stress, det3, inv_transpose3, iso_stress, principal_stretches, von_mises
 
 

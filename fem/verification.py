@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fem import analytic
-from fem.mechanics import Dirichlet, SolidModel
+from fem.model import ChamberSpec, Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import NewtonOptions, load_path, volume_path
 from fem.structured import box, sphere_octant, tube_sector
@@ -229,9 +229,8 @@ def tube_model(
         mesh,
         NeoHookean.nearly_incompressible(MU, k_over_mu),
         dirichlet=bcs,
-        chamber=("inner",),
+        chambers=ChamberSpec(("inner",), (1, 1, 0)),
         formulation=formulation,
-        volume_weights=(1, 1, 0),
         fiber_sheets=fiber_sheets,
     )
 
@@ -294,7 +293,7 @@ def sphere_model(inner=5.0, outer=7.5, n_radial=3, n_surface=4, k_over_mu=1000.0
         mesh,
         NeoHookean.nearly_incompressible(MU, k_over_mu),
         dirichlet=bcs,
-        chamber=("inner",),
+        chambers=("inner",),
         formulation=formulation,
     )
 

@@ -12,7 +12,7 @@ from xml.sax.saxutils import quoteattr
 import meshio
 import numpy as np
 
-from fem.mechanics import SolidModel
+from fem.model import SolidModel
 from fem.post import element_fields
 
 

@@ -187,7 +187,8 @@ def build_model(
     whether the free actuator bends over. The smeared sheet is mirror-symmetric, so without it a
     Newton path can follow the straight (unstable) branch past a bending bifurcation; the helix
     ends of the line fibers are a built-in imperfection of this kind."""
-    from fem.mechanics import Dirichlet, SolidModel
+    from fem.fibers import FiberLines
+    from fem.model import Dirichlet, SolidModel
     from fem.sheets import FiberSheet
     from geometry.epsa_shape import helix_families
     from geometry.swept import mesh_epsa_swept
@@ -237,10 +238,10 @@ def build_model(
         tagged.to_skfem(order=2),
         materials,
         dirichlet=bcs,
-        chamber=("chamber_wall", "chamber_ends"),
-        fibers=(tagged.fibers or None) if lines else None,
-        fiber_youngs=kevlar.youngs_modulus,
-        fiber_diameter=design.fiber_diameter,
+        chambers=("chamber_wall", "chamber_ends"),
+        fibers=FiberLines(tagged.fibers, kevlar.youngs_modulus, design.fiber_diameter)
+        if lines and tagged.fibers
+        else None,
         dead_loads=dead_loads,
         fiber_sheets=sheets,
     )

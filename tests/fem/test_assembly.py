@@ -1,4 +1,4 @@
-"""The vectorised assembly of `fem.mechanics` against a plain einsum of the 81-component tangent
+"""The vectorised assembly of `fem.model` against a plain einsum of the 81-component tangent
 on a distorted mesh with a random state (several chunkings, so the threaded chunk loop is covered),
 and its tangent against central differences of the residual (chamber pressure and "p2")."""
 
@@ -7,9 +7,10 @@ import pytest
 import scipy.sparse as sp
 import skfem
 
-import fem.mechanics as mech
+import fem.solid as mech
 from fem import verification as V
-from fem.mechanics import Dirichlet, SolidModel
+from fem.discretisation import element_first
+from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean, det3, inv_transpose3, iso_stress, mixed_tangent
 
 
@@ -33,16 +34,17 @@ def distorted_box_model(formulation):
 
 def reference(model, x):
     """Element residuals and matrices straight from `fem.neohooke`, assembled on all dofs."""
-    dN, dx, mu, K = model.dN, model.dx, model.mu, model.bulk
-    ue = x[: model.n_u].reshape(-1, 3)[model.node_dofs]  # (10, E, 3)
+    dN, dx, mu, K = model.space.dN, model.dx, model.mu, model.bulk
+    node_dofs = model.space.node_dofs
+    ue = x[: model.n_u].reshape(-1, 3)[node_dofs]  # (10, E, 3)
     F = np.einsum("aei,aJeq->iJeq", ue, dN) + np.eye(3)[:, :, None, None]
     J, H = det3(F), inv_transpose3(F)
-    p = np.einsum("ce,ceq->eq", x[model.p_dofs], model.Np) if model.mixed else K * (J - 1)
+    p = np.einsum("ce,ceq->eq", x[model.p_dofs], model.space.Np) if model.mixed else K * (J - 1)
     A = mixed_tangent(F, mu, p, J, H)
     if not model.mixed:
         A = A + K * J * J * H[:, :, None, None] * H[None, None]
     P = iso_stress(F, mu, J, H) + p * J * H
-    u_dofs = 3 * model.node_dofs[:, None, :] + np.arange(3)[None, :, None]  # (10, 3, E)
+    u_dofs = 3 * node_dofs[:, None, :] + np.arange(3)[None, :, None]  # (10, 3, E)
     rows, cols, vals = [], [], []
 
     def add(block, r, c):  # block (E, nr, nc); r (nr, E), c (nc, E)
@@ -55,7 +57,7 @@ def reference(model, x):
     R = np.zeros(model.n_dofs)
     np.add.at(R, u.ravel(), np.einsum("aJeq,iJeq,eq->aie", dN, P, dx).reshape(30, -1).ravel())
     if model.mixed:
-        Np = model.Np
+        Np = model.space.Np
         Kup = np.einsum("aJeq,iJeq,ceq,eq->eaic", dN, J * H, Np, dx).reshape(-1, 30, 4)
         add(Kup, u, model.p_dofs)
         add(Kup.transpose(0, 2, 1), model.p_dofs, u)
@@ -134,12 +136,13 @@ def test_chamber_tangent_matches_the_plain_einsum():
     rng = np.random.default_rng(4)
     x = model.initial_state()
     x[: model.n_u] = 2e-2 * rng.standard_normal(model.n_u)
-    _, dq = model._chamber_load(x, True)
-    F = model.deformation_gradient(x, model.f_dN, model.f_node_dofs)
+    chamber = model.chambers[0]
+    _, dq = chamber.load(x, True)
+    F = model.space.deformation_gradient(x, element_first(chamber.dN), chamber.node_dofs.T)
     J = det3(F)
     H = cofactor3(F) / J
-    Nn = model.f_normal
+    Nn = chamber.normal
     HN = np.einsum("iJfq,Jfq->ifq", H, Nn)
     D = -J * (np.einsum("ifq,klfq->iklfq", HN, H) - np.einsum("iLfq,kJfq,Jfq->ikLfq", H, H, Nn))
-    ref = np.einsum("afq,ikLfq,bLfq,fq->faibk", model.f_N, D, model.f_dN, model.f_dx).reshape(-1, 30, 30)
+    ref = np.einsum("afq,ikLfq,bLfq,fq->faibk", chamber.N, D, chamber.dN, chamber.dx).reshape(-1, 30, 30)
     assert np.abs(dq - ref).max() <= 1e-12 * np.abs(ref).max()

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from fem.errors import SolverInputError
-from fem.mechanics import Dirichlet, SolidModel
+from fem.fibers import FiberLines
+from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import load_path
 from fem.structured import box
@@ -27,9 +28,7 @@ def bar_force(fibers, E_f=100.0, d_f=0.1, strain=1e-4):
         mesh,
         NeoHookean.nearly_incompressible(MU, 1000.0),
         dirichlet=bcs,
-        fibers=fibers,
-        fiber_youngs=E_f,
-        fiber_diameter=d_f,
+        fibers=FiberLines(fibers, E_f, d_f),
     )
     res = load_path(model, [(0.0, 1.0)], control="displacement")
     assert res.converged

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from fem import verification as V
-from fem.mechanics import Dirichlet, SolidModel
+from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import load_path
 from fem.post import actuator_length, element_fields, max_principal_stretch, outer_radius_at

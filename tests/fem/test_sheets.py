@@ -7,7 +7,7 @@ import pytest
 from fem import sheets
 from fem import verification as V
 from fem.errors import SolverInputError
-from fem.mechanics import Dirichlet, SolidModel
+from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.sheets import FiberSheet
 from fem.structured import box
@@ -51,7 +51,7 @@ def test_sheet_tangent_is_the_derivative_of_the_residual():
     model = SolidModel(
         mesh,
         NeoHookean.nearly_incompressible(0.03, 50.0),
-        chamber=("inner",),
+        chambers=("inner",),
         dirichlet=[Dirichlet.fixed("bottom")],
         fiber_sheets=families,
     )

@@ -5,7 +5,7 @@ import pytest
 
 from fem import verification as V
 from fem.errors import SolverInputError
-from fem.mechanics import Dirichlet, SolidModel
+from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import NewtonOptions, load_path
 from fem.structured import box

@@ -1,0 +1,28 @@
+r"""Dead loads: a total force on a boundary, spread over its reference area (a weight).
+
+f_dead = sum_tag (F_tag / A_tag) int_tag N_a dA on the displacement dofs (A_tag: reference
+area). A dead traction keeps its direction and magnitude as the body deforms, like a weight; it
+is scaled by the load factor f of the path, like the prescribed displacements, and adds nothing
+to the tangent: R = f_int - P q - f f_dead.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import skfem
+
+from fem.discretisation import Discretisation
+from fem.errors import SolverInputError
+
+
+def dead_load_vector(space: Discretisation, dead_loads) -> np.ndarray:
+    """f_dead on all dofs of `space` for `dead_loads`, a mapping tag -> (Fx, Fy, Fz) in N."""
+    out = np.zeros(space.n_dofs)
+    for tag, force in (dead_loads or {}).items():
+        facets = space.boundary(tag, "dead_loads")
+        force = np.asarray(force, dtype=float)
+        if force.shape != (3,) or not np.all(np.isfinite(force)):
+            raise SolverInputError("dead_loads", f"{tag}: give a finite total force (Fx, Fy, Fz) in N")
+        weights = skfem.asm(skfem.LinearForm(lambda v, w: v), space.facet_basis(facets))  # int N_a dA
+        out[: space.n_u] += (weights[:, None] * force[None, :] / weights.sum()).reshape(-1)
+    return out

@@ -1,0 +1,281 @@
+r"""A meshed solid with its loads: the residual and consistent tangent that Newton's method needs.
+
+The model composes one mechanics item per module:
+
+    Discretisation   P2 displacements (+ P1 pressures)            `fem.discretisation`
+    Constraints      Dirichlet conditions, condensed out          `fem.dirichlet`
+    Solid            the hyperelastic body                         `fem.solid`
+    terms            chamber pressures (`fem.chamber`), embedded fiber lines (`fem.fibers`),
+                     fiber sheets (`fem.sheets`)
+    dead loads       a constant force vector                       `fem.dead_load`
+
+and assembles, at a state x and a load (P, f) (chamber pressures P, MPa, one per chamber or one
+for all; load factor f of the prescribed displacements and dead loads),
+
+    R(x) = f_int(x) + sum_terms r_t(x, P) - f f_dead,      K = dR/dx on the free dofs.
+
+A term (fibers, sheets, and later contact) is an object with `dofs` (n_local, n_items) and
+`arrays(x, pressures, with_tangent)` returning its item residuals (n_local, n_items) and item
+tangents (n_items, n_local, n_local) (None without the tangent); a term with a history (contact)
+also has `commit(x)`, which the path calls once a state has converged. The chambers' follower
+pressures are assembled beside the terms, because their load vectors are also needed alone
+(volume control, convergence test). All element blocks go into one fixed sparsity pattern
+(`fem.pattern`); the constrained dofs are condensed out through it. Reactions are the residual
+on the constrained dofs: at equilibrium f_int = P q + f f_dead + f_support.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from fem import sheets
+from fem.chamber import Chamber, ChamberSpec
+from fem.dead_load import dead_load_vector
+from fem.dirichlet import Constraints, Dirichlet
+from fem.discretisation import FORMULATIONS, Discretisation
+from fem.errors import SolverInputError
+from fem.fibers import FiberLines, element_arrays, embed, fiber_state, segment_dofs, segment_forces
+from fem.pattern import Pattern
+from fem.solid import InvertedElement, Solid
+
+__all__ = ["FORMULATIONS", "ChamberSpec", "Dirichlet", "InvertedElement", "SolidModel"]
+
+
+class _LineFiberTerm:
+    """Embedded truss fibers (`fem.fibers`): segment residuals and tangents."""
+
+    def __init__(self, fibers, n_u: int) -> None:
+        self.fibers, self.n_u, self.dofs = fibers, n_u, segment_dofs(fibers)
+
+    def arrays(self, x, pressures, with_tangent):
+        return element_arrays(self.fibers, x[: self.n_u].reshape(-1, 3), with_tangent)
+
+
+class _SheetTerm:
+    """Fiber sheets (`fem.sheets`): facet residuals and tangents."""
+
+    def __init__(self, quadrature, n_u: int) -> None:
+        self.quadrature, self.n_u, self.dofs = quadrature, n_u, quadrature.dofs
+
+    def arrays(self, x, pressures, with_tangent):
+        return sheets.element_arrays(self.quadrature, x[: self.n_u].reshape(-1, 3), with_tangent)
+
+
+def _chamber_specs(chambers) -> list[ChamberSpec]:
+    """`chambers`: None, one ChamberSpec, the tags of one chamber, or a sequence of ChamberSpec."""
+    if not chambers:
+        return []
+    if isinstance(chambers, ChamberSpec):
+        return [chambers]
+    if isinstance(chambers, str):
+        return [ChamberSpec((chambers,))]
+    items = list(chambers)
+    if all(isinstance(c, str) for c in items):
+        return [ChamberSpec(tuple(items))]
+    if all(isinstance(c, ChamberSpec) for c in items):
+        return items
+    raise SolverInputError("chambers", "give the tags of one chamber or a sequence of ChamberSpec")
+
+
+class SolidModel:
+    """A meshed solid with materials, Dirichlet conditions, chamber pressures, fibers, dead loads.
+
+    mesh: `skfem.MeshTet` (straight) or `skfem.MeshTet2` (curved), with named `boundaries`.
+    materials: one `NeoHookean`, or a mapping subdomain name -> `NeoHookean`.
+    dirichlet: `Dirichlet` conditions. chambers: see `_chamber_specs` (None: no pressure load).
+    fibers: `fem.fibers.FiberLines` (embedded truss fibers; none when None or empty).
+    fiber_sheets: `fem.sheets.FiberSheet` families smeared over boundary surfaces (the homogenised
+        winding, which converges under mesh refinement).
+    dead_loads: mapping boundary tag -> total force (Fx, Fy, Fz) in N.
+    """
+
+    def __init__(
+        self,
+        mesh,
+        materials,
+        *,
+        dirichlet: Sequence[Dirichlet] = (),
+        chambers=None,
+        formulation: str = "p2p1",
+        intorder: int = 2,
+        fibers: FiberLines | None = None,
+        fiber_sheets: Sequence = (),
+        dead_loads=None,
+    ) -> None:
+        self.space = Discretisation(mesh, formulation, intorder)
+        self.solid = Solid(self.space, materials)
+        self.constraints = Constraints(self.space, dirichlet)
+        self.chambers = [Chamber(self.space, spec) for spec in _chamber_specs(chambers)]
+        has_lines = fibers is not None and len(fibers.polylines or ()) > 0
+        self.fibers = embed(self.space.basis, fibers) if has_lines else None
+        self.sheets = sheets.build(mesh, fiber_sheets) if fiber_sheets else None
+        self.terms = []
+        if self.fibers is not None:
+            self.terms.append(_LineFiberTerm(self.fibers, self.space.n_u))
+        if self.sheets is not None:
+            self.terms.append(_SheetTerm(self.sheets, self.space.n_u))
+        self.dead_load = dead_load_vector(self.space, dead_loads)
+        groups = self.solid.groups + [c.u_dofs for c in self.chambers] + [t.dofs for t in self.terms]
+        self.pattern = Pattern(self.constraints.free_index, groups)
+        self._memo = None  # see `_at`
+
+    # ------------------------------------------------------------- the body
+    mesh = property(lambda self: self.space.mesh)
+    mixed = property(lambda self: self.space.mixed)
+    nodes = property(lambda self: self.space.nodes)
+    dx = property(lambda self: self.space.dx)
+    n_u = property(lambda self: self.space.n_u)
+    n_p = property(lambda self: self.space.n_p)
+    n_dofs = property(lambda self: self.space.n_dofs)
+    p_dofs = property(lambda self: self.space.p_dofs)
+    mu = property(lambda self: self.solid.mu)
+    bulk = property(lambda self: self.solid.bulk)
+    free_dofs = property(lambda self: self.constraints.free_dofs)
+    fixed_dofs = property(lambda self: self.constraints.fixed_dofs)
+    chamber = property(lambda self: self.chambers[0].tags if self.chambers else ())
+
+    def boundary_nodes(self, tag: str) -> np.ndarray:
+        return self.space.boundary_nodes(tag)
+
+    def initial_state(self) -> np.ndarray:
+        return np.zeros(self.n_dofs)
+
+    def apply_dirichlet(self, x: np.ndarray, factor: float) -> np.ndarray:
+        return self.constraints.apply(x, factor)
+
+    def displacement(self, x: np.ndarray) -> np.ndarray:
+        """Nodal displacements, shape (3, n_nodes)."""
+        return self.space.displacement(x)
+
+    def deformation_gradient(self, x: np.ndarray) -> np.ndarray:
+        """F at the volume quadrature points, shape (3, 3, E, Q)."""
+        return self.space.deformation_gradient(x)
+
+    def pressure_field(self, x: np.ndarray) -> np.ndarray:
+        """Mixed pressure at the quadrature points (E, Q); for "p2", K (J - 1)."""
+        return self.solid.pressure_field(x)
+
+    def pressures(self, pressure) -> np.ndarray:
+        """One pressure per chamber (MPa) from a scalar (all chambers) or a sequence."""
+        P = np.atleast_1d(np.asarray(pressure, dtype=float))
+        n = len(self.chambers)
+        if P.size == 1:
+            return np.full(n, float(P[0]))
+        if P.size != n:
+            raise SolverInputError("pressure", f"{P.size} pressures for {n} chambers")
+        return P
+
+    # ------------------------------------------------------------ chambers
+    def chamber_volume(self, x: np.ndarray, chamber: int = 0) -> float:
+        """Enclosed cavity volume of a deformed chamber (mm^3); 0 without chambers."""
+        return self.chambers[chamber].volume(x) if self.chambers else 0.0
+
+    def pressure_load(self, x: np.ndarray, chamber: int = 0) -> np.ndarray:
+        """q = dV_cav/du of one chamber on all dofs; its pressure load vector is P q."""
+        if not self.chambers:
+            return np.zeros(self.n_dofs)
+        memo = self._at(x)
+        key = ("q", chamber)
+        if key not in memo:
+            c = self.chambers[chamber]
+            memo[key] = self._scatter(c.load(x, False)[0], c.u_dofs)
+        return memo[key].copy()
+
+    def pressure_force(self, x: np.ndarray, pressure) -> np.ndarray:
+        """sum_i P_i q_i: the chamber pressures' force on all dofs."""
+        P = self.pressures(pressure)
+        out = np.zeros(self.n_dofs)
+        for i in range(len(self.chambers)):
+            if P[i] != 0.0:
+                out += P[i] * self.pressure_load(x, i)
+        return out
+
+    # ----------------------------------------------------------- assembly
+    def _scatter(self, element_values, dofs):
+        return np.bincount(dofs.reshape(-1), weights=element_values.reshape(-1), minlength=self.n_dofs)
+
+    def _at(self, x: np.ndarray) -> dict:
+        """Results that depend on the state only (stress, body force, chamber load vectors),
+        remembered for the last state x: the line search evaluates the residual at the trial
+        state that the next Newton iteration assembles, and the convergence test asks for the
+        pressure load at the state just assembled."""
+        memo = self._memo
+        if memo is None or not np.array_equal(memo["x"], x):
+            memo = self._memo = {"x": x.copy()}
+        return memo
+
+    def _body_force(self, x: np.ndarray, memo: dict):
+        if "f_vol" not in memo:
+            memo["stress"] = self.solid.stress(x)
+            memo["f_vol"] = self.solid.internal_force(memo["stress"])
+        return memo["stress"], memo["f_vol"]
+
+    def internal_force(self, x: np.ndarray) -> np.ndarray:
+        """Body and term forces on all dofs (the constrained ones included), no pressure."""
+        f = self._body_force(x, self._at(x))[1].copy()
+        for term in self.terms:
+            f += self._scatter(term.arrays(x, None, False)[0], term.dofs)
+        return f
+
+    def residual(self, x: np.ndarray, pressure=0.0, factor: float = 0.0) -> np.ndarray:
+        """R = f_int - sum_i P_i q_i - f f_dead on all dofs (the dead loads need no tangent)."""
+        return self.internal_force(x) - self.pressure_force(x, pressure) - factor * self.dead_load
+
+    def residual_and_tangent(self, x: np.ndarray, pressure=0.0, factor: float = 0.0):
+        """Full residual (all dofs) and the tangent on the free dofs (CSR).
+
+        The element matrices of all groups are written straight into one flat array in the
+        pattern's order (`fem.pattern.Pattern.views`), which one `np.bincount` scatters."""
+        P = self.pressures(pressure) if self.chambers else np.zeros(0)
+        values = self.pattern.new_values()
+        blocks = self.pattern.views(values)
+        memo = self._at(x)
+        stress, f_vol = self._body_force(x, memo)
+        R = f_vol - factor * self.dead_load
+        self.solid.element_tangent(stress, blocks)
+        k = len(self.solid.groups)
+        for i, chamber in enumerate(self.chambers):
+            q, dq = chamber.load(x, True)
+            memo[("q", i)] = self._scatter(q, chamber.u_dofs)  # for the convergence test here
+            R -= P[i] * memo[("q", i)]
+            np.multiply(dq, -P[i], out=blocks[k])
+            k += 1
+        for term in self.terms:
+            r, K = term.arrays(x, P, True)
+            R += self._scatter(r, term.dofs)
+            blocks[k][...] = K
+            k += 1
+        return R, self.pattern.assemble_values(values)
+
+    def commit(self, x: np.ndarray) -> None:
+        """A state has converged: terms with a history (contact) update it from x."""
+        for term in self.terms:
+            if hasattr(term, "commit"):
+                term.commit(x)
+
+    # ------------------------------------------------------------ outputs
+    def fiber_tension(self, x: np.ndarray) -> np.ndarray:
+        """Axial force (N) of one fiber: per segment of the line fibers, then per quadrature point
+        of the fiber sheets, E A (lam - 1); empty without fibers."""
+        u = x[: self.n_u].reshape(-1, 3)
+        out = [np.zeros(0)]
+        if self.fibers is not None:
+            out.append(segment_forces(self.fibers, fiber_state(self.fibers, u))[0])
+        if self.sheets is not None:
+            out.append(sheets.fiber_forces(self.sheets, u).reshape(-1))
+        return np.concatenate(out)
+
+    def reaction(self, x: np.ndarray, tag: str, pressure=0.0, factor: float = 0.0) -> np.ndarray:
+        """Total support force (N) on the constrained dofs of boundary `tag`, per component.
+
+        At equilibrium f_int = P q + f f_dead + f_support, so f_support = R(x, P, f) on the
+        constrained dofs."""
+        f = self.residual(x, pressure, factor)
+        nodes = self.boundary_nodes(tag)
+        out = np.zeros(3)
+        for c in range(3):
+            d = 3 * nodes + c
+            out[c] = f[d[np.isin(d, self.fixed_dofs)]].sum()
+        return out
