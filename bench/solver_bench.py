@@ -3,7 +3,7 @@
 Problem (issue 3): the 1/8 thick tube, inner radius 3 mm, outer 9 mm, half-length 50 mm,
 symmetry planes x = 0, y = 0, z = 0 and u_z = 0 at z = 50 (plane strain). Neo-Hookean,
 mu = 0.03 MPa, K = 1000 mu. Follower pressure 0 -> 20 kPa in 5 steps. Error: inner radius
-against the plane-strain analytic solution (DESIGN.md section 6).
+against the plane-strain analytic solution (docs/DESIGN.md section 6).
 
 Each solver runs in its own child process (so its peak resident memory is its own) on the same
 linear tetrahedral mesh; softcrawl curves the edge midpoints onto the cylinders (`fem.structured`),
@@ -89,7 +89,7 @@ def tube_model(points, tets):
 
 def run_softcrawl(points, tets, queue):
     from fem.path import load_path
-    from fem.verification import mean_radius
+    from fem.reference_models import mean_radius
 
     t0 = time.perf_counter()
     model = tube_model(points, tets)

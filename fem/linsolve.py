@@ -1,6 +1,6 @@
 """Sparse direct solvers for the Newton systems, with a measured default.
 
-Candidates (measured by `bench/solver_bench.py`, DESIGN.md section 7): MKL PARDISO through
+Candidates (measured by `bench/solver_bench.py`, docs/DESIGN.md section 7): MKL PARDISO through
 `pypardiso` (a PyPI wheel that brings MKL) and scipy's SuperLU. SuperLU is the pure-scipy
 fallback; it runs with the MMD_AT_PLUS_A ordering and SymmetricMode, which suit the structurally
 symmetric FE matrices (COLAMD, or no SymmetricMode, is 2x-60x slower). `default_solver()` picks

@@ -12,7 +12,7 @@ Residuals (test functions du, dp):
 mu and K are element-wise (a mapping subdomain -> material gives a multi-material body).
 
 Assembly is vectorised over all elements and quadrature points (batched matrix products), never a
-per-basis-function loop: docs/DESIGN.md ("Assembly speed") says why this matters. The pointwise
+per-basis-function loop: docs/DESIGN.md section 7 says why this matters. The pointwise
 algebra (F, J, F^-T, P) runs on contiguous component arrays of the whole mesh; the element
 matrices are built per chunk of elements (temporaries stay in cache) on the assembly threads
 (`fem.parallel`) and written straight into the sparsity pattern's value array, only the upper

@@ -5,7 +5,7 @@ Defaults are the paper's Table 1 (ePSA length 100 mm, radius 9 mm, chamber radiu
 turns, groove height 1 mm, foot radius d = 14 mm, 3 connecting rings) plus dimensions the paper
 gives or implies (Sections II, V, VI):
 
-* Kevlar fiber diameter 0.3 mm (DESIGN.md, section 3).
+* Kevlar fiber diameter 0.3 mm (docs/DESIGN.md, section 3).
 * End caps: the silicone body closes each end of the air chamber with ``end_cap_thickness`` = 5 mm.
   The paper gives no value; 5 mm is close to the 6 mm side wall (R0 - r0), so the ends are not the
   weak spot of the chamber, and leaves 90 % of the body length (90 mm) pressurised.
@@ -25,109 +25,25 @@ s = N sqrt((2 pi R0)^2 + (L / N)^2) = sqrt((2 pi R0 N)^2 + L^2).
 
 from __future__ import annotations
 
-import dataclasses
-import hashlib
-import json
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import ClassVar
 
-from geometry.design_files import read_design_file, to_toml
+from geometry.design_base import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, _Design, check_number
+from geometry.design_files import read_design_file
 from geometry.errors import DesignError
 
-#: Angular positions psi_i of the three actuators on the circle of radius d (degrees).
-ACTUATOR_ANGLES_DEG: tuple[float, float, float] = (90.0, 210.0, 330.0)
-#: Smallest material ligament accepted between holes or edges of rigid parts (mm).
-MIN_LIGAMENT = 0.5
-
-
-def _check_number(
-    obj, name: str, *, positive: bool = True, integer: bool = False, minimum: float | None = None
-) -> None:
-    value = getattr(obj, name)
-    pname = name
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise DesignError(pname, f"must be a number, got {value!r}")
-    if integer:
-        if isinstance(value, float):
-            if not value.is_integer():
-                raise DesignError(pname, f"must be an integer, got {value!r}")
-            object.__setattr__(obj, name, int(value))
-            value = int(value)
-    elif isinstance(value, int):
-        object.__setattr__(obj, name, float(value))
-    if not math.isfinite(value):
-        raise DesignError(pname, f"must be finite, got {value!r}")
-    if positive and value <= 0:
-        raise DesignError(pname, f"must be positive, got {value!r}")
-    if minimum is not None and value < minimum:
-        raise DesignError(pname, f"must be >= {minimum}, got {value!r}")
-
-
-class _Design:
-    """Shared serialisation, hashing and file I/O of the design dataclasses."""
-
-    kind: ClassVar[str] = ""
-    _nested: ClassVar[dict[str, type]] = {}
-
-    def to_dict(self) -> dict[str, Any]:
-        out: dict[str, Any] = {}
-        for f in fields(self):
-            value = getattr(self, f.name)
-            out[f.name] = value.to_dict() if isinstance(value, _Design) else value
-        return out
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], _prefix: str = ""):
-        data = dict(data)
-        kind = data.pop("kind", cls.kind)
-        if kind != cls.kind:
-            raise DesignError(_prefix + "kind", f"expected {cls.kind!r}, got {kind!r}")
-        names = {f.name for f in fields(cls)}
-        for key in data:
-            if key not in names:
-                raise DesignError(_prefix + key, f"unknown parameter of {cls.__name__}")
-        for key, sub in cls._nested.items():
-            if isinstance(data.get(key), dict):
-                try:
-                    data[key] = sub.from_dict(data[key], _prefix=f"{_prefix}{key}.")
-                except DesignError as exc:
-                    if exc.parameter.startswith(f"{_prefix}{key}."):
-                        raise
-                    raise DesignError(f"{_prefix}{key}.{exc.parameter}", exc.detail) from None
-        try:
-            return cls(**data)
-        except TypeError as exc:  # a missing/extra argument that slipped through
-            raise DesignError(_prefix or "design", str(exc)) from None
-
-    def replace(self, **changes):
-        """A copy with some fields changed (validated again)."""
-        return dataclasses.replace(self, **changes)
-
-    def canonical_json(self) -> str:
-        return json.dumps({"kind": self.kind, **self.to_dict()}, sort_keys=True, separators=(",", ":"))
-
-    def short_hash(self) -> str:
-        """12 hex characters of the sha256 of the canonical JSON; stable across processes."""
-        return hashlib.sha256(self.canonical_json().encode()).hexdigest()[:12]
-
-    def save(self, path: str | Path) -> Path:
-        """Write the design to ``.json`` or ``.toml``."""
-        path = Path(path)
-        data = {"kind": self.kind, **self.to_dict()}
-        if path.suffix == ".json":
-            path.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
-        elif path.suffix == ".toml":
-            path.write_text(to_toml(data))
-        else:
-            raise DesignError("path", f"unsupported design file type {path.suffix!r} (use .json or .toml)")
-        return path
-
-    @classmethod
-    def load(cls, path: str | Path):
-        """Read a design from ``.json`` or ``.toml`` (the inverse of :meth:`save`)."""
-        return cls.from_dict(read_design_file(path))
+__all__ = [
+    "ACTUATOR_ANGLES_DEG",
+    "MIN_LIGAMENT",
+    "DesignError",
+    "EPSADesign",
+    "FootDesign",
+    "RingDesign",
+    "RobotDesign",
+    "load_design",
+]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -152,8 +68,8 @@ class EPSADesign(_Design):
             "end_cap_thickness",
             "seal_head_thickness",
         ):
-            _check_number(self, name)
-        _check_number(self, "fiber_turns", positive=False, integer=True, minimum=0)
+            check_number(self, name)
+        check_number(self, "fiber_turns", positive=False, integer=True, minimum=0)
         p = ""
         if self.chamber_radius >= self.outer_radius:
             raise DesignError(
@@ -234,9 +150,9 @@ class FootDesign(_Design):
             "groove_height",
             "groove_width",
         ):
-            _check_number(self, name)
-        _check_number(self, "bore_radius", positive=False, minimum=0.0)
-        _check_number(self, "n_grooves", positive=False, integer=True, minimum=0)
+            check_number(self, name)
+        check_number(self, "bore_radius", positive=False, minimum=0.0)
+        check_number(self, "n_grooves", positive=False, integer=True, minimum=0)
         p = ""
         if self.angle > 180:
             raise DesignError(p + "angle", f"{self.angle} deg: the skirt angle must be in (0, 180]")
@@ -293,8 +209,8 @@ class RingDesign(_Design):
 
     def __post_init__(self):
         for name in ("d", "hole_radius", "outer_radius", "thickness"):
-            _check_number(self, name)
-        _check_number(self, "bore_radius", positive=False, minimum=0.0)
+            check_number(self, name)
+        check_number(self, "bore_radius", positive=False, minimum=0.0)
         p = ""
         gap = self.d * math.sqrt(3) - 2 * self.hole_radius
         if gap < MIN_LIGAMENT:
@@ -337,10 +253,10 @@ class RobotDesign(_Design):
     pipe_diameter_max: float = 75.0  #: largest pipe the robot is sized for (mm)
 
     def __post_init__(self):
-        _check_number(self, "d")
-        _check_number(self, "n_rings", positive=False, integer=True, minimum=0)
-        _check_number(self, "pipe_diameter_min")
-        _check_number(self, "pipe_diameter_max")
+        check_number(self, "d")
+        check_number(self, "n_rings", positive=False, integer=True, minimum=0)
+        check_number(self, "pipe_diameter_min")
+        check_number(self, "pipe_diameter_max")
         if not isinstance(self.epsa, EPSADesign):
             raise DesignError("epsa", "must be an EPSADesign")
         R0 = self.epsa.outer_radius

@@ -7,7 +7,7 @@ Objective: the RMS length difference over the pressures (kPa)
     e(mu) = sqrt( mean_P ( L_FE(P; mu) - L_proto(P) )^2 ),
 
 minimised over log(mu) by scipy's bounded scalar search; every evaluation is a full FE ramp
-(`studies.parts.epsa_model.simulate_epsa` with the material's mu replaced, K/mu kept). A ramp that does not
+(`studies.parts.epsa_response.simulate_epsa` with the material's mu replaced, K/mu kept). A ramp that does not
 reach the last pressure (a limit point or a divergence) scores the penalty `FAILED_PENALTY_MM`.
 The body is Neo-Hookean, so this is one honest estimate of an *effective* modulus: it also absorbs
 what the FE model leaves out (the silicone coat over the fibers, the prototype's fabrication).
@@ -57,7 +57,8 @@ def calibrate_mu(
     from scipy.optimize import minimize_scalar
 
     from materials import get_material
-    from studies.parts.epsa_model import DEFAULT_FIBERS, same_pressure, simulate_epsa
+    from studies.parts.epsa_model import DEFAULT_FIBERS
+    from studies.parts.epsa_response import same_pressure, simulate_epsa
 
     design = design or EPSADesign()
     base = get_material(base_material)

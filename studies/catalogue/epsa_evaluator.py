@@ -1,7 +1,7 @@
 """The ePSA evaluator of the sweeps and the optimiser: one design and its settings -> a result.
 
 `evaluate_epsa(params, fixed, settings)` builds an `EPSADesign` from the grid point, calls the
-simulator (``settings["simulate"]``, default `studies.parts.epsa_model.simulate_epsa`; tests inject
+simulator (``settings["simulate"]``, default `studies.parts.epsa_response.simulate_epsa`; tests inject
 fast fakes), and returns an `Evaluation` whose attributes are the curve rows, the design and scalar
 metrics (extension, radial expansion, fiber length, mass). A diverged curve is a failed evaluation
 with its reason; it never raises into the sweep.
@@ -17,7 +17,7 @@ from typing import Any
 from studies.sweeps.engine import CURVE_COLUMNS, Evaluation, _jsonable, load_callable
 
 #: Default simulator.
-EPSA_SIMULATOR = "studies.parts.epsa_model:simulate_epsa"
+EPSA_SIMULATOR = "studies.parts.epsa_response:simulate_epsa"
 #: Grid or fixed parameters that go to the simulator as keywords instead of into the design.
 SIMULATOR_PARAMS = ("end_load_n",)
 #: Pressures of the paper's ePSA studies (kPa), Section V-A.
@@ -46,7 +46,7 @@ def response_at(
     """The equilibrium ("converged") row at ``pressure_kpa`` (default: the highest such pressure),
     matched with `same_pressure` (a target landed on by volume control reads e.g. 99.9999 kPa).
     Volume-controlled states past a limit point are not used."""
-    from studies.parts.epsa_model import same_pressure
+    from studies.parts.epsa_response import same_pressure
 
     good = [r for r in rows if r.get("status") == "converged"]
     if not good:
@@ -74,7 +74,7 @@ def evaluate_epsa(
     """Evaluate one ePSA design (parameters named in ``SIMULATOR_PARAMS``, e.g. the end load of
     the identification study, go to the simulator as keywords). ``settings``: material,
     pressures_kpa, quick, mesh_size,
-    simulate ("module:function", default ``studies.parts.epsa_model:simulate_epsa``), objectives
+    simulate ("module:function", default ``studies.parts.epsa_response:simulate_epsa``), objectives
     ("sweep": extension at the highest computed pressure; "pareto": extension and radial
     expansion at the highest requested pressure, plus the fiber length of both helices).
 

@@ -93,7 +93,9 @@ def _end_condition(args) -> str:
 
 
 def run(args) -> int:
-    from studies.parts.epsa_model import DEFAULT_FIBERS, parse_pressures, simulate_epsa
+    from studies.commands.options import parse_pressures
+    from studies.parts.epsa_model import DEFAULT_FIBERS
+    from studies.parts.epsa_response import simulate_epsa
     from studies.plots.epsa_run import plot_epsa
     from studies.sweeps.engine import write_csv
 

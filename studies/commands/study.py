@@ -89,7 +89,7 @@ def register(subparsers) -> None:
         "--simulator",
         default=None,
         metavar="MODULE:FUNCTION",
-        help="replace studies.parts.epsa_model:simulate_epsa (same signature), e.g. a "
+        help="replace studies.parts.epsa_response:simulate_epsa (same signature), e.g. a "
         "surrogate or a test fake",
     )
     parser.add_argument(

@@ -10,7 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from geometry.design import EPSADesign
-from studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings, simulate_epsa
+from studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings
+from studies.parts.epsa_response import simulate_epsa
 
 
 @dataclass(frozen=True)

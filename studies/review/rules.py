@@ -1,4 +1,4 @@
-"""The paper's Table 1 selection reasons (Section V-A; DESIGN.md section 4) as explicit rules.
+"""The paper's Table 1 selection reasons (Section V-A; docs/DESIGN.md section 4) as explicit rules.
 
 Pure functions over study tables: the rows of ``curves.csv`` written by ``softcrawl study``
 (one row per design and pressure; values may be strings as read from CSV). Each rule returns a
@@ -28,7 +28,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from studies.parts.epsa_model import same_pressure
+from studies.parts.epsa_response import same_pressure
 
 #: The studies' highest pressure and the one a design must withstand (kPa), paper Section V-A.
 TARGET_PRESSURE_KPA = 100.0

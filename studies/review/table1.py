@@ -20,7 +20,7 @@ from pathlib import Path
 
 from studies.review import rules
 
-#: The paper's Table 1 (DESIGN.md section 4): parameter key -> (label, value, unit).
+#: The paper's Table 1 (docs/DESIGN.md section 4): parameter key -> (label, value, unit).
 PAPER_TABLE1 = {
     "length": ("ePSA length l0", 100.0, "mm"),
     "outer_radius": ("ePSA radius R0", 9.0, "mm"),

@@ -31,7 +31,7 @@ Guarantees and how they are obtained:
 Evaluators are referenced as ``"module:function"`` strings, so spawned worker processes can import
 them. Signature: ``evaluator(params: dict, fixed: dict, settings: dict) -> Evaluation``.
 :func:`evaluate_epsa` is the ePSA evaluator: it builds an ``EPSADesign`` and calls
-``studies.parts.epsa_model.simulate_epsa`` (or the ``settings["simulate"]`` reference, which tests use to
+``studies.parts.epsa_response.simulate_epsa`` (or the ``settings["simulate"]`` reference, which tests use to
 inject fast fakes).
 """
 

@@ -10,7 +10,8 @@ from fem.neohooke import NeoHookean
 from fem.path import load_path
 from fem.structured import box
 from geometry.design import EPSADesign
-from studies.parts.epsa_model import MeshSettings, simulate_epsa
+from studies.parts.epsa_model import MeshSettings
+from studies.parts.epsa_response import simulate_epsa
 
 MU = 0.03
 

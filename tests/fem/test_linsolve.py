@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 
-from fem import verification as V
+from fem import reference_models as RM
 from fem.linsolve import LinearSolver, pardiso_available
 
 
 @pytest.fixture(scope="module")
 def tangent():
-    model = V.tube_model(3.0, 9.0, n_radial=3, n_angle=4)
+    model = RM.tube_model(3.0, 9.0, n_radial=3, n_angle=4)
     x = model.initial_state()
     x[: model.n_u] = 1e-2 * np.random.default_rng(0).standard_normal(model.n_u)
     x = model.apply_dirichlet(x, 0.0)

@@ -4,7 +4,7 @@ import meshio
 import numpy as np
 import pytest
 
-from fem import verification as V
+from fem import reference_models as RM
 from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import load_path
@@ -47,7 +47,7 @@ def test_length_radius_stretch_and_stress_of_a_homogeneous_state(stretched_box):
 
 
 def test_outer_radius_of_the_tube_matches_the_analytic_one():
-    model = V.tube_model(3.0, 9.0, n_radial=4, n_angle=6)
+    model = RM.tube_model(3.0, 9.0, n_radial=4, n_angle=6)
     res = load_path(model, [(0.01, 0.0)])
     x = res.steps[-1].x
     from fem import analytic

@@ -10,7 +10,7 @@ from fem.errors import SolverInputError
 from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.sheets import FiberSheet
-from fem.structured import box
+from fem.structured import box, tube_sector
 from geometry.design import EPSADesign
 from geometry.epsa_shape import helix_families
 
@@ -32,7 +32,7 @@ def test_hoop_sheet_tube_matches_the_analytic_wrapped_tube():
 def test_sheet_tangent_is_the_derivative_of_the_residual():
     """Two helical families on a pressurised tube sector, random large state: K v against central
     differences of R (also in compression, where the geometric term changes sign)."""
-    mesh = V.tube_sector(3.0, 9.0, height=2.0, n_radial=2, n_angle=3, n_height=2)
+    mesh = tube_sector(3.0, 9.0, height=2.0, n_radial=2, n_angle=3, n_height=2)
 
     def helix(sign):
         return lambda X: np.vstack(
@@ -125,7 +125,8 @@ def test_unknown_tag_and_normal_direction_are_named_errors():
 def test_dense_helix_sheet_suppresses_radial_expansion_and_extends_more():
     """The 40 mm actuator of test_fem_fibers with a 40-turn winding, smeared: no bulging between
     strands, so the radial expansion is a small fraction of the bare tube's (under 2 %)."""
-    from studies.parts.epsa_model import MeshSettings, simulate_epsa
+    from studies.parts.epsa_model import MeshSettings
+    from studies.parts.epsa_response import simulate_epsa
 
     short = dict(length=40.0, end_cap_thickness=4.0, seal_head_thickness=2.0)
     kw = dict(
@@ -148,7 +149,7 @@ def test_table1_epsa_with_tensile_modulus_runs_to_100_kpa_on_the_default_mesh():
     fit mu = 0.03 MPa, smeared winding) with a 1e-4 N sideways probe on its free top reaches
     100 kPa, its length grows with every step and it does not bend over (the tip stays within
     the 5 % sway limit). Measured: 290.7 mm at 100 kPa, tip 1.4 mm off the axis."""
-    from studies.parts.epsa_model import SWAY_WARNING, simulate_epsa
+    from studies.parts.epsa_response import SWAY_WARNING, simulate_epsa
 
     curve = simulate_epsa(EPSADesign(), pressures_kpa=tuple(range(10, 101, 10)), side_load_n=1e-4)
     assert curve.converged, curve.message
@@ -163,7 +164,7 @@ def test_table1_epsa_with_tensile_modulus_runs_to_100_kpa_on_the_default_mesh():
 def test_undeformed_sheet_carries_exactly_no_force():
     """Under zero load Newton must find the reference state at once: the sheet's residual there is
     exactly zero, not a round-off force (a weight of 0 N in the identification study stalled on it)."""
-    mesh = V.tube_sector(3.0, 9.0, height=2.0, n_radial=2, n_angle=3, n_height=2)
+    mesh = tube_sector(3.0, 9.0, height=2.0, n_radial=2, n_angle=3, n_height=2)
     oblique = lambda X: np.vstack([-X[1], X[0], 0.37 * np.hypot(X[0], X[1])])  # noqa: E731
     model = SolidModel(
         mesh,

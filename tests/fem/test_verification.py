@@ -1,8 +1,9 @@
-"""The solver against closed-form solutions (DESIGN.md section 6), on coarse meshes."""
+"""The solver against closed-form solutions (docs/DESIGN.md section 6), on coarse meshes."""
 
 import numpy as np
 import pytest
 
+from fem import reference_models as RM
 from fem import verification as V
 from fem.errors import SolverInputError
 from fem.model import Dirichlet, SolidModel
@@ -90,7 +91,7 @@ def test_reaction_balances_the_pressure_load():
     """x-equilibrium of a quarter tube: the support force on the plane x = 0 cancels the net
     pressure force P * int_0^h y_edge(z) dz, y_edge(z) the deformed inner edge on that plane
     (one quadratic element layer: Simpson's rule over its three nodes is exact)."""
-    model = V.tube_model(3.0, 9.0, n_radial=3, n_angle=4)
+    model = RM.tube_model(3.0, 9.0, n_radial=3, n_angle=4)
     P = 0.005
     res = load_path(model, [(P, 0.0)])
     x = res.steps[-1].x
@@ -105,7 +106,7 @@ def test_reaction_balances_the_pressure_load():
 def test_volume_control_lands_on_targets_before_and_flags_states_past_the_limit():
     # a stalling pressure control (3 Newton iterations allowed, no cut-back) hands over to volume
     # control on the monotone tube: the targets are landed on and are not "past the limit"
-    model = V.tube_model(3.0, 9.0, n_radial=4, n_angle=6)
+    model = RM.tube_model(3.0, 9.0, n_radial=4, n_angle=6)
     targets = [(0.3 * V.MU, 0.0), (0.6 * V.MU, 0.0)]
     res = load_path(model, targets, options=NewtonOptions(max_iter=3, max_cutbacks=0))
     assert res.converged and res.limit_pressure is None, res.message

@@ -9,12 +9,13 @@ import time
 from dataclasses import dataclass
 
 from geometry.design import DesignError
-from studies.parts.epsa_model import CurveRow
+from studies.parts.epsa_response import CurveRow
 
 
 @dataclass(frozen=True)
 class ActuatorCurve:
-    """The fields of `studies.parts.epsa_model.ActuatorCurve` that the runner reads (no mesh, no design)."""
+    """The fields of `studies.parts.epsa_response.ActuatorCurve` that the runner reads (no mesh,
+    no design)."""
 
     rows: tuple
     converged: bool

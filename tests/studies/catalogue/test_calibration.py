@@ -3,7 +3,7 @@
 import pytest
 
 from studies.catalogue import calibration as calibrate
-from studies.parts import epsa_model as actuator
+from studies.parts import epsa_response as actuator
 
 
 def test_calibration_recovers_a_known_modulus(monkeypatch):

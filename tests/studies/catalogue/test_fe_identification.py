@@ -57,7 +57,7 @@ def test_identify_leaves_out_pressures_a_weight_did_not_reach(tmp_path, monkeypa
 def test_fe_weight_shortens_the_actuator_linearly():
     """Real FE (quick mesh): a heavier weight shortens the ePSA, and about linearly in W (eq. 3)."""
     from geometry.design import EPSADesign
-    from studies.parts.epsa_model import simulate_epsa
+    from studies.parts.epsa_response import simulate_epsa
 
     y = {}
     for w in (0.0, 0.25, 0.5):

@@ -123,7 +123,7 @@ def test_mesh_presets_are_points_of_the_size_family():
 
 
 def test_sway_of_the_free_end_is_reported():
-    from studies.parts.epsa_model import CurveRow, _sway_events
+    from studies.parts.epsa_response import CurveRow, _sway_events
 
     def row(p, length, sway, status="converged"):
         return CurveRow(p, length, 9.0, 1.0, 1.0, 0.0, status, float("nan"), sway)
@@ -137,7 +137,7 @@ def test_sway_of_the_free_end_is_reported():
 
 def test_guided_top_stays_on_the_axis():
     from geometry.design import EPSADesign
-    from studies.parts.epsa_model import simulate_epsa
+    from studies.parts.epsa_response import simulate_epsa
 
     free = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), fibers="lines")
     guided = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), guided=True, fibers="lines")
@@ -157,7 +157,7 @@ def test_side_load_probe_moves_the_free_top_and_is_checked():
     import pytest
 
     from geometry.design import DesignError, EPSADesign
-    from studies.parts.epsa_model import simulate_epsa
+    from studies.parts.epsa_response import simulate_epsa
 
     sway = [
         simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), side_load_n=f).rows[-1].tip_lateral_mm

@@ -1,0 +1,83 @@
+"""Small structured models with closed-form solutions: the plane-strain thick tube and the
+thick-sphere octant (docs/DESIGN.md section 6), and measures on them.
+
+The verification cases (`fem.verification`), the benchmarks and the tests build their models here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fem import analytic
+from fem.model import ChamberSpec, Dirichlet, SolidModel
+from fem.neohooke import NeoHookean
+from fem.path import load_path
+from fem.structured import sphere_octant, tube_sector
+
+MU = 0.03  # MPa, Ecoflex 00-50 default (docs/DESIGN.md section 3)
+
+
+def tube_model(
+    inner=1.0, outer=20.0, n_radial=12, n_angle=8, k_over_mu=1000.0, formulation="p2p1", fiber_sheets=()
+):
+    mesh = tube_sector(
+        inner, outer, height=1.0, n_radial=n_radial, n_angle=n_angle, n_height=1, geometric=True
+    )
+    bcs = [
+        Dirichlet.symmetry("sym_x", 0),
+        Dirichlet.symmetry("sym_y", 1),
+        Dirichlet.symmetry("bottom", 2),
+        Dirichlet.symmetry("top", 2),
+    ]
+    return SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(MU, k_over_mu),
+        dirichlet=bcs,
+        chambers=ChamberSpec(("inner",), (1, 1, 0)),
+        formulation=formulation,
+        fiber_sheets=fiber_sheets,
+    )
+
+
+def mean_radius(model: SolidModel, x, tag) -> float:
+    nodes = model.boundary_nodes(tag)
+    pos = model.nodes[:, nodes] + model.displacement(x)[:, nodes]
+    return float(np.hypot(pos[0], pos[1]).mean())
+
+
+def sphere_model(inner=5.0, outer=7.5, n_radial=3, n_surface=4, k_over_mu=1000.0, formulation="p2p1"):
+    mesh = sphere_octant(inner, outer, n_radial=n_radial, n_surface=n_surface)
+    bcs = [Dirichlet.symmetry("sym_x", 0), Dirichlet.symmetry("sym_y", 1), Dirichlet.symmetry("sym_z", 2)]
+    return SolidModel(
+        mesh,
+        NeoHookean.nearly_incompressible(MU, k_over_mu),
+        dirichlet=bcs,
+        chambers=("inner",),
+        formulation=formulation,
+    )
+
+
+def sphere_inner_stretch(model, x, inner):
+    nodes = model.boundary_nodes("inner")
+    pos = model.nodes[:, nodes] + model.displacement(x)[:, nodes]
+    return float(np.linalg.norm(pos, axis=0).mean() / inner)
+
+
+def tube_convergence(
+    levels=((6, 4), (12, 8), (24, 16)), pressure_over_mu=0.5, k_over_mu=1000.0, inner=1.0, outer=20.0
+):
+    """Inner-radius error of the plane-strain tube under uniform refinement.
+
+    Returns a list of (dofs, relative error) and the observed orders log2(e_k / e_{k+1}) (the
+    levels halve the cell size). The analytic solution is incompressible, so at K/mu = 1000 the
+    error levels off near the compressibility error O(p/K) once the discretisation error is below it.
+    """
+    rows = []
+    for n_radial, n_angle in levels:
+        model = tube_model(inner, outer, n_radial, n_angle, k_over_mu=k_over_mu)
+        res = load_path(model, [(pressure_over_mu * MU, 0.0)])
+        la = analytic.tube_inner_stretch(MU, pressure_over_mu * MU, inner, outer)
+        err = abs(mean_radius(model, res.steps[-1].x, "inner") - la * inner) / (la * inner)
+        rows.append((model.n_dofs, err))
+    orders = [float(np.log2(a[1] / b[1])) for a, b in zip(rows, rows[1:])]
+    return rows, orders
