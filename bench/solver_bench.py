@@ -55,13 +55,13 @@ def tube_model(points, tets):
 
     from fem.model import ChamberSpec, Dirichlet, SolidModel
     from fem.neohooke import NeoHookean
-    from fem.structured import _curve, _tag
+    from fem.structured import curved, tag_boundaries
 
     mesh = skfem.MeshTet(points.T, tets.T)
     tol = 1e-6
     r = lambda x: np.hypot(x[0], x[1])  # noqa: E731
-    mesh = _curve(
-        _tag(
+    mesh = curved(
+        tag_boundaries(
             mesh,
             {
                 "inner": lambda x: np.abs(r(x) - A) < tol * A,

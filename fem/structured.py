@@ -75,8 +75,8 @@ def tube_sector(
     }
     if np.isclose(angle, np.pi / 2):
         tags["sym_x"] = lambda x: np.abs(x[0]) < rtol
-    mesh = _tag(mesh, tags)
-    return _curve(mesh, "cylinder") if quadratic else mesh
+    mesh = tag_boundaries(mesh, tags)
+    return curved(mesh, "cylinder") if quadratic else mesh
 
 
 def sphere_octant(inner=5.0, outer=7.5, n_radial=4, n_surface=4, quadratic=True):
@@ -107,7 +107,7 @@ def sphere_octant(inner=5.0, outer=7.5, n_radial=4, n_surface=4, quadratic=True)
     _, first, inverse = np.unique(key, axis=1, return_index=True, return_inverse=True)
     mesh = skfem.MeshTet(p[:, first], inverse.reshape(-1)[t])
     rtol = 1e-8 * outer
-    mesh = _tag(
+    mesh = tag_boundaries(
         mesh,
         {
             "inner": lambda x: np.abs(np.linalg.norm(x, axis=0) - inner) < 1e-6 * inner,
@@ -117,11 +117,11 @@ def sphere_octant(inner=5.0, outer=7.5, n_radial=4, n_surface=4, quadratic=True)
             "sym_z": lambda x: np.abs(x[2]) < rtol,
         },
     )
-    return _curve(mesh, "sphere") if quadratic else mesh
+    return curved(mesh, "sphere") if quadratic else mesh
 
 
-def _tag(mesh, predicates):
-    """Boundary facets whose midpoints satisfy each predicate (curved faces: all three vertices)."""
+def tag_boundaries(mesh, predicates):
+    """The mesh with boundaries {name: facets whose three vertices satisfy the predicate}."""
     facets = mesh.boundary_facets()
     out = {}
     for name, pred in predicates.items():
@@ -130,7 +130,7 @@ def _tag(mesh, predicates):
     return replace(mesh, _boundaries=out)
 
 
-def _curve(mesh: skfem.MeshTet, kind: str) -> skfem.MeshTet2:
+def curved(mesh: skfem.MeshTet, kind: str) -> skfem.MeshTet2:
     m2 = skfem.MeshTet2.from_mesh(mesh)
     m2 = replace(m2, _boundaries=mesh.boundaries)
     doflocs = m2.doflocs.copy()
@@ -148,3 +148,20 @@ def _curve(mesh: skfem.MeshTet, kind: str) -> skfem.MeshTet2:
     n_v = mesh.p.shape[1]
     doflocs[:, n_v : n_v + edges.shape[1]] = mid
     return replace(m2, doflocs=doflocs)
+
+
+def joined(*meshes: skfem.MeshTet) -> skfem.MeshTet:
+    """Several straight meshes as one mesh of disjoint bodies (no node is shared); tag it after."""
+    points, cells, offset = [], [], 0
+    for m in meshes:
+        points.append(m.p)
+        cells.append(m.t + offset)
+        offset += m.p.shape[1]
+    return skfem.MeshTet(np.hstack(points), np.hstack(cells))
+
+
+def mirrored(mesh: skfem.MeshTet, axis: int) -> skfem.MeshTet:
+    """The straight mesh reflected in the plane x_axis = 0 (cells reordered to stay positive)."""
+    p = mesh.p.copy()
+    p[axis] *= -1.0
+    return skfem.MeshTet(p, mesh.t[[0, 2, 1, 3]])
