@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
 
-from geometry.design_base import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, _Design, check_number
+from geometry.design_base import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, DesignBase, check_number
 from geometry.design_files import read_design_file
 from geometry.errors import DesignError
 
@@ -47,7 +47,7 @@ __all__ = [
 
 
 @dataclass(frozen=True, kw_only=True)
-class EPSADesign(_Design):
+class EPSADesign(DesignBase):
     """Extensible pneumatic soft actuator: silicone cylinder with a closed axial air chamber."""
 
     kind: ClassVar[str] = "epsa"
@@ -124,7 +124,7 @@ class EPSADesign(_Design):
 
 
 @dataclass(frozen=True, kw_only=True)
-class FootDesign(_Design):
+class FootDesign(DesignBase):
     """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
 
     kind: ClassVar[str] = "foot"
@@ -197,7 +197,7 @@ class FootDesign(_Design):
 
 
 @dataclass(frozen=True, kw_only=True)
-class RingDesign(_Design):
+class RingDesign(DesignBase):
     """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
 
     kind: ClassVar[str] = "ring"
@@ -234,7 +234,7 @@ class RingDesign(_Design):
 
 
 @dataclass(frozen=True, kw_only=True)
-class RobotDesign(_Design):
+class RobotDesign(DesignBase):
     """Three ePSAs at radius d, psi = 90, 210, 330 deg, n_rings rings, a foot at each end.
 
     Layout (z along the robot axis): rear foot hub z in [-hub_thickness, 0]; ePSAs z in [0, L];

@@ -1,6 +1,6 @@
 """What every design dataclass shares: number checks, serialisation, hashing, design files.
 
-`_Design` is the base of the frozen, keyword-only design dataclasses of `geometry.design`: their
+`DesignBase` is the base of the frozen, keyword-only design dataclasses of `geometry.design`: their
 dict (nested for the robot's parts), a stable hash of the canonical JSON (mesh cache keys, study
 names), `replace` with validation, and `save` / `load` to .json or .toml. `check_number` is the
 validation every numeric field goes through: a real number, finite, positive or above a minimum,
@@ -49,7 +49,7 @@ def check_number(
         raise DesignError(pname, f"must be >= {minimum}, got {value!r}")
 
 
-class _Design:
+class DesignBase:
     """Shared serialisation, hashing and file I/O of the design dataclasses."""
 
     kind: ClassVar[str] = ""
@@ -59,7 +59,7 @@ class _Design:
         out: dict[str, Any] = {}
         for f in fields(self):
             value = getattr(self, f.name)
-            out[f.name] = value.to_dict() if isinstance(value, _Design) else value
+            out[f.name] = value.to_dict() if isinstance(value, DesignBase) else value
         return out
 
     @classmethod

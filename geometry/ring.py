@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from geometry.design import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, RingDesign
-from geometry.surfaces import _polydata
+from geometry.surfaces import triangle_polydata
 from geometry.tagging import RevolvedSegment
 
 
@@ -92,7 +92,7 @@ def ring_surface(design: RingDesign, spacing: float | None = None):
     faces = [tri[:, ::-1], tri + n]
     i, j = bnd[:, 0], bnd[:, 1]
     faces += [np.column_stack([i, j, j + n]), np.column_stack([i, j + n, i + n])]
-    return _polydata(points, np.vstack(faces))
+    return triangle_polydata(points, np.vstack(faces))
 
 
 def ring_segments(design: RingDesign, z0: float = 0.0) -> list[RevolvedSegment]:

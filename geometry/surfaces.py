@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 
-def _polydata(points: np.ndarray, tris: np.ndarray):
+def triangle_polydata(points: np.ndarray, tris: np.ndarray):
     import pyvista as pv
 
     faces = np.hstack([np.full((len(tris), 1), 3, dtype=np.int64), tris.astype(np.int64)])
@@ -80,13 +80,13 @@ def revolve_arrays(profile: np.ndarray, n_theta: int) -> tuple[np.ndarray, np.nd
 
 def revolve_profile(profile: np.ndarray, n_theta: int):
     """Closed surface of revolution (pyvista.PolyData) of a closed CCW (r, z) polygon."""
-    return _polydata(*revolve_arrays(profile, n_theta))
+    return triangle_polydata(*revolve_arrays(profile, n_theta))
 
 
 def flipped(surface):
     """The same surface with reversed orientation (triangle winding)."""
     tris = surface.faces.reshape(-1, 4)[:, 1:]
-    return _polydata(np.asarray(surface.points), tris[:, ::-1])
+    return triangle_polydata(np.asarray(surface.points), tris[:, ::-1])
 
 
 def merge(*surfaces):
@@ -96,7 +96,7 @@ def merge(*surfaces):
         pts.append(np.asarray(s.points))
         tris.append(s.faces.reshape(-1, 4)[:, 1:] + off)
         off += s.n_points
-    return _polydata(np.vstack(pts), np.vstack(tris))
+    return triangle_polydata(np.vstack(pts), np.vstack(tris))
 
 
 def signed_volume(surface) -> float:

@@ -30,7 +30,7 @@ import numpy as np
 from geometry.design import DesignError, EPSADesign
 from geometry.epsa_shape import epsa_segments, fiber_helices
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tetwild import _curved_meta
+from geometry.tagging import curved_surface_meta
 
 
 def cross_section(r0: float, R0: float, n_around: int, n_radial: int):
@@ -123,7 +123,7 @@ def mesh_epsa_swept(
             "n_radial": n_radial,
             "axial_size": axial_size,
             "fiber_points_per_turn": fiber_points_per_turn,
-            "curved_surfaces": _curved_meta(epsa_segments(design)),
+            "curved_surfaces": curved_surface_meta(epsa_segments(design)),
         },
     )
     return mesh

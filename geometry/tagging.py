@@ -71,6 +71,15 @@ class RevolvedSegment:
         )
 
 
+def curved_surface_meta(segments: list[RevolvedSegment]) -> dict[str, list]:
+    """``TaggedMesh.meta['curved_surfaces']``: per tag, [p0, p1, centre] of its curved segments."""
+    out: dict[str, list] = {}
+    for s in segments:
+        if s.curved:
+            out.setdefault(s.tag, []).append([list(s.p0), list(s.p1), list(s.centre)])
+    return out
+
+
 def boundary_facets(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Outward-oriented boundary triangles (k, 3) of positively oriented tets, and their tet index."""
     faces = tets[:, TET_FACES].reshape(-1, 3)

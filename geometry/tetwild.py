@@ -40,7 +40,14 @@ from geometry.epsa_shape import (
     seal_head_surface,
 )
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import RevolvedSegment, boundary_facets, classify_facets, snap_to_surfaces, tet_volumes
+from geometry.tagging import (
+    RevolvedSegment,
+    boundary_facets,
+    classify_facets,
+    curved_surface_meta,
+    snap_to_surfaces,
+    tet_volumes,
+)
 
 log = logging.getLogger(__name__)
 
@@ -126,14 +133,6 @@ def tag_boundary(
     return points, facets, n_untagged
 
 
-def _curved_meta(segments: list[RevolvedSegment]) -> dict:
-    out: dict[str, list] = {}
-    for s in segments:
-        if s.curved:
-            out.setdefault(s.tag, []).append([list(s.p0), list(s.p1), list(s.centre)])
-    return out
-
-
 def mesh_part(
     kind: str,
     surface_fn,
@@ -177,7 +176,7 @@ def mesh_part(
             "n_untagged_facets": n_untagged,
             "mesh_seconds": round(t_mesh, 2),
             "n_theta": n_theta,
-            "curved_surfaces": _curved_meta(segments),
+            "curved_surfaces": curved_surface_meta(segments),
         },
     )
     if path is not None:
