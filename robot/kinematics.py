@@ -43,6 +43,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
 
@@ -132,6 +133,16 @@ def arc_rotation(theta, phi):
     r[..., 2, 1] = -sp * st
     r[..., 2, 2] = ct
     return r
+
+
+def planar_arc(kappa: ArrayLike, length: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Lateral and axial offsets of a planar arc of signed curvature kappa at arc length `length`.
+
+    The bend-plane form of `arc_point` for phi = +-90 deg: lateral = length (1 - cos theta)/theta
+    sign(kappa), axial = length sin(theta)/theta, theta = kappa length; both broadcast.
+    """
+    th = kappa * length
+    return length * _versinc(np.abs(th)) * np.sign(kappa), length * _sinc(th)
 
 
 def transform(lengths, d: float = 14.0) -> np.ndarray:

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
 
@@ -122,3 +123,22 @@ class Pipe:
         s = np.stack([s1, s2, s3])
         k = np.argmin(d, axis=0)
         return np.take_along_axis(d, k[None], 0)[0], np.take_along_axis(s, k[None], 0)[0]
+
+    def plane_distance(self, x: ArrayLike, z: ArrayLike) -> np.ndarray:
+        """Distance of the points (x, 0, z) to the centreline: `locate`'s distance in the x-z plane.
+
+        The planar planners' fit check: without the arc length and the y terms it costs about
+        half of `locate`.
+        """
+        px, pz = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
+        if self.kind != "elbow":
+            return np.abs(px)
+        L1, R, a_end = self.entry, self.bend_radius, self.bend_angle
+        d = np.hypot(px, np.maximum(pz - L1, 0.0))
+        qx, qz = px - R, pz - L1
+        a = np.clip(np.arctan2(qz, -qx), 0.0, a_end)
+        d = np.minimum(d, np.hypot(qx + R * np.cos(a), qz - R * np.sin(a)))
+        ex, ez = R * (1 - np.cos(a_end)), L1 + R * np.sin(a_end)
+        ux, uz = np.sin(a_end), np.cos(a_end)
+        t = np.maximum((px - ex) * ux + (pz - ez) * uz, 0.0)
+        return np.minimum(d, np.hypot(px - ex - t * ux, pz - ez - t * uz))
