@@ -59,7 +59,7 @@ class EPSADesign(DesignBase):
     end_cap_thickness: float = 5.0  #: silicone closing each chamber end (mm)
     seal_head_thickness: float = 3.0  #: ABS seal head disk (mm)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in (
             "length",
             "outer_radius",
@@ -139,7 +139,7 @@ class FootDesign(DesignBase):
     groove_width: float = 1.0  #: width of a groove along the skirt (mm)
     n_grooves: int = 5  #: number of grooves on the back face
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in (
             "d",
             "hub_radius",
@@ -207,7 +207,7 @@ class RingDesign(DesignBase):
     bore_radius: float = 3.5  #: central bore (endoscope passage; 0 = none) (mm)
     thickness: float = 5.0  #: axial thickness (mm)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in ("d", "hole_radius", "outer_radius", "thickness"):
             check_number(self, name)
         check_number(self, "bore_radius", positive=False, minimum=0.0)
@@ -252,7 +252,7 @@ class RobotDesign(DesignBase):
     pipe_diameter_min: float = 55.0  #: smallest pipe the robot is sized for (mm)
     pipe_diameter_max: float = 75.0  #: largest pipe the robot is sized for (mm)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         check_number(self, "d")
         check_number(self, "n_rings", positive=False, integer=True, minimum=0)
         check_number(self, "pipe_diameter_min")
@@ -362,7 +362,7 @@ DESIGN_TYPES: dict[str, type] = {
 }
 
 
-def load_design(path: str | Path):
+def load_design(path: str | Path) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
     """Load any design file; its ``kind`` key selects the class."""
     data = read_design_file(path)
     kind = data.get("kind")

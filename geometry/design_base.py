@@ -15,7 +15,7 @@ import json
 import math
 from dataclasses import fields
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Self
 
 from geometry.design_files import read_design_file, to_toml
 from geometry.errors import DesignError
@@ -27,7 +27,7 @@ MIN_LIGAMENT = 0.5
 
 
 def check_number(
-    obj, name: str, *, positive: bool = True, integer: bool = False, minimum: float | None = None
+    obj: object, name: str, *, positive: bool = True, integer: bool = False, minimum: float | None = None
 ) -> None:
     value = getattr(obj, name)
     pname = name
@@ -63,7 +63,7 @@ class DesignBase:
         return out
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], _prefix: str = ""):
+    def from_dict(cls, data: dict[str, Any], _prefix: str = "") -> Self:
         data = dict(data)
         kind = data.pop("kind", cls.kind)
         if kind != cls.kind:
@@ -85,7 +85,7 @@ class DesignBase:
         except TypeError as exc:  # a missing/extra argument that slipped through
             raise DesignError(_prefix or "design", str(exc)) from None
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> Self:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
 
@@ -109,6 +109,6 @@ class DesignBase:
         return path
 
     @classmethod
-    def load(cls, path: str | Path):
+    def load(cls, path: str | Path) -> Self:
         """Read a design from ``.json`` or ``.toml`` (the inverse of :meth:`save`)."""
         return cls.from_dict(read_design_file(path))

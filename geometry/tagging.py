@@ -34,7 +34,7 @@ class RevolvedSegment:
     centre: tuple[float, float] = (0.0, 0.0)
     curved: bool = False  # True when rho varies over the surface (cylinder, cone): P2 nodes are snapped
 
-    def _rz(self, x: np.ndarray):
+    def _rz(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         dx = x[:, 0] - self.centre[0]
         dy = x[:, 1] - self.centre[1]
         rho = np.hypot(dx, dy)
@@ -168,7 +168,7 @@ def snap_to_surfaces(
     return new, moved
 
 
-def _point_segment(x, a, b):
+def _point_segment(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     ab = b - a
     t = np.clip(np.einsum("ij,ij->i", x - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
     return np.linalg.norm(x - (a + t[:, None] * ab), axis=1)
@@ -206,7 +206,9 @@ def distance_to_surface(x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: 
     return best
 
 
-def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
+def closest_on_triangles(
+    x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Closest points of triangles (a, b, c) to x, pairwise: (distance (n,), barycentric (n, 3))."""
     n = np.cross(b - a, c - a)
     nn = np.einsum("ij,ij->i", n, n)
@@ -235,7 +237,9 @@ def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndar
     return dist, bary
 
 
-def embed_points(x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: int = 12):
+def embed_points(
+    x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: int = 12
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Host triangle, barycentric coordinates and distance of each point x on a triangle set.
 
     Among the k triangles with the nearest centroids, the one with the closest point is taken;

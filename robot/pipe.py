@@ -36,7 +36,7 @@ class Pipe:
     exit: float = 150.0  # mm, exit leg (elbow)
     bend_angle: float = np.pi / 2  # rad
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ModelInputError("pipe", f"must be one of {', '.join(KINDS)}, got {self.kind!r}")
         if not self.diameter > 0:
@@ -66,7 +66,7 @@ class Pipe:
         """Arc length the rear foot must pass: the pipe end (straight) or the end of the bend."""
         return self.length if self.kind != "elbow" else self.bend_end
 
-    def point(self, s):
+    def point(self, s: ArrayLike) -> np.ndarray:
         """Centreline point(s) at arc length s (extended beyond both ends)."""
         s = np.asarray(s, dtype=float)
         out = np.zeros(s.shape + (3,))
@@ -86,7 +86,8 @@ class Pipe:
         out[after, 2] = L1 + R * np.sin(a_end) + t * np.cos(a_end)
         return out
 
-    def tangent(self, s):
+    def tangent(self, s: ArrayLike) -> np.ndarray:
+        """Unit tangent(s) of the centreline at arc length s."""
         s = np.asarray(s, dtype=float)
         out = np.zeros(s.shape + (3,))
         if self.kind != "elbow":
@@ -97,7 +98,7 @@ class Pipe:
         out[..., 2] = np.cos(a)
         return out
 
-    def locate(self, points):
+    def locate(self, points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(distance to the centreline, arc length of the nearest centreline point) for (..., 3)."""
         x = np.asarray(points, dtype=float)
         px, py, pz = x[..., 0], x[..., 1], x[..., 2]
@@ -127,8 +128,8 @@ class Pipe:
     def plane_distance(self, x: ArrayLike, z: ArrayLike) -> np.ndarray:
         """Distance of the points (x, 0, z) to the centreline: `locate`'s distance in the x-z plane.
 
-        The planar planners' fit check: without the arc length and the y terms it costs about
-        half of `locate`.
+        The bend-plane fit check of `robot.cycle`: equal to `locate`'s distance up to rounding
+        (~1e-14 mm), in about half its time (no arc length, no y terms).
         """
         px, pz = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
         if self.kind != "elbow":

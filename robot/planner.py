@@ -280,6 +280,19 @@ class _BeamSearch:
         return best, False, f"not through after {max_cycles} cycles"
 
 
+def _start(
+    acts: tuple[EPSAParams, ...], fit: cm.PipeFit, rot0: np.ndarray, d: float, g: float, samples: int
+) -> _State:
+    """The deflated robot (P = 0) at the pipe entrance, after checking that it fits there."""
+    p0 = np.zeros(3)
+    l0 = cm.epsa_lengths(acts, p0, g)
+    k0, t0, f0, lc0 = kin.forward(l0, d)
+    start = _State(np.zeros(3), rot0, p0, l0, float(k0), float(f0), float(lc0), 0.0)
+    if not fit.fits(fit.distances(start.pos, start.rot, l0, d, samples).max()):
+        raise ModelInputError("diameter", "the deflated robot does not fit the pipe at the start")
+    return start
+
+
 def plan(
     pipe: Pipe,
     actuators: str = "nominal",
@@ -323,13 +336,7 @@ def plan(
     # bends in the bend plane are then the P2 = P3 family, as in the paper's gait 2.
     rot0 = cm.elbow_roll(pipe)
 
-    p0 = np.zeros(3)
-    l0 = cm.epsa_lengths(acts, p0, g)
-    k0, t0, f0, lc0 = kin.forward(l0, d)
-    start = _State(np.zeros(3), rot0, p0, l0, float(k0), float(f0), float(lc0), 0.0)
-    if not fit.fits(fit.distances(start.pos, start.rot, l0, d, samples).max()):
-        raise ModelInputError("diameter", "the deflated robot does not fit the pipe at the start")
-
+    start = _start(acts, fit, rot0, d, g, samples)
     coarse = cm.pressure_grid(lookahead_step_kpa, planar) if lookahead > 0 else None
     search = _BeamSearch(
         pipe,
@@ -359,7 +366,7 @@ def plan(
         step_kpa,
         body,
         floats(start.pos),
-        floats(p0),
+        floats(start.p_def),
         message,
         rotation_tuple(rot0),
     )

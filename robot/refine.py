@@ -40,7 +40,7 @@ import time
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import minimize
+from scipy.optimize import OptimizeResult, minimize
 
 from robot import cycle as cm
 from robot.errors import ModelInputError
@@ -73,7 +73,9 @@ def _cycle(
     return dist, (*cm.planar_slide(x, z, A, kf, step), *cm.planar_deflated_lengths(rest, kf, d))
 
 
-def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4, samples: int = 21):
+def simulate(
+    pipe: Pipe, lengths: ArrayLike, rest: float, d: float = D_MM, stages: int = 4, samples: int = 21
+) -> tuple[np.ndarray, np.ndarray]:
     """Planar cycle model for gaits `lengths` (B, N, 2) = inflated (l1, l23) per cycle, mm.
 
     Returns the wall distances of the body centreline, (B, N, stages, samples), and the rear foot
@@ -82,7 +84,7 @@ def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4,
     ls = np.asarray(lengths, dtype=float)
     B, N, _ = ls.shape
     state = (np.zeros(B), np.zeros(B), np.zeros(B), np.full(B, rest), np.full(B, rest))
-    lam = (np.arange(1, stages + 1) / stages)[None, :]
+    lam = cm.stage_fractions(stages)[None, :]
     f = np.linspace(0.0, 1.0, samples)
     dist = np.empty((B, N, stages, samples))
     rear = np.zeros((B, N + 1, 3))
@@ -92,7 +94,9 @@ def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4,
     return dist, rear
 
 
-def _perturbed(pipe, ls, h, rest, d, stages, samples):
+def _perturbed(
+    pipe: Pipe, ls: np.ndarray, h: float, rest: float, d: float, stages: int, samples: int
+) -> tuple[np.ndarray, np.ndarray]:
     """`simulate` of the gait ls (N, 2) and of its n = 2N forward perturbations by h.
 
     A cycle's lengths act on that cycle and the later ones only, so perturbation j (cycle j // 2)
@@ -101,7 +105,7 @@ def _perturbed(pipe, ls, h, rest, d, stages, samples):
     """
     N = len(ls)
     n = 2 * N
-    lam = (np.arange(1, stages + 1) / stages)[None, :]
+    lam = cm.stage_fractions(stages)[None, :]
     f = np.linspace(0.0, 1.0, samples)
     dist = np.empty((n + 1, N, stages, samples))
     base = (np.zeros(1), np.zeros(1), np.zeros(1), np.full(1, rest), np.full(1, rest))
@@ -124,14 +128,15 @@ def _perturbed(pipe, ls, h, rest, d, stages, samples):
     return dist, rear
 
 
-def _progress(pipe: Pipe, rear):
+def _progress(pipe: Pipe, rear: np.ndarray) -> np.ndarray:
+    """Arc length along the pipe of bend-plane rear feet (..., >= 2) = (x, z, ...)."""
     r = np.asarray(rear)
     return pipe.locate(np.stack([r[..., 0], np.zeros_like(r[..., 0]), r[..., 1]], -1))[1]
 
 
 def refine(
     pipe: Pipe,
-    lengths0,
+    lengths0: ArrayLike,
     allow: float,
     rest: float,
     l_max: float,
@@ -142,8 +147,8 @@ def refine(
     h: float = 1e-6,
     keep: int = 1,
     target: float | None = None,
-    bounds=None,
-):
+    bounds: ArrayLike | None = None,
+) -> tuple[np.ndarray, float, OptimizeResult]:
     """Maximise the wall clearance t of the gait `lengths0` (N, 2) with the goal as a constraint.
 
     The constraints are, per cycle and stage, the `keep` largest sample distances (order
@@ -159,7 +164,8 @@ def refine(
     goal = pipe.goal()
     memo: dict = {}
 
-    def evaluate(v):
+    def evaluate(v: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Wall and goal constraints at v and their Jacobians (forward differences, memoised)."""
         key = v.tobytes()
         if key not in memo:
             dist, rear = _perturbed(pipe, v[:n].reshape(N, 2), h, rest, d, stages, samples)
@@ -174,12 +180,12 @@ def refine(
             memo[key] = (allow - v[n] - g[0], jw, np.array([s[0] - goal]), jg)
         return memo[key]
 
-    def clearance(v):
+    def clearance(v: np.ndarray) -> float:
         """Wall clearance of the gait v if it reaches the goal, else -inf."""
         wall, _, goal_ok, _ = evaluate(v)
         return float(wall.min() + v[n]) if goal_ok[0] >= 0 else -np.inf
 
-    def stop(xk):
+    def stop(xk: np.ndarray) -> None:
         if target is not None and clearance(xk) >= target:
             raise StopIteration
 
@@ -211,7 +217,7 @@ def continuous_plan(
     stages: int = 8,
     samples: int = 41,
     maxiter: int = 400,
-    seed=None,
+    seed: ArrayLike | None = None,
     check_stages: int = 4,
     check_samples: int = 21,
     margin: float | None = 0.02,
@@ -283,7 +289,19 @@ def _seeds(
     return seeds
 
 
-def _refine_gait(pipe, a, l0, allow, rest, l_max, d, stages, samples, maxiter, margin):
+def _refine_gait(
+    pipe: Pipe,
+    a: EPSAParams,
+    l0: np.ndarray,
+    allow: float,
+    rest: float,
+    l_max: float,
+    d: float,
+    stages: int,
+    samples: int,
+    maxiter: int,
+    margin: float | None,
+) -> tuple[np.ndarray, float]:
     """SLSQP on the planner's check, then on stages x samples; lengths kept out of the 60 kPa gap."""
     lengths, t, _ = refine(pipe, l0, allow, rest, l_max, d, 4, 21, maxiter, target=margin)
     if (stages, samples) != (4, 21) and t >= 0:
