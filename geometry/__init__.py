@@ -44,7 +44,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> object:
     if name == "TaggedMesh":
         from geometry.tagged_mesh import TaggedMesh
 

@@ -24,16 +24,18 @@ import numpy as np
 
 from geometry.design import RobotDesign
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tetwild import mesh_epsa, mesh_foot, mesh_ring, mesh_seal_head
+from geometry.tetwild import CacheDir, mesh_epsa, mesh_foot, mesh_ring, mesh_seal_head
 
 
-def _on_disk(mesh: TaggedMesh, tris: np.ndarray, centre, radius: float, tol: float) -> np.ndarray:
+def _on_disk(
+    mesh: TaggedMesh, tris: np.ndarray, centre: tuple[float, float], radius: float, tol: float
+) -> np.ndarray:
     c = mesh.points[tris].mean(axis=1)
     return np.hypot(c[:, 0] - centre[0], c[:, 1] - centre[1]) <= radius + tol
 
 
 def assemble_robot(
-    design: RobotDesign | None = None, edge_length: float | None = None, cache_dir=None
+    design: RobotDesign | None = None, edge_length: float | None = None, cache_dir: CacheDir = None
 ) -> TaggedMesh:
     design = design or RobotDesign()
     e, f, r = design.epsa, design.foot, design.ring
@@ -124,7 +126,7 @@ def assemble_robot(
     )
 
 
-def _shift_segments(segs, name: str, design: RobotDesign):
+def _shift_segments(segs: list[list[list[float]]], name: str, design: RobotDesign) -> list[list[list[float]]]:
     """Curved-surface descriptions of a part moved to its place in the robot (for P2 node snapping)."""
     dx = dy = dz = 0.0
     if name.startswith("epsa") or name.startswith("seal_head"):
@@ -182,7 +184,7 @@ def robot_surfaces(design: RobotDesign | None = None, n_theta: int = 48) -> dict
 
 
 def mesh_robot(
-    design: RobotDesign | None = None, edge_length: float | None = None, cache_dir=None
+    design: RobotDesign | None = None, edge_length: float | None = None, cache_dir: CacheDir = None
 ) -> TaggedMesh:
     """The assembled robot, see :func:`assemble_robot`."""
     return assemble_robot(design, edge_length=edge_length, cache_dir=cache_dir)

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
 
-from geometry.design_base import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, _Design, check_number
+from geometry.design_base import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, DesignBase, check_number
 from geometry.design_files import read_design_file
 from geometry.errors import DesignError
 
@@ -47,7 +47,7 @@ __all__ = [
 
 
 @dataclass(frozen=True, kw_only=True)
-class EPSADesign(_Design):
+class EPSADesign(DesignBase):
     """Extensible pneumatic soft actuator: silicone cylinder with a closed axial air chamber."""
 
     kind: ClassVar[str] = "epsa"
@@ -59,7 +59,7 @@ class EPSADesign(_Design):
     end_cap_thickness: float = 5.0  #: silicone closing each chamber end (mm)
     seal_head_thickness: float = 3.0  #: ABS seal head disk (mm)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in (
             "length",
             "outer_radius",
@@ -124,7 +124,7 @@ class EPSADesign(_Design):
 
 
 @dataclass(frozen=True, kw_only=True)
-class FootDesign(_Design):
+class FootDesign(DesignBase):
     """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
 
     kind: ClassVar[str] = "foot"
@@ -139,7 +139,7 @@ class FootDesign(_Design):
     groove_width: float = 1.0  #: width of a groove along the skirt (mm)
     n_grooves: int = 5  #: number of grooves on the back face
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in (
             "d",
             "hub_radius",
@@ -197,7 +197,7 @@ class FootDesign(_Design):
 
 
 @dataclass(frozen=True, kw_only=True)
-class RingDesign(_Design):
+class RingDesign(DesignBase):
     """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
 
     kind: ClassVar[str] = "ring"
@@ -207,7 +207,7 @@ class RingDesign(_Design):
     bore_radius: float = 3.5  #: central bore (endoscope passage; 0 = none) (mm)
     thickness: float = 5.0  #: axial thickness (mm)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in ("d", "hole_radius", "outer_radius", "thickness"):
             check_number(self, name)
         check_number(self, "bore_radius", positive=False, minimum=0.0)
@@ -234,7 +234,7 @@ class RingDesign(_Design):
 
 
 @dataclass(frozen=True, kw_only=True)
-class RobotDesign(_Design):
+class RobotDesign(DesignBase):
     """Three ePSAs at radius d, psi = 90, 210, 330 deg, n_rings rings, a foot at each end.
 
     Layout (z along the robot axis): rear foot hub z in [-hub_thickness, 0]; ePSAs z in [0, L];
@@ -252,7 +252,7 @@ class RobotDesign(_Design):
     pipe_diameter_min: float = 55.0  #: smallest pipe the robot is sized for (mm)
     pipe_diameter_max: float = 75.0  #: largest pipe the robot is sized for (mm)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         check_number(self, "d")
         check_number(self, "n_rings", positive=False, integer=True, minimum=0)
         check_number(self, "pipe_diameter_min")
@@ -362,7 +362,7 @@ DESIGN_TYPES: dict[str, type] = {
 }
 
 
-def load_design(path: str | Path):
+def load_design(path: str | Path) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
     """Load any design file; its ``kind`` key selects the class."""
     data = read_design_file(path)
     kind = data.get("kind")

@@ -1,6 +1,6 @@
 """What every design dataclass shares: number checks, serialisation, hashing, design files.
 
-`_Design` is the base of the frozen, keyword-only design dataclasses of `geometry.design`: their
+`DesignBase` is the base of the frozen, keyword-only design dataclasses of `geometry.design`: their
 dict (nested for the robot's parts), a stable hash of the canonical JSON (mesh cache keys, study
 names), `replace` with validation, and `save` / `load` to .json or .toml. `check_number` is the
 validation every numeric field goes through: a real number, finite, positive or above a minimum,
@@ -15,7 +15,7 @@ import json
 import math
 from dataclasses import fields
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Self
 
 from geometry.design_files import read_design_file, to_toml
 from geometry.errors import DesignError
@@ -27,7 +27,7 @@ MIN_LIGAMENT = 0.5
 
 
 def check_number(
-    obj, name: str, *, positive: bool = True, integer: bool = False, minimum: float | None = None
+    obj: object, name: str, *, positive: bool = True, integer: bool = False, minimum: float | None = None
 ) -> None:
     value = getattr(obj, name)
     pname = name
@@ -49,7 +49,7 @@ def check_number(
         raise DesignError(pname, f"must be >= {minimum}, got {value!r}")
 
 
-class _Design:
+class DesignBase:
     """Shared serialisation, hashing and file I/O of the design dataclasses."""
 
     kind: ClassVar[str] = ""
@@ -59,11 +59,11 @@ class _Design:
         out: dict[str, Any] = {}
         for f in fields(self):
             value = getattr(self, f.name)
-            out[f.name] = value.to_dict() if isinstance(value, _Design) else value
+            out[f.name] = value.to_dict() if isinstance(value, DesignBase) else value
         return out
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], _prefix: str = ""):
+    def from_dict(cls, data: dict[str, Any], _prefix: str = "") -> Self:
         data = dict(data)
         kind = data.pop("kind", cls.kind)
         if kind != cls.kind:
@@ -85,7 +85,7 @@ class _Design:
         except TypeError as exc:  # a missing/extra argument that slipped through
             raise DesignError(_prefix or "design", str(exc)) from None
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> Self:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
 
@@ -109,6 +109,6 @@ class _Design:
         return path
 
     @classmethod
-    def load(cls, path: str | Path):
+    def load(cls, path: str | Path) -> Self:
         """Read a design from ``.json`` or ``.toml`` (the inverse of :meth:`save`)."""
         return cls.from_dict(read_design_file(path))

@@ -22,11 +22,17 @@ sin(pi/n)/(pi/n) on the circumferential part (n = points per turn), 0.07 % for n
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from geometry.design import EPSADesign
 from geometry.surfaces import flipped, merge, revolve_profile, subdivide_profile
 from geometry.tagging import RevolvedSegment
+
+if TYPE_CHECKING:
+    import pyvista as pv
 
 DEFAULT_N_THETA = 48
 
@@ -41,7 +47,7 @@ def chamber_profile(design: EPSADesign) -> np.ndarray:
     return np.array([[0.0, c], [r, c], [r, L - c], [0.0, L - c]])
 
 
-def epsa_surface(design: EPSADesign, n_theta: int = DEFAULT_N_THETA):
+def epsa_surface(design: EPSADesign, n_theta: int = DEFAULT_N_THETA) -> pv.PolyData:
     """Closed outward-oriented surface of the body: outer shell + reversed chamber shell."""
     h = 2 * np.pi * design.outer_radius / n_theta
     outer = revolve_profile(subdivide_profile(body_profile(design), 4 * h), n_theta)
@@ -49,7 +55,9 @@ def epsa_surface(design: EPSADesign, n_theta: int = DEFAULT_N_THETA):
     return merge(outer, flipped(chamber))
 
 
-def epsa_segments(design: EPSADesign, centre=(0.0, 0.0), z0: float = 0.0) -> list[RevolvedSegment]:
+def epsa_segments(
+    design: EPSADesign, centre: tuple[float, float] = (0.0, 0.0), z0: float = 0.0
+) -> list[RevolvedSegment]:
     """Tagged exact boundary of the body (solid on the left of each segment)."""
     R, r, c, L = design.outer_radius, design.chamber_radius, design.end_cap_thickness, design.length
     return [
@@ -79,12 +87,12 @@ def seal_head_profile(design: EPSADesign) -> np.ndarray:
     return np.array([[0.0, L], [R, L], [R, L + t], [0.0, L + t]])
 
 
-def seal_head_surface(design: EPSADesign, n_theta: int = DEFAULT_N_THETA):
+def seal_head_surface(design: EPSADesign, n_theta: int = DEFAULT_N_THETA) -> pv.PolyData:
     h = 2 * np.pi * design.outer_radius / n_theta
     return revolve_profile(subdivide_profile(seal_head_profile(design), 4 * h), n_theta)
 
 
-def seal_head_segments(design: EPSADesign, centre=(0.0, 0.0)) -> list[RevolvedSegment]:
+def seal_head_segments(design: EPSADesign, centre: tuple[float, float] = (0.0, 0.0)) -> list[RevolvedSegment]:
     R, L, t = design.outer_radius, design.length, design.seal_head_thickness
     return [
         RevolvedSegment("bottom", (0.0, L), (R, L), centre),
@@ -124,8 +132,8 @@ def helix_families(design: EPSADesign) -> tuple[tuple[object, float], ...]:
     tan_alpha = 2 * np.pi * design.outer_radius * N / design.length
     density = N / (design.length * np.sin(np.arctan(tan_alpha)))
 
-    def hand(sign):
-        def direction(X):
+    def hand(sign: float) -> Callable[[np.ndarray], np.ndarray]:
+        def direction(X: np.ndarray) -> np.ndarray:
             rho = np.hypot(X[0], X[1])
             e_theta = np.vstack([-X[1] / rho, X[0] / rho, np.zeros_like(rho)])
             return (
@@ -137,7 +145,7 @@ def helix_families(design: EPSADesign) -> tuple[tuple[object, float], ...]:
     return ((hand(+1.0), density), (hand(-1.0), density))
 
 
-def fiber_polydata(fibers):
+def fiber_polydata(fibers: Sequence[np.ndarray]) -> pv.MultiBlock:
     """pyvista lines of the fibers (for plotting)."""
     import pyvista as pv
 

@@ -32,12 +32,16 @@ Tags: ``hub_top`` (z = 0), ``hub_bottom`` (z = -t_hub), ``hub_side``, ``bore``, 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from geometry.design import FootDesign
 from geometry.surfaces import revolve_profile, subdivide_profile
 from geometry.tagging import RevolvedSegment
+
+if TYPE_CHECKING:
+    import pyvista as pv
 
 FOOT_N_THETA = 96
 
@@ -87,7 +91,7 @@ def foot_segments(design: FootDesign, z0: float = 0.0) -> list[RevolvedSegment]:
     return segs
 
 
-def foot_surface(design: FootDesign, n_theta: int = FOOT_N_THETA):
+def foot_surface(design: FootDesign, n_theta: int = FOOT_N_THETA) -> pv.PolyData:
     prof, _ = foot_profile(design)
     return revolve_profile(subdivide_profile(prof, 2 * math.pi * design.tip_radius / n_theta * 2), n_theta)
 

@@ -15,12 +15,16 @@ Tags: ``top``, ``bottom``, ``outer``, ``bore``, ``hole1..3`` (hole i holds actua
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from geometry.design import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, RingDesign
-from geometry.surfaces import _polydata
+from geometry.surfaces import triangle_polydata
 from geometry.tagging import RevolvedSegment
+
+if TYPE_CHECKING:
+    import pyvista as pv
 
 
 def hole_centres(d: float) -> list[tuple[float, float]]:
@@ -43,7 +47,7 @@ def ring_volume(design: RingDesign) -> float:
     )
 
 
-def _plate_triangulation(design: RingDesign, spacing: float):
+def _plate_triangulation(design: RingDesign, spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     from scipy.spatial import Delaunay
 
     pts, loops = [], []
@@ -74,7 +78,7 @@ def _plate_triangulation(design: RingDesign, spacing: float):
     return xy, tri, bnd
 
 
-def ring_surface(design: RingDesign, spacing: float | None = None):
+def ring_surface(design: RingDesign, spacing: float | None = None) -> pv.PolyData:
     """Closed, outward-oriented ring surface, z in [-t/2, t/2]."""
     if spacing is None:
         gaps = [
@@ -92,7 +96,7 @@ def ring_surface(design: RingDesign, spacing: float | None = None):
     faces = [tri[:, ::-1], tri + n]
     i, j = bnd[:, 0], bnd[:, 1]
     faces += [np.column_stack([i, j, j + n]), np.column_stack([i, j + n, i + n])]
-    return _polydata(points, np.vstack(faces))
+    return triangle_polydata(points, np.vstack(faces))
 
 
 def ring_segments(design: RingDesign, z0: float = 0.0) -> list[RevolvedSegment]:

@@ -15,10 +15,16 @@ The returned :class:`pyvista.PolyData` are triangles only, with consistent outwa
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
+if TYPE_CHECKING:
+    import pyvista as pv
 
-def _polydata(points: np.ndarray, tris: np.ndarray):
+
+def triangle_polydata(points: np.ndarray, tris: np.ndarray) -> pv.PolyData:
+    """A pyvista surface of the triangles `tris` (t, 3) on `points` (n, 3)."""
     import pyvista as pv
 
     faces = np.hstack([np.full((len(tris), 1), 3, dtype=np.int64), tris.astype(np.int64)])
@@ -78,28 +84,28 @@ def revolve_arrays(profile: np.ndarray, n_theta: int) -> tuple[np.ndarray, np.nd
     return np.vstack(points), np.vstack(tris)
 
 
-def revolve_profile(profile: np.ndarray, n_theta: int):
+def revolve_profile(profile: np.ndarray, n_theta: int) -> pv.PolyData:
     """Closed surface of revolution (pyvista.PolyData) of a closed CCW (r, z) polygon."""
-    return _polydata(*revolve_arrays(profile, n_theta))
+    return triangle_polydata(*revolve_arrays(profile, n_theta))
 
 
-def flipped(surface):
+def flipped(surface: pv.PolyData) -> pv.PolyData:
     """The same surface with reversed orientation (triangle winding)."""
     tris = surface.faces.reshape(-1, 4)[:, 1:]
-    return _polydata(np.asarray(surface.points), tris[:, ::-1])
+    return triangle_polydata(np.asarray(surface.points), tris[:, ::-1])
 
 
-def merge(*surfaces):
+def merge(*surfaces: pv.PolyData) -> pv.PolyData:
     """Concatenate surfaces (no vertex welding): a multi-shell closed surface."""
     pts, tris, off = [], [], 0
     for s in surfaces:
         pts.append(np.asarray(s.points))
         tris.append(s.faces.reshape(-1, 4)[:, 1:] + off)
         off += s.n_points
-    return _polydata(np.vstack(pts), np.vstack(tris))
+    return triangle_polydata(np.vstack(pts), np.vstack(tris))
 
 
-def signed_volume(surface) -> float:
+def signed_volume(surface: pv.PolyData) -> float:
     """Enclosed volume of a closed oriented triangle surface (divergence theorem)."""
     p = np.asarray(surface.points)
     t = surface.faces.reshape(-1, 4)[:, 1:]

@@ -30,10 +30,12 @@ import numpy as np
 from geometry.design import DesignError, EPSADesign
 from geometry.epsa_shape import epsa_segments, fiber_helices
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tetwild import _curved_meta
+from geometry.tagging import curved_surface_meta
 
 
-def cross_section(r0: float, R0: float, n_around: int, n_radial: int):
+def cross_section(
+    r0: float, R0: float, n_around: int, n_radial: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Polar cross-section: nodes (n, 2), triangles (t, 3), and a mask of the wall triangles."""
     wall = (R0 - r0) / n_radial
     n_inner = max(1, int(round(r0 / wall)))
@@ -123,13 +125,13 @@ def mesh_epsa_swept(
             "n_radial": n_radial,
             "axial_size": axial_size,
             "fiber_points_per_turn": fiber_points_per_turn,
-            "curved_surfaces": _curved_meta(epsa_segments(design)),
+            "curved_surfaces": curved_surface_meta(epsa_segments(design)),
         },
     )
     return mesh
 
 
-def _boundary_faces(tets):
+def _boundary_faces(tets: np.ndarray) -> np.ndarray:
     """Boundary triangles, outward-oriented (faces that belong to exactly one tet)."""
     local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # outward for positive tets
     faces = tets[:, local].reshape(-1, 3)
@@ -138,7 +140,9 @@ def _boundary_faces(tets):
     return faces[counts[inverse.reshape(-1)] == 1]
 
 
-def _tag_facets(points, tets, design, seal_thickness=0.0):
+def _tag_facets(
+    points: np.ndarray, tets: np.ndarray, design: EPSADesign, seal_thickness: float = 0.0
+) -> dict[str, np.ndarray]:
     R0, r0, L, c = design.outer_radius, design.chamber_radius, design.length, design.end_cap_thickness
     faces = _boundary_faces(tets)
     top = L + seal_thickness

@@ -25,10 +25,15 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from geometry.tagging import tet_volumes
+
+if TYPE_CHECKING:
+    import meshio
+    import skfem
 
 _EDGES = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]])
 _FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
@@ -149,7 +154,9 @@ class TaggedMesh:
         }
 
     # ----------------------------------------------------------------- transforms
-    def transformed(self, rotation_deg: float = 0.0, offset=(0.0, 0.0, 0.0)) -> TaggedMesh:
+    def transformed(
+        self, rotation_deg: float = 0.0, offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    ) -> TaggedMesh:
         """Rotated about z by ``rotation_deg``, then translated (orientation is preserved)."""
         c, s = np.cos(np.radians(rotation_deg)), np.sin(np.radians(rotation_deg))
         rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
@@ -167,7 +174,7 @@ class TaggedMesh:
         )
 
     # ----------------------------------------------------------------- solver hand-off
-    def facet_indices(self, mesh, tag: str) -> np.ndarray:
+    def facet_indices(self, mesh: skfem.Mesh, tag: str) -> np.ndarray:
         """Indices into ``mesh.facets`` (a skfem mesh built from these tets) of the facets of ``tag``."""
         keys = _facet_keys(mesh.facets.T)
         order = np.argsort(keys)
@@ -178,7 +185,7 @@ class TaggedMesh:
             raise RuntimeError(f"facets of tag {tag!r} not found in the skfem mesh")
         return found
 
-    def to_skfem(self, order: int = 1):
+    def to_skfem(self, order: int = 1) -> skfem.MeshTet | skfem.MeshTet2:
         """skfem ``MeshTet`` (order 1) or ``MeshTet2`` (order 2), with named boundaries and subdomains.
 
         ``mesh.boundaries[tag]`` are indices into ``mesh.facets``; ``mesh.subdomains[name]`` element
@@ -221,7 +228,7 @@ class TaggedMesh:
         ids.update({tag: 1000 + i for i, tag in enumerate(sorted(self.facets))})
         return ids
 
-    def to_meshio(self):
+    def to_meshio(self) -> meshio.Mesh:
         import meshio
 
         ids = self.physical_ids()

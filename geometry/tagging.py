@@ -34,7 +34,7 @@ class RevolvedSegment:
     centre: tuple[float, float] = (0.0, 0.0)
     curved: bool = False  # True when rho varies over the surface (cylinder, cone): P2 nodes are snapped
 
-    def _rz(self, x: np.ndarray):
+    def _rz(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         dx = x[:, 0] - self.centre[0]
         dy = x[:, 1] - self.centre[1]
         rho = np.hypot(dx, dy)
@@ -69,6 +69,15 @@ class RevolvedSegment:
         return float(
             np.pi * (self.p0[0] + self.p1[0]) * np.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1])
         )
+
+
+def curved_surface_meta(segments: list[RevolvedSegment]) -> dict[str, list]:
+    """``TaggedMesh.meta['curved_surfaces']``: per tag, [p0, p1, centre] of its curved segments."""
+    out: dict[str, list] = {}
+    for s in segments:
+        if s.curved:
+            out.setdefault(s.tag, []).append([list(s.p0), list(s.p1), list(s.centre)])
+    return out
 
 
 def boundary_facets(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -159,7 +168,7 @@ def snap_to_surfaces(
     return new, moved
 
 
-def _point_segment(x, a, b):
+def _point_segment(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     ab = b - a
     t = np.clip(np.einsum("ij,ij->i", x - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
     return np.linalg.norm(x - (a + t[:, None] * ab), axis=1)
@@ -197,7 +206,9 @@ def distance_to_surface(x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: 
     return best
 
 
-def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
+def closest_on_triangles(
+    x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Closest points of triangles (a, b, c) to x, pairwise: (distance (n,), barycentric (n, 3))."""
     n = np.cross(b - a, c - a)
     nn = np.einsum("ij,ij->i", n, n)
@@ -226,7 +237,9 @@ def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndar
     return dist, bary
 
 
-def embed_points(x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: int = 12):
+def embed_points(
+    x: np.ndarray, points: np.ndarray, tris: np.ndarray, k: int = 12
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Host triangle, barycentric coordinates and distance of each point x on a triangle set.
 
     Among the k triangles with the nearest centroids, the one with the closest point is taken;

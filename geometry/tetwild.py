@@ -26,11 +26,13 @@ import logging
 import os
 import time
 import warnings
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from geometry.design import EPSADesign
+from geometry.design import EPSADesign, FootDesign, RingDesign
 from geometry.epsa_shape import (
     DEFAULT_N_THETA,
     epsa_segments,
@@ -40,7 +42,20 @@ from geometry.epsa_shape import (
     seal_head_surface,
 )
 from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import RevolvedSegment, boundary_facets, classify_facets, snap_to_surfaces, tet_volumes
+from geometry.tagging import (
+    RevolvedSegment,
+    boundary_facets,
+    classify_facets,
+    curved_surface_meta,
+    snap_to_surfaces,
+    tet_volumes,
+)
+
+if TYPE_CHECKING:
+    import pyvista as pv
+
+#: Where meshes are cached: a folder, None for `default_cache_dir()`, False for no cache.
+CacheDir = str | Path | Literal[False] | None
 
 log = logging.getLogger(__name__)
 
@@ -57,7 +72,7 @@ def default_cache_dir() -> Path:
     return Path(env) if env else Path.home() / ".cache" / "softcrawl" / "meshes"
 
 
-def _cache_path(cache_dir, kind: str, design_hash: str, settings: dict) -> Path | None:
+def _cache_path(cache_dir: CacheDir, kind: str, design_hash: str, settings: dict) -> Path | None:
     if cache_dir is False:
         return None
     cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_dir()
@@ -67,12 +82,14 @@ def _cache_path(cache_dir, kind: str, design_hash: str, settings: dict) -> Path 
     return cache_dir / f"{kind}-{design_hash}-{key}.npz"
 
 
-def _diag(surface) -> float:
+def _diag(surface: pv.PolyData) -> float:
     b = np.asarray(surface.bounds, dtype=float).reshape(3, 2)
     return float(np.linalg.norm(b[:, 1] - b[:, 0]))
 
 
-def tetrahedralize(surface, edge_length: float, epsilon: float = EPSILON) -> tuple[np.ndarray, np.ndarray]:
+def tetrahedralize(
+    surface: pv.PolyData, edge_length: float, epsilon: float = EPSILON
+) -> tuple[np.ndarray, np.ndarray]:
     """pytetwild on a closed surface -> (points, positively oriented tets), unused points removed."""
     import pytetwild
 
@@ -126,22 +143,14 @@ def tag_boundary(
     return points, facets, n_untagged
 
 
-def _curved_meta(segments: list[RevolvedSegment]) -> dict:
-    out: dict[str, list] = {}
-    for s in segments:
-        if s.curved:
-            out.setdefault(s.tag, []).append([list(s.p0), list(s.p1), list(s.centre)])
-    return out
-
-
 def mesh_part(
     kind: str,
-    surface_fn,
+    surface_fn: Callable[[], pv.PolyData],
     segments: list[RevolvedSegment],
     design_hash: str,
     region_name: str,
     edge_length: float | None,
-    cache_dir,
+    cache_dir: CacheDir,
     n_theta: int,
     sagitta: float,
     fibers: tuple = (),
@@ -177,7 +186,7 @@ def mesh_part(
             "n_untagged_facets": n_untagged,
             "mesh_seconds": round(t_mesh, 2),
             "n_theta": n_theta,
-            "curved_surfaces": _curved_meta(segments),
+            "curved_surfaces": curved_surface_meta(segments),
         },
     )
     if path is not None:
@@ -189,7 +198,7 @@ def mesh_part(
 def mesh_epsa(
     design: EPSADesign | None = None,
     edge_length: float | None = None,
-    cache_dir=None,
+    cache_dir: CacheDir = None,
     n_theta: int = DEFAULT_N_THETA,
 ) -> TaggedMesh:
     """Tetrahedral mesh of the ePSA body (region ``epsa``) with its five tags and the two fibers."""
@@ -212,7 +221,7 @@ def mesh_epsa(
 def mesh_seal_head(
     design: EPSADesign | None = None,
     edge_length: float | None = None,
-    cache_dir=None,
+    cache_dir: CacheDir = None,
     n_theta: int = DEFAULT_N_THETA,
 ) -> TaggedMesh:
     """The ABS seal head disk of an ePSA, z in [L, L + t_s] (region ``seal_head``)."""
@@ -233,10 +242,12 @@ def mesh_seal_head(
 
 
 def mesh_foot(
-    design=None, edge_length: float | None = None, cache_dir=None, n_theta: int | None = None
+    design: FootDesign | None = None,
+    edge_length: float | None = None,
+    cache_dir: CacheDir = None,
+    n_theta: int | None = None,
 ) -> TaggedMesh:
     """The grooved flexible foot (region ``foot``), hub top face at z = 0, see ``geometry.foot``."""
-    from geometry.design import FootDesign
     from geometry.foot import FOOT_N_THETA, foot_segments, foot_surface
 
     design = design or FootDesign()
@@ -255,9 +266,10 @@ def mesh_foot(
     )
 
 
-def mesh_ring(design=None, edge_length: float | None = None, cache_dir=None) -> TaggedMesh:
+def mesh_ring(
+    design: RingDesign | None = None, edge_length: float | None = None, cache_dir: CacheDir = None
+) -> TaggedMesh:
     """The connecting ring (region ``ring``), z in [-t/2, t/2], see ``geometry.ring``."""
-    from geometry.design import RingDesign
     from geometry.ring import ring_segments, ring_surface
 
     design = design or RingDesign()

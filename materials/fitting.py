@@ -8,9 +8,11 @@ default strain range.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from materials.material import (
     DEFAULT_K_OVER_MU,
@@ -66,7 +68,7 @@ class FitResult:
         """mu for Neo-Hookean, 2 C10 for Yeoh [MPa]."""
         return self.values[0] if self.model == "neo-hookean" else 2.0 * self.values[0]
 
-    def predict(self, stretch) -> np.ndarray:
+    def predict(self, stretch: ArrayLike) -> np.ndarray:
         """Model nominal stress [MPa] at `stretch`."""
         if self.model == "neo-hookean":
             return neo_hookean_uniaxial(stretch, self.values[0])
@@ -104,7 +106,9 @@ class FitResult:
         }
 
 
-def select_fit_points(stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STRAIN):
+def select_fit_points(
+    stretch: ArrayLike, nominal_stress: ArrayLike, max_strain: float = DEFAULT_MAX_STRAIN
+) -> tuple[np.ndarray, np.ndarray]:
     """The (stretch, stress) points a fit uses, as two arrays.
 
     * Toe region: crosshead strain includes the take-up of slack and the load cell zero offset,
@@ -125,7 +129,9 @@ def select_fit_points(stretch, nominal_stress, max_strain: float = DEFAULT_MAX_S
     return lam[keep], stress[keep]
 
 
-def fit_neo_hookean(stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STRAIN) -> FitResult:
+def fit_neo_hookean(
+    stretch: ArrayLike, nominal_stress: ArrayLike, max_strain: float = DEFAULT_MAX_STRAIN
+) -> FitResult:
     """Fit mu of P = mu (lam - lam^-2) by linear least squares: mu = sum(g P) / sum(g^2).
 
     `stretch` = 1 + engineering strain, `nominal_stress` in MPa; points are chosen by
@@ -141,7 +147,7 @@ def fit_neo_hookean(stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STR
 
 
 def fit_yeoh(
-    stretch, nominal_stress, max_strain: float = DEFAULT_MAX_STRAIN, stable: bool = True
+    stretch: ArrayLike, nominal_stress: ArrayLike, max_strain: float = DEFAULT_MAX_STRAIN, stable: bool = True
 ) -> FitResult:
     """Fit (C10, C20, C30) of the incompressible uniaxial Yeoh law by linear least squares.
 
@@ -196,7 +202,7 @@ def _bounded_lstsq(design: np.ndarray, stress: np.ndarray, c20_min: float) -> np
     return lsq_linear(design, stress, bounds=(lower, upper), method="bvls").x
 
 
-def _validated_curve(stretch, nominal_stress) -> tuple[np.ndarray, np.ndarray]:
+def _validated_curve(stretch: ArrayLike, nominal_stress: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     lam = np.asarray(stretch, dtype=float)
     stress = np.asarray(nominal_stress, dtype=float)
     if lam.ndim != 1:
@@ -210,7 +216,9 @@ def _validated_curve(stretch, nominal_stress) -> tuple[np.ndarray, np.ndarray]:
     return lam, stress
 
 
-def _points_for_fit(stretch, nominal_stress, max_strain, n_params: int):
+def _points_for_fit(
+    stretch: ArrayLike, nominal_stress: ArrayLike, max_strain: float, n_params: int
+) -> tuple[np.ndarray, np.ndarray]:
     lam, stress = select_fit_points(stretch, nominal_stress, max_strain)
     if lam.size < n_params + 2:
         raise MaterialError(
@@ -220,7 +228,16 @@ def _points_for_fit(stretch, nominal_stress, max_strain, n_params: int):
     return lam, stress
 
 
-def _fit_result(model, names, values, lam, stress, predicted, max_strain, notes) -> FitResult:
+def _fit_result(
+    model: str,
+    names: tuple[str, ...],
+    values: Sequence[float],
+    lam: np.ndarray,
+    stress: np.ndarray,
+    predicted: np.ndarray,
+    max_strain: float,
+    notes: tuple[str, ...],
+) -> FitResult:
     residual = stress - predicted
     rms = float(np.sqrt(np.mean(residual**2)))
     ss_tot = float(np.sum((stress - stress.mean()) ** 2))

@@ -39,9 +39,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from softcrawl.errors import InputError
 
@@ -243,7 +245,7 @@ class Material:
             )
         return dataclasses.replace(self, mu=new_mu, bulk=self.bulk * scale, source=note)
 
-    def uniaxial_nominal_stress(self, stretch) -> np.ndarray:
+    def uniaxial_nominal_stress(self, stretch: ArrayLike) -> np.ndarray:
         """Nominal stress [MPa] in incompressible uniaxial tension (hyperelastic models only)."""
         if self.model == "neo-hookean":
             return neo_hookean_uniaxial(stretch, self.mu)
@@ -265,7 +267,7 @@ class Material:
         return record
 
 
-def finite_number(value, parameter: str) -> float:
+def finite_number(value: object, parameter: str) -> float:
     if isinstance(value, bool):
         raise MaterialError(parameter, f"must be a number, got {value!r}")
     try:
@@ -277,7 +279,7 @@ def finite_number(value, parameter: str) -> float:
     return number
 
 
-def _check_consistent(given, derived: float, parameter: str) -> None:
+def _check_consistent(given: object, derived: float, parameter: str) -> None:
     """A redundant field may be given only if it equals the derived value."""
     if given is None:
         return
@@ -289,7 +291,7 @@ def _check_consistent(given, derived: float, parameter: str) -> None:
         )
 
 
-def _yeoh_coefficients(yeoh_c) -> tuple[float, float, float]:
+def _yeoh_coefficients(yeoh_c: Sequence[float] | None) -> tuple[float, float, float]:
     """Validate (C10, C20, C30): C10 > 0 and dW/dI1 > 0 for every I1 >= 3.
 
     dW/dI1 = C10 + 2 C20 x + 3 C30 x^2 with x = I1 - 3 >= 0 stays positive for all x iff
@@ -317,7 +319,7 @@ def _yeoh_coefficients(yeoh_c) -> tuple[float, float, float]:
     return (c10, c20, c30)
 
 
-def yeoh_is_stable(yeoh_c) -> bool:
+def yeoh_is_stable(yeoh_c: Sequence[float]) -> bool:
     """True if dW/dI1 = C10 + 2 C20 x + 3 C30 x^2 > 0 for all x = I1 - 3 >= 0."""
     c10, c20, c30 = yeoh_c
     return c10 > 0.0 and c30 >= 0.0 and (c20 >= 0.0 or c20 * c20 < 3.0 * c10 * c30)
@@ -328,13 +330,13 @@ def yeoh_is_stable(yeoh_c) -> bool:
 # --------------------------------------------------------------------------------------------
 
 
-def neo_hookean_uniaxial(stretch, mu: float) -> np.ndarray:
+def neo_hookean_uniaxial(stretch: ArrayLike, mu: float) -> np.ndarray:
     """Nominal stress P = mu (lam - lam^-2) [MPa], incompressible uniaxial tension."""
     lam = np.asarray(stretch, dtype=float)
     return mu * (lam - lam**-2)
 
 
-def yeoh_uniaxial(stretch, yeoh_c) -> np.ndarray:
+def yeoh_uniaxial(stretch: ArrayLike, yeoh_c: Sequence[float]) -> np.ndarray:
     """Nominal stress P = 2 (lam - lam^-2)(C10 + 2 C20 x + 3 C30 x^2), x = lam^2 + 2/lam - 3."""
     lam = np.asarray(stretch, dtype=float)
     return yeoh_design_matrix(lam) @ np.asarray(yeoh_c, dtype=float)

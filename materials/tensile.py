@@ -96,7 +96,7 @@ def _tensile_path(name: str) -> tuple[Path, bool]:
     )
 
 
-def _parse_tensile_csv(text: str, label: str):
+def _parse_tensile_csv(text: str, label: str) -> tuple[tuple[tuple[str, str], ...], np.ndarray, np.ndarray]:
     lines = text.splitlines()
     header_index = None
     for index, line in enumerate(lines):

@@ -14,7 +14,10 @@ Modules (one job each; units mm, N, s, tonne inside, pressures of the identified
 - `kinematics`      FK eqs. (4)-(6), (9); exact IK (the printed (11), (13)-(15) do not invert FK)
 - `workspace`       tip cloud over 0-100 kPa (Fig. 11(d))
 - `pipe`            straight / vertical / elbow centrelines, distance and arc length
-- `planner`         gait planning through a pipe (Section IV, eqs. 16-18), replay of a given gait
+- `cycle`           the crawling cycle's geometry (Section IV, eqs. 16-18) and the pipe-fit check,
+                    shared by the three planners below
+- `gait`            a planned gait (`Plan`, `Cycle`) and `replay`, which checks a given gait
+- `planner`         beam search of a gait through a pipe on the pressure grid
 - `planar`          exhaustive breadth-first elbow search on the pressure grid (bend plane)
 - `refine`          elbow gaits with continuous pressures (SLSQP maximises the wall clearance)
 - `errors`          `ModelInputError`, the input error of this package

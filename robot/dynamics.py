@@ -9,6 +9,7 @@ Units: mm, s, N, tonne; P in kPa. The damping b_p is an assumption (see `robot.p
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,7 +29,7 @@ class Response:
 
 def simulate(
     actuator: EPSAParams,
-    phases,
+    phases: Sequence[tuple[float, float]],
     y0: float = 0.0,
     v0: float = 0.0,
     g: float = G_STANDARD,
@@ -51,10 +52,10 @@ def simulate(
         b = float(actuator.b_p(p))
         f = float(actuator.f_p(p))
 
-        def rhs(_t, s, k=k, b=b, f=f):
+        def rhs(_t: float, s: np.ndarray, k: float = k, b: float = b, f: float = f) -> list[float]:
             return [s[1], (f - m * g - b * s[1] - k * s[0]) / m]
 
-        def jac(_t, _s, k=k, b=b):
+        def jac(_t: float, _s: np.ndarray, k: float = k, b: float = b) -> list[list[float]]:
             return [[0.0, 1.0], [-k / m, -b / m]]
 
         t_eval = np.linspace(t0, t0 + duration, samples_per_phase)

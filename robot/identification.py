@@ -24,8 +24,10 @@ the paper's N/m). The table can be synthetic (`synthetic_table`), measured, or F
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
 from robot.statics import G_STANDARD, EPSAParams, Line, PiecewiseLinear
@@ -47,7 +49,11 @@ class Identification:
 
 
 def fit_per_pressure(
-    pressure_kpa, load_n, extension_mm, mass_t: float = 0.0, g: float = G_STANDARD
+    pressure_kpa: ArrayLike,
+    load_n: ArrayLike,
+    extension_mm: ArrayLike,
+    mass_t: float = 0.0,
+    g: float = G_STANDARD,
 ) -> PerPressureFit:
     p = np.asarray(pressure_kpa, dtype=float).ravel()
     w = np.asarray(load_n, dtype=float).ravel()
@@ -74,7 +80,7 @@ def fit_per_pressure(
     return PerPressureFit(levels, np.array(ks), np.array(fs), np.array(rms))
 
 
-def _line_fit(x, y):
+def _line_fit(x: np.ndarray, y: np.ndarray) -> tuple[Line, float]:
     A = np.column_stack([x, np.ones_like(x)])
     (s, c), *_ = np.linalg.lstsq(A, y, rcond=None)
     sse = float(np.sum((A @ [s, c] - y) ** 2))
@@ -82,7 +88,7 @@ def _line_fit(x, y):
 
 
 def fit_piecewise(
-    pressure_kpa, values, breakpoint: float | None = 60.0, piecewise: bool = True
+    pressure_kpa: ArrayLike, values: ArrayLike, breakpoint: float | None = 60.0, piecewise: bool = True
 ) -> PiecewiseLinear:
     """Two lines split at `breakpoint` (kPa, lower line for P <= bp) or at the best data pressure."""
     x = np.asarray(pressure_kpa, dtype=float)
@@ -115,9 +121,9 @@ def fit_piecewise(
 
 
 def identify(
-    pressure_kpa,
-    load_n,
-    extension_mm,
+    pressure_kpa: ArrayLike,
+    load_n: ArrayLike,
+    extension_mm: ArrayLike,
     mass_t: float = 0.0,
     g: float = G_STANDARD,
     breakpoint: float | None = 60.0,
@@ -134,13 +140,13 @@ def identify(
 
 def synthetic_table(
     actuator: EPSAParams,
-    pressures_kpa,
-    loads_n,
+    pressures_kpa: ArrayLike,
+    loads_n: ArrayLike,
     repeats: int = 1,
     noise_mm: float = 0.0,
     seed: int = 0,
     g: float = G_STANDARD,
-):
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(P, W, y) rows from the model k_p y + m g + W = f_p, plus Gaussian noise on y."""
     rng = np.random.default_rng(seed)
     P, W = np.meshgrid(np.asarray(pressures_kpa, float), np.asarray(loads_n, float), indexing="ij")
@@ -150,7 +156,7 @@ def synthetic_table(
     return P, W, y + noise_mm * rng.standard_normal(y.shape)
 
 
-def read_table(path):
+def read_table(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """CSV with header columns pressure_kpa, load_n, extension_mm (extra columns ignored)."""
     import csv
 

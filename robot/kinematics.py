@@ -43,6 +43,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
 
@@ -59,18 +60,18 @@ class Configuration:
     length: float
 
 
-def _sinc(x):
+def _sinc(x: ArrayLike) -> np.ndarray:
     """sin(x)/x, stable at 0."""
     return np.sinc(np.asarray(x, dtype=float) / np.pi)
 
 
-def _versinc(x):
+def _versinc(x: ArrayLike) -> np.ndarray:
     """(1 - cos x)/x = 2 sin^2(x/2)/x = (x/2) sinc(x/2)^2, stable at 0."""
     x = np.asarray(x, dtype=float)
     return 0.5 * x * _sinc(0.5 * x) ** 2
 
 
-def _atan_over(u):
+def _atan_over(u: ArrayLike) -> np.ndarray:
     """atan(u)/u, stable at 0 (series below |u| < 1e-4)."""
     u = np.asarray(u, dtype=float)
     small = np.abs(u) < 1e-4
@@ -78,7 +79,7 @@ def _atan_over(u):
     return np.where(small, 1.0 - u * u / 3.0 + u**4 / 5.0, np.arctan(us) / us)
 
 
-def forward(lengths, d: float = 14.0):
+def forward(lengths: ArrayLike, d: float = 14.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Lengths (..., 3) in mm -> (kappa, theta, phi, l_c) arrays (eqs. 4-6)."""
     l = np.asarray(lengths, dtype=float)
     if l.shape[-1] != 3:
@@ -97,12 +98,12 @@ def forward(lengths, d: float = 14.0):
     return kappa, theta, phi, total / 3.0
 
 
-def configuration(lengths, d: float = 14.0) -> Configuration:
+def configuration(lengths: ArrayLike, d: float = 14.0) -> Configuration:
     k, t, p, lc = forward(lengths, d)
     return Configuration(float(k), float(t), float(p), float(lc))
 
 
-def arc_point(theta, phi, length):
+def arc_point(theta: ArrayLike, phi: ArrayLike, length: ArrayLike) -> np.ndarray:
     """Position at bending angle theta along an arc of length `length` from the base (eq. 9's p).
 
     All arguments broadcast; returns (..., 3). theta = kappa * length.
@@ -115,7 +116,7 @@ def arc_point(theta, phi, length):
     return np.stack(np.broadcast_arrays(rho * np.cos(phi), rho * np.sin(phi), z), axis=-1)
 
 
-def arc_rotation(theta, phi):
+def arc_rotation(theta: ArrayLike, phi: ArrayLike) -> np.ndarray:
     """Rotation part of eq. (9), Rz(phi) Ry(theta) Rz(-phi), shape (..., 3, 3)."""
     theta = np.asarray(theta, dtype=float)
     phi = np.asarray(phi, dtype=float)
@@ -134,7 +135,17 @@ def arc_rotation(theta, phi):
     return r
 
 
-def transform(lengths, d: float = 14.0) -> np.ndarray:
+def planar_arc(kappa: ArrayLike, length: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Lateral and axial offsets of a planar arc of signed curvature kappa at arc length `length`.
+
+    The bend-plane form of `arc_point` for phi = +-90 deg: lateral = length (1 - cos theta)/theta
+    sign(kappa), axial = length sin(theta)/theta, theta = kappa length; both broadcast.
+    """
+    th = kappa * length
+    return length * _versinc(np.abs(th)) * np.sign(kappa), length * _sinc(th)
+
+
+def transform(lengths: ArrayLike, d: float = 14.0) -> np.ndarray:
     """Homogeneous tip transform T (eq. 9) for one set of lengths, 4 x 4."""
     k, t, p, lc = forward(lengths, d)
     T = np.eye(4)
@@ -143,13 +154,13 @@ def transform(lengths, d: float = 14.0) -> np.ndarray:
     return T
 
 
-def tip(lengths, d: float = 14.0) -> np.ndarray:
+def tip(lengths: ArrayLike, d: float = 14.0) -> np.ndarray:
     """Tip position (..., 3) in mm."""
     k, t, p, lc = forward(lengths, d)
     return arc_point(t, p, lc)
 
 
-def inverse_configuration(tip_xyz):
+def inverse_configuration(tip_xyz: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Tip position (..., 3) -> (kappa, theta, phi, l_c); exact inverse of `arc_point`."""
     x = np.asarray(tip_xyz, dtype=float)
     if x.shape[-1] != 3 or np.any(~np.isfinite(x)):
@@ -170,7 +181,7 @@ def inverse_configuration(tip_xyz):
     return kappa, theta, phi, lc
 
 
-def inverse(tip_xyz, d: float = 14.0):
+def inverse(tip_xyz: ArrayLike, d: float = 14.0) -> np.ndarray:
     """Tip position (..., 3) in mm -> ePSA lengths (..., 3) in mm (exact IK)."""
     if d <= 0:
         raise ModelInputError("d", "must be > 0")
@@ -181,7 +192,9 @@ def inverse(tip_xyz, d: float = 14.0):
     return lengths
 
 
-def lengths_from_configuration(kappa, phi, lc, d: float = 14.0):
+def lengths_from_configuration(
+    kappa: ArrayLike, phi: ArrayLike, lc: ArrayLike, d: float = 14.0
+) -> np.ndarray:
     """l_i = l_c (1 - kappa d cos(psi_i - phi)), (..., 3)."""
     kappa = np.asarray(kappa, dtype=float)[..., None]
     phi = np.asarray(phi, dtype=float)[..., None]

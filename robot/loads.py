@@ -28,20 +28,26 @@ inflation time, so it is an estimate to compare with Table 2, not a prediction.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
 from robot.statics import EPSAParams
 
 
-def friction_from_extensions(k_p_n_per_mm, y_outside_mm, y_inside_mm):
+def friction_from_extensions(
+    k_p_n_per_mm: ArrayLike, y_outside_mm: ArrayLike, y_inside_mm: ArrayLike
+) -> np.ndarray:
     """Eq. (26): f_mu = k_p (y1 - y2), N."""
     return np.asarray(k_p_n_per_mm) * (np.asarray(y_outside_mm) - np.asarray(y_inside_mm))
 
 
-def extension_with_friction(actuator: EPSAParams, pressure_kpa, friction_n, g: float = 0.0):
+def extension_with_friction(
+    actuator: EPSAParams, pressure_kpa: ArrayLike, friction_n: ArrayLike, g: float = 0.0
+) -> np.ndarray:
     """Eq. (25) solved for y: (f_p - m g - f_mu) / k_p, mm (friction per actuator)."""
     p = np.asarray(pressure_kpa, dtype=float)
     return (actuator.f_p(p) - actuator.mass * g - np.asarray(friction_n)) / actuator.k_p(p)
@@ -70,7 +76,11 @@ class SpeedEstimate:
 
 
 def crawl_speed(
-    actuators, pressure_kpa: float, friction_n: float, cycle_s: float = 2.0, g_axial: float = 0.0
+    actuators: Sequence[EPSAParams],
+    pressure_kpa: float,
+    friction_n: float,
+    cycle_s: float = 2.0,
+    g_axial: float = 0.0,
 ) -> SpeedEstimate:
     """Stride per cycle and speed (see module docstring); friction_n is the total for the robot."""
     if cycle_s <= 0:
@@ -88,7 +98,11 @@ def crawl_speed(
 
 
 def friction_for_speed(
-    actuators, pressure_kpa: float, speed_mm_s: float, cycle_s: float = 2.0, g_axial: float = 0.0
+    actuators: Sequence[EPSAParams],
+    pressure_kpa: float,
+    speed_mm_s: float,
+    cycle_s: float = 2.0,
+    g_axial: float = 0.0,
 ) -> float:
     """Total friction (N) at which `crawl_speed` would give `speed_mm_s` (all actuators moving)."""
     y = speed_mm_s * cycle_s

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
 
@@ -35,7 +36,7 @@ class Pipe:
     exit: float = 150.0  # mm, exit leg (elbow)
     bend_angle: float = np.pi / 2  # rad
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ModelInputError("pipe", f"must be one of {', '.join(KINDS)}, got {self.kind!r}")
         if not self.diameter > 0:
@@ -65,7 +66,7 @@ class Pipe:
         """Arc length the rear foot must pass: the pipe end (straight) or the end of the bend."""
         return self.length if self.kind != "elbow" else self.bend_end
 
-    def point(self, s):
+    def point(self, s: ArrayLike) -> np.ndarray:
         """Centreline point(s) at arc length s (extended beyond both ends)."""
         s = np.asarray(s, dtype=float)
         out = np.zeros(s.shape + (3,))
@@ -85,7 +86,8 @@ class Pipe:
         out[after, 2] = L1 + R * np.sin(a_end) + t * np.cos(a_end)
         return out
 
-    def tangent(self, s):
+    def tangent(self, s: ArrayLike) -> np.ndarray:
+        """Unit tangent(s) of the centreline at arc length s."""
         s = np.asarray(s, dtype=float)
         out = np.zeros(s.shape + (3,))
         if self.kind != "elbow":
@@ -96,7 +98,7 @@ class Pipe:
         out[..., 2] = np.cos(a)
         return out
 
-    def locate(self, points):
+    def locate(self, points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(distance to the centreline, arc length of the nearest centreline point) for (..., 3)."""
         x = np.asarray(points, dtype=float)
         px, py, pz = x[..., 0], x[..., 1], x[..., 2]
@@ -122,3 +124,22 @@ class Pipe:
         s = np.stack([s1, s2, s3])
         k = np.argmin(d, axis=0)
         return np.take_along_axis(d, k[None], 0)[0], np.take_along_axis(s, k[None], 0)[0]
+
+    def plane_distance(self, x: ArrayLike, z: ArrayLike) -> np.ndarray:
+        """Distance of the points (x, 0, z) to the centreline: `locate`'s distance in the x-z plane.
+
+        The bend-plane fit check of `robot.cycle`: equal to `locate`'s distance up to rounding
+        (~1e-14 mm), in about half its time (no arc length, no y terms).
+        """
+        px, pz = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
+        if self.kind != "elbow":
+            return np.abs(px)
+        L1, R, a_end = self.entry, self.bend_radius, self.bend_angle
+        d = np.hypot(px, np.maximum(pz - L1, 0.0))
+        qx, qz = px - R, pz - L1
+        a = np.clip(np.arctan2(qz, -qx), 0.0, a_end)
+        d = np.minimum(d, np.hypot(qx + R * np.cos(a), qz - R * np.sin(a)))
+        ex, ez = R * (1 - np.cos(a_end)), L1 + R * np.sin(a_end)
+        ux, uz = np.sin(a_end), np.cos(a_end)
+        t = np.maximum((px - ex) * ux + (pz - ez) * uz, 0.0)
+        return np.minimum(d, np.hypot(px - ex - t * ux, pz - ez - t * uz))

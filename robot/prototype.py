@@ -34,6 +34,8 @@ Decisions (not given in the paper):
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from robot.statics import EPSAParams, Line, PiecewiseLinear
 
 #: Initial ePSA length (Table 1), mm.
@@ -69,7 +71,7 @@ PRINTED_F_N = {
 }
 
 
-def _pw(c, factor=1.0) -> PiecewiseLinear:
+def _pw(c: Sequence[float], factor: float = 1.0) -> PiecewiseLinear:
     return PiecewiseLinear(
         Line(c[0] * factor, c[1] * factor), Line(c[2] * factor, c[3] * factor), BREAKPOINT_KPA
     )

@@ -14,7 +14,7 @@ solved with SLSQP (forward-difference Jacobians, batched; per cycle and stage on
 sample distance enters, an order statistic and so continuous in the lengths). t > 0 means a gait
 with t mm of wall clearance to spare; by default SLSQP stops once t >= 0.02 mm. Lengths in the
 upward 0.17 mm gap of the nominal l(P) at 60 kPa are reached by no pressure and are pinned to its
-ends. Same cycle model as the planner (docs/DESIGN.md section 5, eqs. 16-18): the robot
+ends. The bend-plane form of `robot.cycle` (docs/DESIGN.md section 5, eqs. 16-18): the robot
 is rolled so that ePSA 1 faces the inside of the bend, triples (P1, P23, P23) bend in the bend
 plane with signed curvature k (> 0 towards the bend)
 
@@ -26,7 +26,7 @@ l(0), curvature kept, deflated lengths l_def (1 - k d), l_def (1 + k d / 2)). Th
 the seed is a straight gait of short strides and SLSQP finds the manoeuvre (an S: first a slight
 bend away from the elbow that puts the rear foot ~4 mm towards the outer wall, tilted ~4 deg away,
 then a curvature that grows cycle by cycle). The result is converted to pressures by the inverse
-statics and re-run by `robot.planner.replay`, which applies the planner's own checks, so the
+statics and re-run by `robot.gait.replay`, which applies the planner's own checks, so the
 returned `Plan` does not depend on this module's simulator being right.
 
 Only the nominal actuators (identical ePSAs 2 and 3 make P2 = P3 a planar family) and the paper
@@ -35,62 +35,47 @@ deflation are supported. Radii passed and clearances: see `robot.planner`.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
-from scipy.optimize import minimize
+from numpy.typing import ArrayLike
+from scipy.optimize import OptimizeResult, minimize
 
-from robot import kinematics as kin
+from robot import cycle as cm
 from robot.errors import ModelInputError
+from robot.gait import Plan, replay
 from robot.pipe import Pipe
-from robot.planner import Plan, replay
 from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
-from robot.statics import P_MAX_KPA
+from robot.statics import P_MAX_KPA, EPSAParams
 
 
-def _arc(k, u):
-    """Lateral and axial offsets of a planar arc of signed curvature k at arc length u."""
-    th = k * u
-    return u * kin._versinc(np.abs(th)) * np.sign(k), u * kin._sinc(th)
+def _cycle(
+    pipe: Pipe,
+    state: tuple[np.ndarray, ...],
+    l1: np.ndarray,
+    l23: np.ndarray,
+    rest: float,
+    d: float,
+    lam: np.ndarray,
+    f: np.ndarray,
+) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """One cycle for a batch: wall distances (B, stages, samples) and the next state.
 
-
-def _elbow_distance(pipe: Pipe, px, pz):
-    """Distance of bend-plane points (x, 0, z) to the elbow centreline (as `Pipe.locate`)."""
-    L1, R, a_end = pipe.entry, pipe.bend_radius, pipe.bend_angle
-    d = np.hypot(px, np.maximum(pz - L1, 0.0))
-    qx, qz = px - R, pz - L1
-    a = np.clip(np.arctan2(qz, -qx), 0.0, a_end)
-    d = np.minimum(d, np.hypot(qx + R * np.cos(a), qz - R * np.sin(a)))
-    ex, ez = R * (1 - np.cos(a_end)), L1 + R * np.sin(a_end)
-    ux, uz = np.sin(a_end), np.cos(a_end)
-    t = np.maximum((px - ex) * ux + (pz - ez) * uz, 0.0)
-    return np.minimum(d, np.hypot(px - ex - t * ux, pz - ez - t * uz))
-
-
-def _cycle(pipe, state, l1, l23, rest, d, lam, f):
-    """One cycle for a batch: wall distances (B, stages, samples) and the next state."""
+    A state is (x, z, heading, deflated l1, deflated l23), each (B,); `lam` is (1, stages).
+    """
     x, z, A, l1d, l23d = state
-    L1 = l1d[:, None] + lam * (l1 - l1d)[:, None]
-    L23 = l23d[:, None] + lam * (l23 - l23d)[:, None]
-    lc = (L1 + 2.0 * L23) / 3.0
-    lat, ax = _arc(((1.0 - L1 / lc) / d)[..., None], lc[..., None] * f)
-    c, s = np.cos(A)[:, None, None], np.sin(A)[:, None, None]
-    dist = _elbow_distance(pipe, x[:, None, None] + c * lat + s * ax, z[:, None, None] - s * lat + c * ax)
-    lcf = (l1 + 2.0 * l23) / 3.0
-    kf = (1.0 - l1 / lcf) / d
+    L1 = cm.inflation_lengths(l1d[:, None], l1[:, None], lam)
+    L23 = cm.inflation_lengths(l23d[:, None], l23[:, None], lam)
+    dist = cm.planar_distances(pipe, x[:, None], z[:, None], A[:, None], L1, L23, d, f)
+    kf, lcf = cm.planar_configuration(l1, l23, d)
     step = lcf - rest
-    sl, sa = _arc(kf, step)
-    c, s = np.cos(A), np.sin(A)
-    return dist, (
-        x + c * sl + s * sa,
-        z - s * sl + c * sa,
-        A + kf * step,
-        rest * (1.0 - kf * d),
-        rest * (1.0 + kf * d / 2.0),
-    )
+    return dist, (*cm.planar_slide(x, z, A, kf, step), *cm.planar_deflated_lengths(rest, kf, d))
 
 
-def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4, samples: int = 21):
+def simulate(
+    pipe: Pipe, lengths: ArrayLike, rest: float, d: float = D_MM, stages: int = 4, samples: int = 21
+) -> tuple[np.ndarray, np.ndarray]:
     """Planar cycle model for gaits `lengths` (B, N, 2) = inflated (l1, l23) per cycle, mm.
 
     Returns the wall distances of the body centreline, (B, N, stages, samples), and the rear foot
@@ -99,7 +84,7 @@ def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4,
     ls = np.asarray(lengths, dtype=float)
     B, N, _ = ls.shape
     state = (np.zeros(B), np.zeros(B), np.zeros(B), np.full(B, rest), np.full(B, rest))
-    lam = (np.arange(1, stages + 1) / stages)[None, :]
+    lam = cm.stage_fractions(stages)[None, :]
     f = np.linspace(0.0, 1.0, samples)
     dist = np.empty((B, N, stages, samples))
     rear = np.zeros((B, N + 1, 3))
@@ -109,7 +94,9 @@ def simulate(pipe: Pipe, lengths, rest: float, d: float = D_MM, stages: int = 4,
     return dist, rear
 
 
-def _perturbed(pipe, ls, h, rest, d, stages, samples):
+def _perturbed(
+    pipe: Pipe, ls: np.ndarray, h: float, rest: float, d: float, stages: int, samples: int
+) -> tuple[np.ndarray, np.ndarray]:
     """`simulate` of the gait ls (N, 2) and of its n = 2N forward perturbations by h.
 
     A cycle's lengths act on that cycle and the later ones only, so perturbation j (cycle j // 2)
@@ -118,7 +105,7 @@ def _perturbed(pipe, ls, h, rest, d, stages, samples):
     """
     N = len(ls)
     n = 2 * N
-    lam = (np.arange(1, stages + 1) / stages)[None, :]
+    lam = cm.stage_fractions(stages)[None, :]
     f = np.linspace(0.0, 1.0, samples)
     dist = np.empty((n + 1, N, stages, samples))
     base = (np.zeros(1), np.zeros(1), np.zeros(1), np.full(1, rest), np.full(1, rest))
@@ -141,14 +128,15 @@ def _perturbed(pipe, ls, h, rest, d, stages, samples):
     return dist, rear
 
 
-def _progress(pipe: Pipe, rear):
+def _progress(pipe: Pipe, rear: np.ndarray) -> np.ndarray:
+    """Arc length along the pipe of bend-plane rear feet (..., >= 2) = (x, z, ...)."""
     r = np.asarray(rear)
     return pipe.locate(np.stack([r[..., 0], np.zeros_like(r[..., 0]), r[..., 1]], -1))[1]
 
 
 def refine(
     pipe: Pipe,
-    lengths0,
+    lengths0: ArrayLike,
     allow: float,
     rest: float,
     l_max: float,
@@ -159,8 +147,8 @@ def refine(
     h: float = 1e-6,
     keep: int = 1,
     target: float | None = None,
-    bounds=None,
-):
+    bounds: ArrayLike | None = None,
+) -> tuple[np.ndarray, float, OptimizeResult]:
     """Maximise the wall clearance t of the gait `lengths0` (N, 2) with the goal as a constraint.
 
     The constraints are, per cycle and stage, the `keep` largest sample distances (order
@@ -176,7 +164,8 @@ def refine(
     goal = pipe.goal()
     memo: dict = {}
 
-    def evaluate(v):
+    def evaluate(v: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Wall and goal constraints at v and their Jacobians (forward differences, memoised)."""
         key = v.tobytes()
         if key not in memo:
             dist, rear = _perturbed(pipe, v[:n].reshape(N, 2), h, rest, d, stages, samples)
@@ -191,12 +180,12 @@ def refine(
             memo[key] = (allow - v[n] - g[0], jw, np.array([s[0] - goal]), jg)
         return memo[key]
 
-    def clearance(v):
+    def clearance(v: np.ndarray) -> float:
         """Wall clearance of the gait v if it reaches the goal, else -inf."""
         wall, _, goal_ok, _ = evaluate(v)
         return float(wall.min() + v[n]) if goal_ok[0] >= 0 else -np.inf
 
-    def stop(xk):
+    def stop(xk: np.ndarray) -> None:
         if target is not None and clearance(xk) >= target:
             raise StopIteration
 
@@ -228,7 +217,7 @@ def continuous_plan(
     stages: int = 8,
     samples: int = 41,
     maxiter: int = 400,
-    seed=None,
+    seed: ArrayLike | None = None,
     check_stages: int = 4,
     check_samples: int = 21,
     margin: float | None = 0.02,
@@ -250,24 +239,10 @@ def continuous_plan(
         raise ModelInputError("cycles", "must be >= 1")
     a = actuator_set("nominal")[0]
     rest, l_max = float(a.length(0.0, 0.0)), float(a.length(P_MAX_KPA, 0.0))
-    allow = pipe.diameter / 2.0 - body_radius
-    if allow < 0:
-        raise ModelInputError(
-            "diameter", f"a {2 * body_radius:g} mm body does not fit a {pipe.diameter:g} mm pipe"
-        )
+    allow = cm.PipeFit.of(pipe, body_radius).allow
     t_start = time.perf_counter()
-    if seed is not None:
-        P = np.asarray(seed, dtype=float).reshape(-1, 3)
-        if np.any(P[:, 1] != P[:, 2]):
-            raise ModelInputError("seed", "triples must have P2 = P3")
-        seeds = [np.stack([a.length(P[:, 0], 0.0), a.length(P[:, 1], 0.0)], -1)]
-    else:
-        seeds = []
-        for n in range(cycles, cycles + max(attempts, 1)):
-            stride = min(1.25 * pipe.goal() / n, 12.0)
-            seeds.append(np.full((n, 2), min(rest + stride, l_max)))
     best = None
-    for l0 in seeds:
+    for l0 in _seeds(pipe, a, seed, cycles, attempts, rest, l_max):
         lengths, t = _refine_gait(pipe, a, l0, allow, rest, l_max, d, stages, samples, maxiter, margin)
         if best is None or t > best[1]:
             best = (lengths, t)
@@ -288,23 +263,45 @@ def continuous_plan(
         f"{result.message}; continuous pressures, {len(lengths)} cycles planned, {spare} "
         f"({time.perf_counter() - t_start:.1f} s)"
     )
-    return Plan(
-        result.pipe,
-        result.success,
-        result.cycles,
-        result.body_radius,
-        result.d,
-        result.actuators,
-        0.0,
-        result.body,
-        result.start_rear,
-        result.start_pressures,
-        msg,
-        result.start_rotation,
-    )
+    return dataclasses.replace(result, step_kpa=0.0, message=msg)
 
 
-def _refine_gait(pipe, a, l0, allow, rest, l_max, d, stages, samples, maxiter, margin):
+def _seeds(
+    pipe: Pipe,
+    a: EPSAParams,
+    seed: ArrayLike | None,
+    cycles: int,
+    attempts: int,
+    rest: float,
+    l_max: float,
+) -> list[np.ndarray]:
+    """Gaits (N, 2) of inflated (l1, l23) to start SLSQP from: the given `seed` triples, or
+    straight gaits of `cycles`, `cycles` + 1, ... equal strides (`attempts` of them)."""
+    if seed is not None:
+        P = np.asarray(seed, dtype=float).reshape(-1, 3)
+        if np.any(P[:, 1] != P[:, 2]):
+            raise ModelInputError("seed", "triples must have P2 = P3")
+        return [np.stack([a.length(P[:, 0], 0.0), a.length(P[:, 1], 0.0)], -1)]
+    seeds = []
+    for n in range(cycles, cycles + max(attempts, 1)):
+        stride = min(1.25 * pipe.goal() / n, 12.0)
+        seeds.append(np.full((n, 2), min(rest + stride, l_max)))
+    return seeds
+
+
+def _refine_gait(
+    pipe: Pipe,
+    a: EPSAParams,
+    l0: np.ndarray,
+    allow: float,
+    rest: float,
+    l_max: float,
+    d: float,
+    stages: int,
+    samples: int,
+    maxiter: int,
+    margin: float | None,
+) -> tuple[np.ndarray, float]:
     """SLSQP on the planner's check, then on stages x samples; lengths kept out of the 60 kPa gap."""
     lengths, t, _ = refine(pipe, l0, allow, rest, l_max, d, 4, 21, maxiter, target=margin)
     if (stages, samples) != (4, 21) and t >= 0:

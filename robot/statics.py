@@ -38,6 +38,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
 
@@ -54,7 +55,7 @@ class Line:
     slope: float
     intercept: float
 
-    def __call__(self, pressure_kpa):
+    def __call__(self, pressure_kpa: ArrayLike) -> np.ndarray:
         return self.slope * np.asarray(pressure_kpa, dtype=float) + self.intercept
 
 
@@ -66,7 +67,7 @@ class PiecewiseLinear:
     high: Line | None = None
     breakpoint_kpa: float = 60.0
 
-    def __call__(self, pressure_kpa):
+    def __call__(self, pressure_kpa: ArrayLike) -> np.ndarray:
         p = np.asarray(pressure_kpa, dtype=float)
         if self.high is None:
             return self.low(p)
@@ -85,7 +86,7 @@ class PiecewiseLinear:
         return float(self.high(self.breakpoint_kpa) - self.low(self.breakpoint_kpa))
 
     def scaled(self, factor: float) -> PiecewiseLinear:
-        def s(line):
+        def s(line: Line) -> Line:
             return None if line is None else Line(line.slope * factor, line.intercept * factor)
 
         return PiecewiseLinear(s(self.low), s(self.high), self.breakpoint_kpa)
@@ -103,15 +104,15 @@ class EPSAParams:
     name: str = "ePSA"
 
     # -- statics (eq. 3) ------------------------------------------------------------------------
-    def extension(self, pressure_kpa, g: float = G_STANDARD):
+    def extension(self, pressure_kpa: ArrayLike, g: float = G_STANDARD) -> np.ndarray:
         """y(P) = (f_p - m g)/k_p in mm, printed branch per pressure (no blending)."""
         p = _check_pressure(pressure_kpa)
         return (self.f_p(p) - self.mass * g) / self.k_p(p)
 
-    def length(self, pressure_kpa, g: float = G_STANDARD):
+    def length(self, pressure_kpa: ArrayLike, g: float = G_STANDARD) -> np.ndarray:
         return self.l0 + self.extension(pressure_kpa, g)
 
-    def blocked_force(self, pressure_kpa, g: float = G_STANDARD):
+    def blocked_force(self, pressure_kpa: ArrayLike, g: float = G_STANDARD) -> np.ndarray:
         """Output force held at the initial length (y = 0, the paper's Fig. 19): f_p - m g, N."""
         p = _check_pressure(pressure_kpa)
         return self.f_p(p) - self.mass * g
@@ -127,7 +128,7 @@ class EPSAParams:
         hi = self.l0 + (hi_f(bp) - self.mass * g) / hi_k(bp)
         return float(lo), float(hi), float(hi - lo)
 
-    def _segments(self):
+    def _segments(self) -> list[tuple[float, float, Line, Line]]:
         """Pressure intervals on which both k_p and f_p are single lines."""
         cuts = sorted(
             {0.0, np.inf}
@@ -142,7 +143,7 @@ class EPSAParams:
         return segs
 
     def pressure_for_length(
-        self, length_mm, g: float = 0.0, p_max: float = P_MAX_KPA, strict: bool = False
+        self, length_mm: float, g: float = 0.0, p_max: float = P_MAX_KPA, strict: bool = False
     ) -> float:
         """Inverse statics: the smallest pressure in [0, p_max] kPa whose length is `length_mm`.
 
@@ -194,7 +195,7 @@ def _line_at(pw: PiecewiseLinear, p: float) -> Line:
     return pw.high
 
 
-def _check_pressure(pressure_kpa):
+def _check_pressure(pressure_kpa: ArrayLike) -> np.ndarray:
     p = np.asarray(pressure_kpa, dtype=float)
     if not np.all(np.isfinite(p)) or np.any(p < 0.0):
         raise ModelInputError("pressure", "pressures must be finite and >= 0 kPa")

@@ -8,6 +8,7 @@ with the rear foot at the origin and the body along z.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -26,7 +27,8 @@ class Workspace:
     phi: np.ndarray
     tip_mm: np.ndarray  # (n, 3)
 
-    def rows(self):
+    def rows(self) -> np.ndarray:
+        """(n, 12) rows in the order of `HEADER`."""
         cols = np.column_stack(
             [self.pressures_kpa, self.lengths_mm, self.kappa, self.theta, self.phi, self.tip_mm]
         )
@@ -50,5 +52,5 @@ def sample(
     return Workspace(P, L, k, t, p, kin.arc_point(t, p, lc))
 
 
-def save_csv(ws: Workspace, path) -> None:
+def save_csv(ws: Workspace, path: str | Path) -> None:
     np.savetxt(path, ws.rows(), delimiter=",", header=HEADER, comments="", fmt="%.8g")
