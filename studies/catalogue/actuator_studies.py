@@ -13,9 +13,9 @@ spec.json. The sweep itself (resumable, several workers) is `studies.sweeps`.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
+from softcrawl import jsonio
 from studies.catalogue.epsa_evaluator import PAPER_PRESSURES_KPA
 from studies.catalogue.fe_identification import LOADS_N, PRESSURES_KPA
 from studies.catalogue.outcome import StudyOutcome
@@ -92,7 +92,7 @@ def run_sweep_study(
     )
     folder.mkdir(parents=True, exist_ok=True)
     spec = sweep_spec(name, folder, settings | {"vtu_dir": str(folder / "vtu")}, storage)
-    (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
+    jsonio.write(folder / "spec.json", spec.to_dict())
     rows = engine.run_sweep(spec, workers=workers, progress=progress, retry=retry)
     return write_sweep_outputs(name, spec, rows, folder)
 

@@ -185,8 +185,7 @@ def fitted_laws(ident: FEIdentification) -> dict:
 def write_outputs(spec, rows, folder) -> StudyOutcome:
     """curves.csv, identify.png (length per weight), identification.csv/.json and
     identification.png (k_p, f_p against eqs. 19-24)."""
-    import json
-
+    from softcrawl import jsonio
     from studies.plots.curves import plot_curves
     from studies.plots.identification import plot_identification
     from studies.sweeps.engine import write_csv
@@ -205,7 +204,7 @@ def write_outputs(spec, rows, folder) -> StudyOutcome:
     ident = identify_from_rows(rows)
     table = comparison_rows(ident)
     laws = fitted_laws(ident) | {"material": material, "quick": bool(spec.settings.get("quick"))}
-    (folder / "identification.json").write_text(json.dumps(laws, indent=2) + "\n")
+    jsonio.write(folder / "identification.json", laws)
     written = [folder / "curves.csv", folder / "identify.png", folder / "identification.json"]
     lines = [f"  P = {p:g} kPa not used: {why}" for p, why in ident.skipped]
     if not table:

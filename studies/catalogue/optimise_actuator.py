@@ -10,8 +10,7 @@ design (r = 3, N = 20) is evaluated first and marked. Outputs: trials.csv, paret
 
 from __future__ import annotations
 
-import json
-
+from softcrawl import jsonio
 from studies.catalogue.actuator_studies import run_tag, study_folder
 from studies.catalogue.outcome import StudyOutcome
 
@@ -58,7 +57,7 @@ def run_optimiser(
         storage=storage,
         initial=(TABLE1_DESIGN,),
     )
-    (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
+    jsonio.write(folder / "spec.json", spec.to_dict())
     rows = engine.run_search(spec, workers=workers, progress=progress)
     engine.write_csv(rows, folder / "trials.csv")
     engine.write_csv([r for r in rows if r["pareto"]], folder / "pareto.csv")

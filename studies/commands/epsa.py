@@ -15,9 +15,10 @@ rings and the other actuators do in the robot.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
+
+from softcrawl import jsonio
 
 
 def register(subparsers) -> None:
@@ -102,7 +103,6 @@ def run(args) -> int:
     design = design_from_args(args)
     pressures = parse_pressures(args.pressures)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     args.fibers = args.fibers or DEFAULT_FIBERS
     if args.convergence:
         return run_convergence(args, design, pressures, out)
@@ -126,6 +126,7 @@ def run(args) -> int:
         progress=lambda msg: print("  " + msg, flush=True),
     )
     curve = solved.curve
+    out.mkdir(parents=True, exist_ok=True)
     write_csv(curve.table(args.blocked), out / "curve.csv")
     summary = curve.to_dict()
     summary["limit_point"] = (
@@ -133,7 +134,7 @@ def run(args) -> int:
         if curve.limit_pressure_kpa is not None
         else None
     )
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    jsonio.write(out / "summary.json", summary)
     if not args.no_vtu:
         from fem.vtu import write_path
 

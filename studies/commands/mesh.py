@@ -115,12 +115,12 @@ def _part(design, name: str, changes: dict):
 
 
 def run(args: argparse.Namespace) -> int:
-    import json
     import time
     from pathlib import Path
 
     from geometry.assembly import MESHERS
     from geometry.design import EPSADesign, load_design
+    from softcrawl import jsonio
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
     base = load_design(args.design) if args.design else None
@@ -155,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
         from studies.plots.mesh_render import render_png
 
         summary["png_renderer"] = render_png(mesh, out / "mesh.png")
-    (out / "mesh.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")
+    jsonio.write(out / "mesh.json", summary)
     print(
         f"{args.kind}: {mesh.n_nodes} nodes, {mesh.n_tets} tets, volume {mesh.volume():.1f} mm^3, "
         f"min quality {summary['min_quality']:.3f}, {seconds:.1f} s -> {out}"

@@ -7,17 +7,19 @@ lengths in mm; `--json` prints a JSON object on stdout instead of text.
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 from pathlib import Path
 
 from robot.errors import ModelInputError as _ArgError
+from softcrawl import jsonio
 
 
 def _emit(args, payload: dict, text: str) -> None:
     if getattr(args, "json", False):
-        json.dump(payload, sys.stdout, indent=2)
+        from softcrawl.jsonio import dumps
+
+        sys.stdout.write(dumps(payload, indent=2))
         sys.stdout.write("\n")
     else:
         print(text)
@@ -291,7 +293,7 @@ def _plan(args) -> int:
         gait=[dict(phase=g[0], pressures_kpa=list(g[1:])) for g in result.gait()],
         steps=cycles,
     )
-    (out / "plan.json").write_text(json.dumps(payload, indent=2))
+    jsonio.write(out / "plan.json", payload)
     with open(out / "gait.csv", "w") as fh:
         fh.write("cycle,phase,P1_kpa,P2_kpa,P3_kpa,rear_x,rear_y,rear_z,front_x,front_y,front_z\n")
         for c in result.cycles:
