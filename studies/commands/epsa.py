@@ -139,7 +139,7 @@ def run(args) -> int:
         from fem.vtu import write_path
 
         write_path(out / "vtu", solved.model, solved.path, stem="step")
-    plot_epsa(out / "epsa.png", curve, solved.model, solved.path)
+    plot_epsa(out / "epsa.png", curve, solved.model, solved.path, side_load_n=args.side_load)
     for event in curve.events:
         if "sways" in event:
             print(f"note: {event}")
