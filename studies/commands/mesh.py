@@ -154,7 +154,9 @@ def run(args: argparse.Namespace) -> int:
     if not args.no_png:
         from studies.plots.mesh_render import render_png
 
-        summary["png_renderer"] = render_png(mesh, out / "mesh.png")
+        cut = ", cut open at y = 0" if len(mesh.region_names) == 1 else ""
+        title = f"{args.kind} mesh: {mesh.n_tets} tetrahedra{cut}"
+        summary["png_renderer"] = render_png(mesh, out / "mesh.png", title=title)
     jsonio.write(out / "mesh.json", summary)
     print(
         f"{args.kind}: {mesh.n_nodes} nodes, {mesh.n_tets} tets, volume {mesh.volume():.1f} mm^3, "
