@@ -62,6 +62,12 @@ def register(subparsers) -> None:
     )
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
     p.add_argument(
+        "--render",
+        action="store_true",
+        help="also write render-PkPa.png: 3D cut-away of the reference state and of every computed "
+        "state, coloured by von Mises stress (one colour scale for all)",
+    )
+    p.add_argument(
         "--convergence",
         metavar="SIZES",
         default=None,
@@ -140,6 +146,11 @@ def run(args) -> int:
 
         write_path(out / "vtu", solved.model, solved.path, stem="step")
     plot_epsa(out / "epsa.png", curve, solved.model, solved.path, side_load_n=args.side_load)
+    if args.render:
+        from studies.plots.epsa_renders import render_path
+
+        for path in render_path(out, design, solved, args.material):
+            print(f"  wrote {path}", flush=True)
     for event in curve.events:
         if "sways" in event:
             print(f"note: {event}")
