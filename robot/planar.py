@@ -52,7 +52,10 @@ def bfs_plan(
     cell_deg: float = 1.0,
     max_states: int = 20000,
     chunk: int = 40,
+    progress=None,
 ) -> Plan:
+    """Breadth-first search over the planar gait (module docstring). `progress`, if given, is
+    called with one line per cycle of the search (it can take minutes)."""
     if pipe.kind != "elbow":
         raise ModelInputError("pipe", "the planar search is for elbows")
     acts = actuator_set(actuators)
@@ -139,6 +142,11 @@ def bfs_plan(
         layers.append(new[idx])
         parents.append(par[idx])
         cands.append(cnd[idx])
+        if progress is not None:
+            progress(
+                f"cycle {len(layers) - 1}: {idx.size} new states, "
+                f"furthest {s_new[idx[0]]:.0f} of {goal:.0f} mm"
+            )
         if s_new[idx[0]] >= goal:
             found = 0
             break

@@ -245,7 +245,10 @@ def _plan(args) -> int:
 
         if args.body != "tube" or args.deflation != "paper":
             raise _ArgError("search", "bfs supports --body tube and --deflation paper only")
-        result = bfs_plan(pipe, actuators=args.actuators, step_kpa=args.step)
+        print("breadth-first search over the planar gait (can take minutes):", flush=True)
+        result = bfs_plan(
+            pipe, actuators=args.actuators, step_kpa=args.step, progress=lambda m: print("  " + m, flush=True)
+        )
     elif args.search == "continuous":
         from robot.refine import continuous_plan
 
