@@ -70,8 +70,13 @@ def plot_plan(plan, path) -> None:
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize
 
+    ticks = np.unique(np.linspace(1, max(n, 2), min(max(n, 2), 8)).round().astype(int))
     fig.colorbar(
-        ScalarMappable(Normalize(1, max(n, 2)), cmap), ax=ax, shrink=0.7, label="cycle (colour of the body)"
+        ScalarMappable(Normalize(1, max(n, 2)), cmap),
+        ax=ax,
+        shrink=0.7,
+        ticks=ticks,
+        label="cycle (colour of the body)",
     )
     ax.set_aspect("equal"), ax.set_xlabel("x (mm)"), ax.set_ylabel("z (mm)")
     status = "passes" if plan.success else "FAILS"
