@@ -33,7 +33,7 @@ def render_path(out, design, solved, material: str) -> list[Path]:
             render_state(
                 model,
                 x,
-                Path(out) / f"render-{kpa:.0f}kPa.png",
+                Path(out) / (f"render-{kpa:.0f}kPa" + ("-side-load" if factor and not kpa else "") + ".png"),
                 pressure_mpa=pressure,
                 factor=factor,
                 title=title,
