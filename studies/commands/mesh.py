@@ -132,6 +132,9 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     cache = False if args.no_cache else args.cache_dir
+    print(
+        f"meshing the {args.kind} (a new mesh takes up to a minute; cached meshes are instant)...", flush=True
+    )
     t0 = time.perf_counter()
     mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
     seconds = time.perf_counter() - t0

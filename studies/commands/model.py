@@ -332,7 +332,12 @@ def _elbow_scan(args) -> int:
             from robot.pipe import Pipe
             from robot.planar import bfs_plan
 
-            result = bfs_plan(Pipe("elbow", args.diameter, r), step_kpa=args.step)
+            print(f"R = {r:g} mm: breadth-first search (can take minutes)", flush=True)
+            result = bfs_plan(
+                Pipe("elbow", args.diameter, r),
+                step_kpa=args.step,
+                progress=lambda m: print("  " + m, flush=True),
+            )
         elif args.search == "continuous":
             from robot.pipe import Pipe
             from robot.refine import continuous_plan
