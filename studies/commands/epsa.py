@@ -144,7 +144,8 @@ def run(args) -> int:
     if not args.no_vtu:
         from fem.vtu import write_path
 
-        write_path(out / "vtu", solved.model, solved.path, stem="step")
+        files = write_path(out / "vtu", solved.model, solved.path, stem="step")
+        print(f"  wrote {len(files)} VTU states from 0 kPa on: {out / 'vtu' / 'step.pvd'}", flush=True)
     plot_epsa(out / "epsa.png", curve, solved.model, solved.path, side_load_n=args.side_load)
     if args.render:
         from studies.plots.epsa_renders import render_path
@@ -154,7 +155,10 @@ def run(args) -> int:
     for event in curve.events:
         if "sways" in event:
             print(f"note: {event}")
-    print(f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s -> {out}")
+    print(
+        f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s "
+        f"-> {out} (curve.csv, summary.json, epsa.png)"
+    )
     if curve.limit_pressure_kpa is not None:
         print(f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa")
     if not curve.converged:
