@@ -9,27 +9,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from geometry.tagged_mesh import TaggedMesh
+from studies.plots.render3d import facet_group as _group
 from studies.plots.style import pyplot, save
-
-
-def _group(mesh: TaggedMesh, tag: str) -> str:
-    """Legend group of a tag: the tag itself for a single part, the part name for an assembly."""
-    if len(mesh.region_names) == 1:
-        return tag
-    if tag.startswith("interface:"):
-        return tag.split(":", 1)[1].split("/")[0]
-    return tag.split(":", 1)[0]
-
-
-def facet_groups(mesh: TaggedMesh) -> dict[str, np.ndarray]:
-    """Boundary triangles per legend group (`_group`): the tags of a part, the parts of an assembly."""
-    out: dict[str, list[np.ndarray]] = {}
-    for tag in sorted(mesh.facets):
-        out.setdefault(_group(mesh, tag), []).append(mesh.facets[tag])
-    return {name: np.vstack(tris) for name, tris in out.items()}
 
 
 def render_png(mesh: TaggedMesh, path: str | Path, title: str = "") -> str:

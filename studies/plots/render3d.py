@@ -42,6 +42,23 @@ FIBER_COLOUR = "#b8860b"  # dark goldenrod: visible on light and dark faces
 WINDOW = (1200, 900)
 
 
+def facet_group(mesh, tag: str) -> str:
+    """Legend group of a tag: the tag itself for a single part, the part name for an assembly."""
+    if len(mesh.region_names) == 1:
+        return tag
+    if tag.startswith("interface:"):
+        return tag.split(":", 1)[1].split("/")[0]
+    return tag.split(":", 1)[0]
+
+
+def facet_groups(mesh) -> dict[str, np.ndarray]:
+    """Boundary triangles per legend group (`facet_group`): the tags of a part, the parts of an assembly."""
+    out: dict[str, list[np.ndarray]] = {}
+    for tag in sorted(mesh.facets):
+        out.setdefault(facet_group(mesh, tag), []).append(mesh.facets[tag])
+    return {name: np.vstack(tris) for name, tris in out.items()}
+
+
 def pyvista_offscreen():
     """pyvista set up for off-screen rendering without X (module docstring)."""
     if not os.environ.get("DISPLAY"):
@@ -136,8 +153,6 @@ def render_tagged(mesh, path, title: str = "") -> Path:
     """Cut-away of a `geometry.tagged_mesh.TaggedMesh`: tags (parts) in their colours, the cut
     face by region, the fibers, a ruler and a legend in the same colours."""
     pv = pyvista_offscreen()
-    from studies.plots.mesh_render import facet_groups
-
     path = Path(path)
     groups = facet_groups(mesh)
     palette = colours(groups)
