@@ -93,6 +93,8 @@ class SheetQuadrature:
     axial: np.ndarray = field(repr=False)  # (F,): E A of the family (fiber force = E A (lam - 1))
     tension_only: np.ndarray = field(repr=False)  # (F,) bool
     reference_area: float  # summed over families
+    facets: np.ndarray = field(default=None, repr=False)  # (F,): the mesh facet of each row (output)
+    family: np.ndarray = field(default=None, repr=False)  # (F,): index of the FiberSheet (output)
 
     @property
     def dofs(self) -> np.ndarray:
@@ -104,7 +106,7 @@ def build(mesh, sheets, intorder: int = 4) -> SheetQuadrature:
     """Quadrature data of `sheets` (a sequence of `FiberSheet`) on `mesh` (P2 displacements)."""
     boundaries = mesh.boundaries or {}
     parts = []
-    for sheet in sheets:
+    for index, sheet in enumerate(sheets):
         if not isinstance(sheet, FiberSheet):
             raise SolverInputError("fiber_sheets", f"expected FiberSheet items, got {type(sheet).__name__}")
         if sheet.tag not in boundaries or len(boundaries[sheet.tag]) == 0:
@@ -140,6 +142,8 @@ def build(mesh, sheets, intorder: int = 4) -> SheetQuadrature:
                 axial=np.full(fb.dx.shape[0], sheet.axial_stiffness),
                 tension_only=np.full(fb.dx.shape[0], sheet.tension_only),
                 area=float(fb.dx.sum()),
+                facets=np.asarray(boundaries[sheet.tag]),
+                family=np.full(fb.dx.shape[0], index),
             )
         )
     if not parts:
@@ -153,6 +157,8 @@ def build(mesh, sheets, intorder: int = 4) -> SheetQuadrature:
         cat["axial"],
         cat["tension_only"],
         sum(p["area"] for p in parts),
+        cat["facets"],
+        cat["family"],
     )
 
 

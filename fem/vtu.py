@@ -1,62 +1,221 @@
-"""VTU export of solved states for ParaView (meshio), one file per step plus a .pvd time series.
+r"""VTU export of solved states for ParaView (meshio): one file per state plus .pvd series.
 
-The P2 displacement is written at the mesh vertices (exact nodal values) on the linear
-tetrahedra; stresses and stretches as cell data (quadrature averages, `fem.post`).
+Solid (`write_state`). Every scalar P2 node that an element uses is a point (a vertex that the
+mesher left outside every element is dropped) and every element a curved quadratic tetrahedron
+(VTK type 24, meshio "tetra10"), so the geometry keeps its curved faces and no point is
+orphaned. scikit-fem's P2 element numbers its dofs as the 4 vertices, then the 6 edges in the
+order (0,1), (1,2), (0,2), (0,3), (1,3), (2,3) of the element's vertices; VTK's quadratic
+tetrahedron wants the edges (0,1), (1,2), (2,0), (0,3), (1,3), (2,3): the same edges in the same
+order (an edge midpoint has no direction), so the element dofs are written as they are
+(tests/fem/test_vtu.py checks every midpoint against its VTK edge).
+
+Point data: the displacement (mm, exact nodal values of the P2 field). Cell data (quadrature
+averages, `fem.post`): Cauchy stress as a symmetric tensor with the components XX, YY, ZZ, XY, YZ,
+XZ (ParaView's order), von Mises stress, hydrostatic pressure, J, the largest principal stretch, and
+the region id. Field data in every file: `pressure_kPa` (chamber pressure, one value per chamber),
+`load_factor` (the factor of prescribed displacements and dead loads) and one `region:NAME` array
+per region holding the id that the `region` cell array uses for it (meshio cannot read VTK string
+arrays, so the names travel as array names). Component names are VTK `ComponentName` attributes,
+which meshio does not write: they are added to the XML after meshio wrote it.
+
+Winding (`write_winding`). Where the model has fibers: the smeared sheets as curved quadratic
+triangles (VTK type 22) of the wrapped surface with the fiber tension of each family (N per
+fiber, the facet's quadrature average of E A (lam - 1)) and their maximum; the embedded lines as
+line cells with the segment forces. The points carry the displacement, as in the solid file.
+
+Series (`write_path`). The reference state (0 kPa, load factor 0) is step 0 of every series,
+followed by the converged states of the path. The .pvd time of a state is its index along the
+path, not its pressure: past a limit point the pressure falls, and ParaView sorts a series by
+time. The pressure of each file is its `pressure_kPa` field (a Python Annotation shows it).
 """
 
 from __future__ import annotations
 
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 import meshio
 import numpy as np
 
+from fem import sheets as sheet_mod
+from fem.fibers import fiber_state, segment_forces
 from fem.model import SolidModel
 from fem.post import element_fields
 
+#: VTK component names of the arrays that have more than one component.
+VECTOR = ("X", "Y", "Z")
+SYMMETRIC_TENSOR = ("XX", "YY", "ZZ", "XY", "YZ", "XZ")
+#: scikit-fem's local edge order of a tetrahedron (vertex pairs), equal to VTK's up to direction.
+SKFEM_TET_EDGES = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))
+VTK_TET10_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
 
-def write_state(path, model: SolidModel, x: np.ndarray, extra_cell_data: dict | None = None) -> Path:
-    path = Path(path)
-    mesh = model.mesh
-    n_v = mesh.p.shape[1]
-    u = model.displacement(x)[:, :n_v].T
-    fields = element_fields(model, x)
-    s = fields.cauchy
-    cell = {
-        "von_mises_MPa": fields.von_mises,
-        "cauchy_MPa": np.stack([s[0, 0], s[1, 1], s[2, 2], s[0, 1], s[1, 2], s[0, 2]], axis=1),
-        "max_principal_stretch": fields.max_stretch,
-        "hydrostatic_pressure_MPa": fields.pressure,
-        "J": fields.jacobian,
+
+def _field_data(model: SolidModel, pressure_mpa, factor: float) -> dict:
+    pressures = model.pressures(pressure_mpa) if model.chambers else np.atleast_1d(float(pressure_mpa))
+    out = {
+        "pressure_kPa": np.asarray(pressures, dtype=float) * 1e3,
+        "load_factor": np.array([float(factor)]),
     }
-    if mesh.subdomains:
-        region = np.full(mesh.t.shape[1], -1)
-        for k, (_name, elems) in enumerate(sorted(mesh.subdomains.items())):
-            region[elems] = k
-        cell["region"] = region
-    for k, v in (extra_cell_data or {}).items():
-        cell[k] = np.asarray(v)
-    out = meshio.Mesh(
-        mesh.p.T,
-        [("tetra", mesh.t.T)],
-        point_data={"displacement_mm": u},
-        cell_data={k: [v] for k, v in cell.items()},
-    )
+    for k, name in enumerate(sorted(model.mesh.subdomains or {})):
+        out[f"region:{name}"] = np.array([k])
+    return out
+
+
+def _write(path: Path, mesh: meshio.Mesh, components: dict[str, tuple[str, ...]], field_data: dict) -> Path:
+    """meshio writes the VTU; then each named array gets its VTK ComponentName attributes and the
+    grid its FieldData (meshio 5 reads VTU field data but does not write it)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    out.write(path)
+    mesh.write(path)
+    tree = ET.parse(path)
+    for array in tree.iter("DataArray"):
+        for i, label in enumerate(components.get(array.get("Name"), ())):
+            array.set(f"ComponentName{i}", label)
+    grid = tree.getroot().find("UnstructuredGrid")
+    block = ET.Element("FieldData")
+    for name, values in field_data.items():
+        values = np.atleast_1d(values)
+        kind = "Float64" if values.dtype.kind == "f" else "Int64"
+        array = ET.SubElement(
+            block, "DataArray", type=kind, Name=name, NumberOfTuples=str(values.size), format="ascii"
+        )
+        array.text = " ".join(repr(float(v)) if kind == "Float64" else str(int(v)) for v in values)
+    grid.insert(0, block)
+    tree.write(path, xml_declaration=True, encoding="utf-8")
     return path
 
 
-def write_path(directory, model: SolidModel, result, stem="step") -> list[Path]:
-    """One VTU per converged step and `{stem}.pvd` (time value = pressure in kPa)."""
-    directory = Path(directory)
-    files = []
-    for k, step in enumerate(result.steps):
-        files.append(write_state(directory / f"{stem}_{k:03d}.vtu", model, step.x))
+def write_state(
+    path,
+    model: SolidModel,
+    x: np.ndarray,
+    *,
+    pressure_mpa=0.0,
+    factor: float = 0.0,
+    extra_cell_data: dict | None = None,
+) -> Path:
+    """The solid at state `x` under chamber pressure `pressure_mpa` and load factor `factor`."""
+    path = Path(path)
+    mesh = model.mesh
+    space = model.space
+    fields = element_fields(model, x)
+    s = fields.cauchy
+    cell = {
+        "cauchy_stress_MPa": np.stack([s[0, 0], s[1, 1], s[2, 2], s[0, 1], s[1, 2], s[0, 2]], axis=1),
+        "von_mises_MPa": fields.von_mises,
+        "hydrostatic_pressure_MPa": fields.pressure,
+        "J": fields.jacobian,
+        "max_principal_stretch": fields.max_stretch,
+    }
+    if mesh.subdomains:
+        region = np.full(mesh.t.shape[1], -1)
+        for k, name in enumerate(sorted(mesh.subdomains)):
+            region[mesh.subdomains[name]] = k
+        cell["region"] = region
+    for k, v in (extra_cell_data or {}).items():
+        cell[k] = np.asarray(v)
+    used, cells = _compact(space.elem_nodes)  # a mesher may leave a vertex that no element uses
+    out = meshio.Mesh(
+        space.nodes[:, used].T,
+        [("tetra10", cells)],
+        point_data={"displacement_mm": model.displacement(x)[:, used].T},
+        cell_data={k: [v] for k, v in cell.items()},
+    )
+    components = {"displacement_mm": VECTOR, "cauchy_stress_MPa": SYMMETRIC_TENSOR}
+    return _write(path, out, components, _field_data(model, pressure_mpa, factor))
+
+
+def _facet_triangle6(mesh, facets: np.ndarray) -> np.ndarray:
+    """(n, 6) P2 node numbers of boundary facets in VTK's quadratic-triangle order: the vertices,
+    then the midpoints of (0,1), (1,2), (2,0). scikit-fem numbers the edge nodes n_vertices + edge."""
+    verts = np.sort(mesh.facets[:, facets].T, axis=1)
+    edges = np.sort(mesh.edges.T, axis=1)
+    key = {(int(a), int(b)): k for k, (a, b) in enumerate(edges)}
+    pairs = ((0, 1), (1, 2), (0, 2))  # (2, 0) as a sorted pair
+    mids = [[mesh.nvertices + key[(int(t[i]), int(t[j]))] for i, j in pairs] for t in verts]
+    return np.hstack([verts, np.array(mids, dtype=int).reshape(-1, 3)])
+
+
+def _compact(cells: np.ndarray):
+    """Only the points that the cells use: (used point indices, renumbered cells)."""
+    used, inverse = np.unique(cells, return_inverse=True)
+    return used, inverse.reshape(cells.shape)
+
+
+def _winding_mesh(model: SolidModel, x: np.ndarray):
+    """(meshio.Mesh, component names) of the fiber sheets or lines at x; None without fibers."""
+    u = x[: model.n_u].reshape(-1, 3)
+    if model.sheets is not None:
+        sq = model.sheets
+        force = sheet_mod.fiber_forces(sq, u).mean(axis=1)  # (F,) facet averages
+        facets = np.unique(sq.facets)
+        row = {int(f): k for k, f in enumerate(facets)}
+        n_fam = int(sq.family.max()) + 1
+        tension = np.zeros((facets.size, n_fam))
+        tension[[row[int(f)] for f in sq.facets], sq.family] = force
+        used, cells = _compact(_facet_triangle6(model.mesh, facets))
+        mesh = meshio.Mesh(
+            model.nodes[:, used].T,
+            [("triangle6", cells)],
+            point_data={"displacement_mm": u[used]},
+            cell_data={
+                "fiber_tension_N": [tension],
+                "max_fiber_tension_N": [tension.max(axis=1)],
+            },
+        )
+        return mesh, {"fiber_tension_N": tuple(f"family {k + 1}" for k in range(n_fam))}
+    if model.fibers is not None:
+        fibers = model.fibers
+        current = fiber_state(fibers, u)
+        force = segment_forces(fibers, current)[0]
+        mesh = meshio.Mesh(
+            fibers.points,
+            [("line", fibers.segments)],
+            point_data={"displacement_mm": current - fibers.points},
+            cell_data={"fiber_tension_N": [force], "fiber": [fibers.fiber_of_segment]},
+        )
+        return mesh, {}
+    return None
+
+
+def write_winding(path, model: SolidModel, x: np.ndarray, *, pressure_mpa=0.0, factor: float = 0.0):
+    """The winding at state x (module docstring); None (nothing written) for a model without fibers."""
+    built = _winding_mesh(model, x)
+    if built is None:
+        return None
+    mesh, components = built
+    field_data = {k: v for k, v in _field_data(model, pressure_mpa, factor).items() if ":" not in k}
+    return _write(Path(path), mesh, {"displacement_mm": VECTOR} | components, field_data)
+
+
+def write_pvd(path, files) -> Path:
+    """A ParaView collection of `files` (Path, in order); the time of each is its index."""
+    path = Path(path)
     lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
-    for f, step in zip(files, result.steps):
-        lines.append(f'<DataSet timestep="{step.pressure * 1e3:.6g}" file={quoteattr(f.name)}/>')
+    for k, f in enumerate(files):
+        lines.append(f'<DataSet timestep="{k}" file={quoteattr(Path(f).name)}/>')
     lines += ["</Collection>", "</VTKFile>"]
-    (directory / f"{stem}.pvd").write_text("\n".join(lines) + "\n")
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def write_path(directory, model: SolidModel, result, stem="step", winding_stem="winding") -> list[Path]:
+    """The reference state and every converged step of a `fem.path.PathResult`: `{stem}_NNN.vtu`
+    and `{stem}.pvd`, and for a model with fibers `{winding_stem}_NNN.vtu` and `{winding_stem}.pvd`.
+    Returns the solid files."""
+    directory = Path(directory)
+    states = [(0.0, 0.0, model.initial_state())] + [(s.pressure, s.factor, s.x) for s in result.steps]
+    files, winding = [], []
+    for k, (pressure, factor, x) in enumerate(states):
+        files.append(
+            write_state(directory / f"{stem}_{k:03d}.vtu", model, x, pressure_mpa=pressure, factor=factor)
+        )
+        w = write_winding(
+            directory / f"{winding_stem}_{k:03d}.vtu", model, x, pressure_mpa=pressure, factor=factor
+        )
+        if w is not None:
+            winding.append(w)
+    write_pvd(directory / f"{stem}.pvd", files)
+    if winding:
+        write_pvd(directory / f"{winding_stem}.pvd", winding)
     return files

@@ -17,6 +17,7 @@ longer exhaustive; the result says so). Vectorised over states and candidate tri
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -137,8 +138,10 @@ def bfs_plan(
     cell_deg: float = 1.0,
     max_states: int = 20000,
     chunk: int = 40,
+    progress: Callable[[str], None] | None = None,
 ) -> Plan:
-    """Fewest-cycle gait through the elbow `pipe` on the bend-plane grid; see the module docstring."""
+    """Fewest-cycle gait through the elbow `pipe` on the bend-plane grid; see the module docstring.
+    `progress`, if given, is called with one line per cycle of the search (it can take minutes)."""
     if pipe.kind != "elbow":
         raise ModelInputError("pipe", "the planar search is for elbows")
     acts = actuator_set(actuators)
@@ -170,6 +173,11 @@ def bfs_plan(
         layers.append(new[idx])
         parents.append(par[idx])
         cands.append(cnd[idx])
+        if progress is not None:
+            progress(
+                f"cycle {len(layers) - 1}: {idx.size} new states, "
+                f"furthest {s_new[idx[0]]:.0f} of {goal:.0f} mm"
+            )
         if s_new[idx[0]] >= goal:
             success = True
             break

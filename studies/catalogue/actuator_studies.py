@@ -13,9 +13,9 @@ spec.json. The sweep itself (resumable, several workers) is `studies.sweeps`.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
+from softcrawl import jsonio
 from studies.catalogue.epsa_evaluator import PAPER_PRESSURES_KPA
 from studies.catalogue.fe_identification import LOADS_N, PRESSURES_KPA
 from studies.catalogue.outcome import StudyOutcome
@@ -92,7 +92,7 @@ def run_sweep_study(
     )
     folder.mkdir(parents=True, exist_ok=True)
     spec = sweep_spec(name, folder, settings | {"vtu_dir": str(folder / "vtu")}, storage)
-    (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
+    jsonio.write(folder / "spec.json", spec.to_dict())
     rows = engine.run_sweep(spec, workers=workers, progress=progress, retry=retry)
     return write_sweep_outputs(name, spec, rows, folder)
 
@@ -123,10 +123,19 @@ def summary_rows(rows, param: str) -> list[dict]:
     return summary
 
 
+def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, folder) -> Path:
+    """NAME.png of a sweep from its rows (live, or read back from curves.csv by `softcrawl replot`)."""
+    from studies.plots.curves import plot_curves
+    from studies.plots.labels import parameter, study_title
+
+    symbol, _, unit = parameter(param)
+    title = study_title(name, settings.get("material"), bool(settings.get("quick")), fixed)
+    return plot_curves(rows, param, Path(folder) / f"{name}.png", label=symbol, unit=unit, title=title)
+
+
 def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
     """curves.csv, summary.csv and the PNG of a finished (or partial) sweep."""
     from studies.catalogue import fe_identification
-    from studies.plots.curves import plot_curves
     from studies.sweeps.engine import write_csv
 
     if name == "identify":
@@ -135,17 +144,7 @@ def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
     write_csv(rows, folder / "curves.csv")
     summary = summary_rows(rows, param)
     write_csv(summary, folder / "summary.csv")
-    label, unit = ("r", " mm") if param == "chamber_radius" else ("N", "")
-    fixed = ", ".join(f"{k} = {v:g}" for k, v in spec.fixed.items())
-    plot_curves(
-        rows,
-        param,
-        folder / f"{name}.png",
-        label=label,
-        unit=unit,
-        title=f"{name}: {fixed}; material {spec.settings.get('material')}"
-        + (" (quick mesh)" if spec.settings.get("quick") else ""),
-    )
+    draw_study_figure(name, param, dict(spec.fixed), dict(spec.settings), rows, folder)
     counts: dict[str, int] = {}
     for s in summary:
         counts[s["trial_status"]] = counts.get(s["trial_status"], 0) + 1

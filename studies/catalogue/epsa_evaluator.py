@@ -163,17 +163,23 @@ def _parameters(fn) -> set[str]:
 
 
 def _write_shape(solved, path: Path) -> str:
-    """VTU of the last computed state of a ``Solved`` (curve, model, path); "" if unavailable.
-    A shape that cannot be written never fails the evaluation."""
+    """VTU of the last computed state of a ``Solved`` (curve, model, path), with its pressure and
+    load factor as field data, and of its winding beside it (``NAME.winding.vtu``); "" if
+    unavailable. The path is returned relative to the study folder (``vtu/NAME.vtu``), so that
+    the tables hold no path of the machine that made them. A shape that cannot be written never
+    fails the evaluation."""
     try:
         steps = solved.path.steps
         if not steps:
             return ""
-        from fem.vtu import write_state
+        from fem.vtu import write_state, write_winding
 
+        last = steps[-1]
+        load = {"pressure_mpa": last.pressure, "factor": last.factor}
         path.parent.mkdir(parents=True, exist_ok=True)
-        write_state(path, solved.model, steps[-1].x)
-        return str(path)
+        write_state(path, solved.model, last.x, **load)
+        write_winding(path.with_suffix(".winding.vtu"), solved.model, last.x, **load)
+        return f"{path.parent.name}/{path.name}"
     except Exception as exc:  # noqa: BLE001
         return f"not written: {type(exc).__name__}: {exc}"
 

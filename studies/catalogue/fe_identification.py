@@ -23,7 +23,9 @@ behaviour of eq. 3 that the identification fits.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -182,30 +184,41 @@ def fitted_laws(ident: FEIdentification) -> dict:
     }
 
 
+def draw_identify_curves(settings: Mapping, rows, folder) -> Path:
+    """identify.png: length against pressure under each weight (also from curves.csv alone)."""
+    from studies.plots.curves import plot_curves
+    from studies.plots.labels import study_title
+
+    title = study_title("identify", settings.get("material"), bool(settings.get("quick")))
+    return plot_curves(rows, "end_load_n", Path(folder) / "identify.png", label="W", unit=" N", title=title)
+
+
+def draw_identification(settings: Mapping, table, laws: Mapping, folder) -> Path:
+    """identification.png: the FE's k_p(P), f_p(P) beside eqs. 19-24 (also from the files alone)."""
+    from studies.plots.identification import plot_identification
+    from studies.plots.labels import material_label
+
+    quick = ", coarse (quick) mesh" if settings.get("quick") else ""
+    title = (
+        f"Static identification on FE results (paper Section VII-A): "
+        f"{material_label(settings.get('material'))}{quick}, against the prototype"
+    )
+    return plot_identification(table, Path(folder) / "identification.png", title=title, laws=laws)
+
+
 def write_outputs(spec, rows, folder) -> StudyOutcome:
     """curves.csv, identify.png (length per weight), identification.csv/.json and
     identification.png (k_p, f_p against eqs. 19-24)."""
-    import json
-
-    from studies.plots.curves import plot_curves
-    from studies.plots.identification import plot_identification
+    from softcrawl import jsonio
     from studies.sweeps.engine import write_csv
 
     write_csv(rows, folder / "curves.csv")
     material = spec.settings.get("material")
-    quick = " (quick mesh)" if spec.settings.get("quick") else ""
-    plot_curves(
-        rows,
-        "end_load_n",
-        folder / "identify.png",
-        label="W",
-        unit=" N",
-        title=f"identify: Table 1 ePSA under weights W; material {material}{quick}",
-    )
+    draw_identify_curves(spec.settings, rows, folder)
     ident = identify_from_rows(rows)
     table = comparison_rows(ident)
     laws = fitted_laws(ident) | {"material": material, "quick": bool(spec.settings.get("quick"))}
-    (folder / "identification.json").write_text(json.dumps(laws, indent=2) + "\n")
+    jsonio.write(folder / "identification.json", laws)
     written = [folder / "curves.csv", folder / "identify.png", folder / "identification.json"]
     lines = [f"  P = {p:g} kPa not used: {why}" for p, why in ident.skipped]
     if not table:
@@ -213,11 +226,7 @@ def write_outputs(spec, rows, folder) -> StudyOutcome:
             tuple(lines), tuple(written), False, (f"identify: no identification: {ident.message}",)
         )
     write_csv(table, folder / "identification.csv")
-    plot_identification(
-        table,
-        folder / "identification.png",
-        title=f"FE identification (material {material}{quick}) vs the prototype",
-    )
+    draw_identification(spec.settings, table, laws, folder)
     written += [folder / "identification.csv", folder / "identification.png"]
     for name, key in (("k_p (N/m)", "k_p_n_per_m"), ("f_p (N)", "f_p_n")):
         text = "; ".join(

@@ -10,8 +10,9 @@ design (r = 3, N = 20) is evaluated first and marked. Outputs: trials.csv, paret
 
 from __future__ import annotations
 
-import json
+from pathlib import Path
 
+from softcrawl import jsonio
 from studies.catalogue.actuator_studies import run_tag, study_folder
 from studies.catalogue.outcome import StudyOutcome
 
@@ -22,6 +23,15 @@ OBJECTIVES = ("extension_mm", "radius_change_mm", "fiber_length_mm")
 DIRECTIONS = ("maximize", "minimize", "minimize")
 DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 NAME = "optimise-actuator"
+
+
+def draw_pareto(settings: dict, rows, folder) -> Path:
+    """pareto.png of the trials (live, or read back from trials.csv by `softcrawl replot`)."""
+    from studies.plots.labels import study_title
+    from studies.plots.pareto import plot_pareto
+
+    title = study_title(NAME, settings.get("material"), bool(settings.get("quick")))
+    return plot_pareto(rows, Path(folder) / "pareto.png", reference=TABLE1_DESIGN, title=title)
 
 
 def run_optimiser(
@@ -36,7 +46,6 @@ def run_optimiser(
     progress: bool = True,
 ) -> StudyOutcome:
     """Run (or resume) the optimiser and write trials.csv, pareto.csv and pareto.png."""
-    from studies.plots.pareto import plot_pareto
     from studies.sweeps import engine
 
     material, quick = settings["material"], settings.get("quick", False)
@@ -58,16 +67,11 @@ def run_optimiser(
         storage=storage,
         initial=(TABLE1_DESIGN,),
     )
-    (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
+    jsonio.write(folder / "spec.json", spec.to_dict())
     rows = engine.run_search(spec, workers=workers, progress=progress)
     engine.write_csv(rows, folder / "trials.csv")
     engine.write_csv([r for r in rows if r["pareto"]], folder / "pareto.csv")
-    plot_pareto(
-        rows,
-        folder / "pareto.png",
-        reference=TABLE1_DESIGN,
-        title=f"optimise-actuator, material {material}" + (" (quick mesh)" if quick else ""),
-    )
+    draw_pareto(settings, rows, folder)
     n_ok = sum(r["trial_status"] == "completed" for r in rows)
     n_pareto = sum(bool(r["pareto"]) for r in rows)
     lines = [

@@ -3,9 +3,10 @@ prototype statics model (eqs. 19-24) over 0-100 kPa; writes calibration.json and
 
 from __future__ import annotations
 
-import json
 from dataclasses import asdict
 from pathlib import Path
+
+from softcrawl import jsonio
 
 
 def register(subparsers) -> None:
@@ -31,7 +32,7 @@ def run(args) -> int:
         mesh="default" if args.full_mesh else "quick",
         progress=lambda m: print("  " + m, flush=True),
     )
-    (out / "calibration.json").write_text(json.dumps(asdict(cal), indent=2))
+    jsonio.write(out / "calibration.json", asdict(cal))
     plot_calibration(cal, out / "calibration.png")
     print(
         f"calibrated mu = {cal.mu_mpa:.4f} MPa (base {cal.base_material}), RMS length error "

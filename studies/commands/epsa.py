@@ -15,9 +15,10 @@ rings and the other actuators do in the robot.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
+
+from softcrawl import jsonio
 
 
 def register(subparsers) -> None:
@@ -61,6 +62,12 @@ def register(subparsers) -> None:
     )
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
     p.add_argument(
+        "--render",
+        action="store_true",
+        help="also write render-PkPa.png: 3D cut-away of the reference state and of every computed "
+        "state, coloured by von Mises stress (one colour scale for all)",
+    )
+    p.add_argument(
         "--convergence",
         metavar="SIZES",
         default=None,
@@ -102,7 +109,6 @@ def run(args) -> int:
     design = design_from_args(args)
     pressures = parse_pressures(args.pressures)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     args.fibers = args.fibers or DEFAULT_FIBERS
     if args.convergence:
         return run_convergence(args, design, pressures, out)
@@ -126,6 +132,7 @@ def run(args) -> int:
         progress=lambda msg: print("  " + msg, flush=True),
     )
     curve = solved.curve
+    out.mkdir(parents=True, exist_ok=True)
     write_csv(curve.table(args.blocked), out / "curve.csv")
     summary = curve.to_dict()
     summary["limit_point"] = (
@@ -133,16 +140,25 @@ def run(args) -> int:
         if curve.limit_pressure_kpa is not None
         else None
     )
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    jsonio.write(out / "summary.json", summary)
     if not args.no_vtu:
         from fem.vtu import write_path
 
-        write_path(out / "vtu", solved.model, solved.path, stem="step")
-    plot_epsa(out / "epsa.png", curve, solved.model, solved.path)
+        files = write_path(out / "vtu", solved.model, solved.path, stem="step")
+        print(f"  wrote {len(files)} VTU states from 0 kPa on: {out / 'vtu' / 'step.pvd'}", flush=True)
+    plot_epsa(out / "epsa.png", curve, solved.model, solved.path, side_load_n=args.side_load)
+    if args.render:
+        from studies.plots.epsa_renders import render_path
+
+        for path in render_path(out, design, solved, args.material):
+            print(f"  wrote {path}", flush=True)
     for event in curve.events:
         if "sways" in event:
             print(f"note: {event}")
-    print(f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s -> {out}")
+    print(
+        f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s "
+        f"-> {out} (curve.csv, summary.json, epsa.png)"
+    )
     if curve.limit_pressure_kpa is not None:
         print(f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa")
     if not curve.converged:

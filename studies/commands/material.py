@@ -56,13 +56,12 @@ def register(subparsers) -> None:
 
 
 def _run_list(args: argparse.Namespace) -> int:
-    import json
-
     import materials
+    from softcrawl import jsonio
 
     records = [materials.get_material(name) for name in materials.material_names()]
     if args.json:
-        print(json.dumps([m.to_dict() for m in records], indent=2))
+        print(jsonio.dumps([m.to_dict() for m in records], indent=2))
         return 0
     header = (
         f"{'name':<20} {'model':<15} {'mu [MPa]':>10} {'K [MPa]':>10} {'E [MPa]':>10} "
@@ -87,13 +86,12 @@ def _first_clause(text: str, width: int = 70) -> str:
 
 
 def _run_show(args: argparse.Namespace) -> int:
-    import json
-
     import materials
+    from softcrawl import jsonio
 
     record = materials.get_material(args.name).to_dict()
     if args.json:
-        print(json.dumps(record, indent=2))
+        print(jsonio.dumps(record, indent=2))
     else:
         for key, value in record.items():
             print(f"{key:<15} {value}")
@@ -128,10 +126,10 @@ def _fit_record(data, fit) -> dict:
 
 
 def _run_fit(args: argparse.Namespace) -> int:
-    import json
     from pathlib import Path
 
     import materials
+    from softcrawl import jsonio
     from studies.plots.material_fit import plot_fit
 
     data = materials.load_tensile(args.data)
@@ -140,11 +138,11 @@ def _run_fit(args: argparse.Namespace) -> int:
     if args.out is not None:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / "fit.json").write_text(json.dumps(record, indent=2) + "\n")
+        jsonio.write(out / "fit.json", record)
         plot_fit(data, fit, out / "fit.png")
         record["outputs"] = [str(out / "fit.json"), str(out / "fit.png")]
     if args.json:
-        print(json.dumps(record, indent=2))
+        print(jsonio.dumps(record, indent=2))
     else:
         _print_fit(record)
     return 0
@@ -170,9 +168,8 @@ def _print_fit(record: dict) -> None:
 
 
 def _run_fit_table(args: argparse.Namespace) -> int:
-    import json
-
     import materials
+    from softcrawl import jsonio
 
     records = []
     for name in materials.TENSILE_FILES:
@@ -180,7 +177,7 @@ def _run_fit_table(args: argparse.Namespace) -> int:
         for model in materials.FIT_MODELS:
             records.append(_fit_record(data, materials.fit_tensile(data, model, _max_strain(args))))
     if args.json:
-        print(json.dumps(records, indent=2))
+        print(jsonio.dumps(records, indent=2))
         return 0
     print(
         f"{'data':<15} {'model':<12} {'constants [MPa]':<44} {'mu0 [MPa]':>9} {'strain':>11} "

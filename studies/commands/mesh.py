@@ -115,12 +115,12 @@ def _part(design, name: str, changes: dict):
 
 
 def run(args: argparse.Namespace) -> int:
-    import json
     import time
     from pathlib import Path
 
     from geometry.assembly import MESHERS
     from geometry.design import EPSADesign, load_design
+    from softcrawl import jsonio
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
     base = load_design(args.design) if args.design else None
@@ -132,6 +132,9 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     cache = False if args.no_cache else args.cache_dir
+    print(
+        f"meshing the {args.kind} (a new mesh takes up to a minute; cached meshes are instant)...", flush=True
+    )
     t0 = time.perf_counter()
     mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
     seconds = time.perf_counter() - t0
@@ -154,8 +157,10 @@ def run(args: argparse.Namespace) -> int:
     if not args.no_png:
         from studies.plots.mesh_render import render_png
 
-        summary["png_renderer"] = render_png(mesh, out / "mesh.png")
-    (out / "mesh.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")
+        cut = ", cut open at y = 0" if len(mesh.region_names) == 1 else ""
+        title = f"{args.kind} mesh: {mesh.n_tets} tetrahedra{cut}"
+        summary["png_renderer"] = render_png(mesh, out / "mesh.png", title=title)
+    jsonio.write(out / "mesh.json", summary)
     print(
         f"{args.kind}: {mesh.n_nodes} nodes, {mesh.n_tets} tets, volume {mesh.volume():.1f} mm^3, "
         f"min quality {summary['min_quality']:.3f}, {seconds:.1f} s -> {out}"

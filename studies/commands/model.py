@@ -7,17 +7,19 @@ lengths in mm; `--json` prints a JSON object on stdout instead of text.
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 from pathlib import Path
 
 from robot.errors import ModelInputError as _ArgError
+from softcrawl import jsonio
 
 
 def _emit(args, payload: dict, text: str) -> None:
     if getattr(args, "json", False):
-        json.dump(payload, sys.stdout, indent=2)
+        from softcrawl.jsonio import dumps
+
+        sys.stdout.write(dumps(payload, indent=2))
         sys.stdout.write("\n")
     else:
         print(text)
@@ -243,7 +245,10 @@ def _plan(args) -> int:
 
         if args.body != "tube" or args.deflation != "paper":
             raise _ArgError("search", "bfs supports --body tube and --deflation paper only")
-        result = bfs_plan(pipe, actuators=args.actuators, step_kpa=args.step)
+        print("breadth-first search over the planar gait (can take minutes):", flush=True)
+        result = bfs_plan(
+            pipe, actuators=args.actuators, step_kpa=args.step, progress=lambda m: print("  " + m, flush=True)
+        )
     elif args.search == "continuous":
         from robot.refine import continuous_plan
 
@@ -291,7 +296,7 @@ def _plan(args) -> int:
         gait=[dict(phase=g[0], pressures_kpa=list(g[1:])) for g in result.gait()],
         steps=cycles,
     )
-    (out / "plan.json").write_text(json.dumps(payload, indent=2))
+    jsonio.write(out / "plan.json", payload)
     with open(out / "gait.csv", "w") as fh:
         fh.write("cycle,phase,P1_kpa,P2_kpa,P3_kpa,rear_x,rear_y,rear_z,front_x,front_y,front_z\n")
         for c in result.cycles:
@@ -327,7 +332,12 @@ def _elbow_scan(args) -> int:
             from robot.pipe import Pipe
             from robot.planar import bfs_plan
 
-            result = bfs_plan(Pipe("elbow", args.diameter, r), step_kpa=args.step)
+            print(f"R = {r:g} mm: breadth-first search (can take minutes)", flush=True)
+            result = bfs_plan(
+                Pipe("elbow", args.diameter, r),
+                step_kpa=args.step,
+                progress=lambda m: print("  " + m, flush=True),
+            )
         elif args.search == "continuous":
             from robot.pipe import Pipe
             from robot.refine import continuous_plan

@@ -7,7 +7,6 @@ when every case passes, 1 otherwise.
 
 from __future__ import annotations
 
-import json
 import sys
 import time
 
@@ -60,8 +59,9 @@ def run(args) -> int:
             flush=True,
         )
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump({"cases": rows, "all_passed": all(r["passed"] for r in rows)}, fh, indent=2)
+        from softcrawl.jsonio import write
+
+        write(args.json, {"cases": rows, "all_passed": all(r["passed"] for r in rows)})
     failed = [r["case"] for r in rows if not r["passed"]]
     if failed:
         print(f"failed: {', '.join(failed)}", file=sys.stderr)

@@ -1,80 +1,29 @@
 """Off-screen PNG of a tagged mesh: boundary facets coloured by tag (by part for assemblies), fibers.
 
-pyvista renders off screen (``pyvista.OFF_SCREEN``); if VTK cannot render on the machine, a
-matplotlib (Agg) drawing of the boundary triangles is written instead. Returns the renderer used.
+pyvista renders a cut-away off screen (`studies.plots.render3d`); if VTK cannot render on the
+machine, a matplotlib (Agg) drawing of the boundary triangles is written instead, with the same
+colours. Returns the renderer used.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from geometry.tagged_mesh import TaggedMesh
+from studies.plots.render3d import facet_group as _group
 from studies.plots.style import pyplot, save
 
 
-def _group(mesh: TaggedMesh, tag: str) -> str:
-    """Legend group of a tag: the tag itself for a single part, the part name for an assembly."""
-    if len(mesh.region_names) == 1:
-        return tag
-    if tag.startswith("interface:"):
-        return tag.split(":", 1)[1].split("/")[0]
-    return tag.split(":", 1)[0]
-
-
-def _surface(mesh: TaggedMesh):
-    import pyvista as pv
-
-    tags = sorted({_group(mesh, t) for t in mesh.facets})
-    order = sorted(mesh.facets)
-    tris = np.vstack([mesh.facets[t] for t in order])
-    ids = np.concatenate([np.full(len(mesh.facets[t]), tags.index(_group(mesh, t))) for t in order])
-    faces = np.hstack([np.full((len(tris), 1), 3), tris]).ravel()
-    surf = pv.PolyData(mesh.points, faces)
-    surf.cell_data["tag"] = ids
-    return surf, tags
-
-
-def render_png(mesh: TaggedMesh, path: str | Path, window_size=(900, 700)) -> str:
+def render_png(mesh: TaggedMesh, path: str | Path, title: str = "") -> str:
+    """Cut-away render (`studies.plots.render3d.render_tagged`); matplotlib where VTK cannot render."""
     path = Path(path)
     try:
-        import pyvista as pv
+        from studies.plots.render3d import render_tagged
 
-        pv.OFF_SCREEN = True
-        surf, tags = _surface(mesh)
-        pl = pv.Plotter(off_screen=True, window_size=list(window_size))
-        pl.add_mesh(
-            surf,
-            scalars="tag",
-            cmap="tab20",
-            show_edges=True,
-            edge_color="#555555",
-            line_width=0.3,
-            opacity=0.85,
-            show_scalar_bar=False,
-        )
-        for f in mesh.fibers:
-            pl.add_mesh(pv.lines_from_points(f), color="gold", line_width=2)
-        if len(tags) <= 16:
-            pl.add_legend(
-                [[t, pv.plotting.colors.Color(c).hex_rgb] for t, c in zip(tags, _tab20(len(tags)))],
-                bcolor="white",
-                size=(0.25, 0.3),
-            )
-        pl.view_isometric()
-        pl.screenshot(str(path))
-        pl.close()
+        render_tagged(mesh, path, title=title)
         return "pyvista"
     except Exception:  # noqa: BLE001 - any VTK rendering failure: fall back to matplotlib
         return _render_matplotlib(mesh, path)
-
-
-def _tab20(n: int):
-    import matplotlib
-
-    cmap = matplotlib.colormaps["tab20"]
-    return [cmap(i / max(n - 1, 1))[:3] for i in range(n)]
 
 
 def _render_matplotlib(mesh: TaggedMesh, path: Path) -> str:
@@ -83,8 +32,9 @@ def _render_matplotlib(mesh: TaggedMesh, path: Path) -> str:
     plt = pyplot()
     fig = plt.figure(figsize=(8, 6))
     ax = fig.add_subplot(projection="3d")
-    groups = sorted({_group(mesh, t) for t in mesh.facets})
-    colors = dict(zip(groups, _tab20(len(groups))))
+    from studies.plots.render3d import colours
+
+    colors = colours({_group(mesh, t) for t in mesh.facets})
     for tag in sorted(mesh.facets):
         ax.add_collection3d(
             Poly3DCollection(

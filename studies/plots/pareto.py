@@ -82,9 +82,10 @@ def plot_pareto(
     n_failed = sum(1 for r in rows if r.get("trial_status") == "failed")
     ax.set_xlabel("radius change |dR| at the target pressure (mm)")
     ax.set_ylabel("extension at the target pressure (mm)")
-    ax.set_title(
-        (title + "\n" if title else "") + f"{len(done)} designs, {n_failed} failed (not shown)", fontsize=9
-    )
+    import textwrap
+
+    wrapped = "\n".join(textwrap.wrap(title, 70)) + "\n" if title else ""
+    ax.set_title(wrapped + f"{len(done)} designs, {n_failed} failed (not shown)", fontsize=9)
     ax.grid(alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=8)

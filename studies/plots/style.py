@@ -23,15 +23,16 @@ def pyplot():
     return plt
 
 
-def save(fig, path, *, rect=None, tight: bool = True) -> Path:
+def save(fig, path, *, rect=None, tight: bool = True, outside: bool = False) -> Path:
     """Lay out (`tight`, within `rect`), write (creating the folder) and close a figure; returns
-    the path. 3D axes do not support the tight layout: pass tight=False."""
+    the path. 3D axes do not support the tight layout: pass tight=False. `outside`: the figure has
+    legends outside its axes, which the saved image is grown to include."""
     plt = pyplot()
     if tight:
         fig.tight_layout(rect=rect)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI)
+    fig.savefig(path, dpi=DPI, bbox_inches="tight" if outside else None)
     plt.close(fig)
     return path
 

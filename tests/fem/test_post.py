@@ -60,9 +60,9 @@ def test_outer_radius_of_the_tube_matches_the_analytic_one():
 def test_vtu_series_has_displacement_and_stress(stretched_box, tmp_path):
     model, res = stretched_box
     files = write_path(tmp_path, model, res)
-    assert len(files) == 2 and (tmp_path / "step.pvd").exists()
+    assert len(files) == 3 and (tmp_path / "step.pvd").exists()
     m = meshio.read(files[-1])
     u = m.point_data["displacement_mm"]
     assert np.abs(u[:, 2]).max() == pytest.approx(1.2, rel=1e-10)
     assert m.cell_data["von_mises_MPa"][0].shape == (model.mesh.t.shape[1],)
-    assert m.cell_data["cauchy_MPa"][0].shape == (model.mesh.t.shape[1], 6)
+    assert m.cell_data["cauchy_stress_MPa"][0].shape == (model.mesh.t.shape[1], 6)

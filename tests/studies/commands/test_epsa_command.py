@@ -90,17 +90,18 @@ def test_epsa_blocked_force_grows_with_pressure(tmp_path):
 @pytest.mark.parametrize(
     "argv, parameter",
     [
-        (["epsa", "--chamber-radius", "9.5", "--out", "x"], "chamber_radius"),
-        (["epsa", "--fiber-turns", "-1", "--out", "x"], "fiber_turns"),
-        (["epsa", "--pressures", "100:0:20", "--out", "x"], "pressures"),
-        (["epsa", "--material", "unobtainium", "--out", "x"], "material"),
-        (["epsa", "--material", "abs", "--out", "x"], "material"),
+        (["epsa", "--chamber-radius", "9.5", "--out", "x-never-written"], "chamber_radius"),
+        (["epsa", "--fiber-turns", "-1", "--out", "x-never-written"], "fiber_turns"),
+        (["epsa", "--pressures", "100:0:20", "--out", "x-never-written"], "pressures"),
+        (["epsa", "--material", "unobtainium", "--out", "x-never-written"], "material"),
+        (["epsa", "--material", "abs", "--out", "x-never-written"], "material"),
     ],
 )
-def test_epsa_bad_input_is_one_line_and_exit_2(argv, parameter, capsys):
+def test_epsa_bad_input_is_one_line_and_exit_2(argv, parameter, capsys, tmp_path):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and parameter in err[0]
+    assert not (tmp_path / "x-never-written").exists()  # bad input writes nothing
 
 
 def test_verify_command_writes_json(tmp_path):

@@ -1,0 +1,36 @@
+"""`softcrawl report --out DIR`: one self-contained HTML design review from results/.
+
+Reads the committed results (study tables and figures, Table 1, calibration, renders,
+verification, convergence) and writes DIR/index.html with every image embedded, so the page opens
+anywhere without a network. Computes no finite-element solution (seconds). A section whose results
+are missing names the command that makes them.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "report", help="self-contained HTML design review from results/", description=__doc__.splitlines()[0]
+    )
+    p.add_argument("--results", default="results", help="results folder to read (default: results)")
+    p.add_argument("--out", required=True, help="output folder (index.html)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from softcrawl.errors import InputError
+    from studies.review.report import build_report
+
+    results = Path(args.results)
+    if not results.is_dir():
+        raise InputError("results", f"{results} is not a folder (run from the checkout, or give --results)")
+    t0 = time.perf_counter()
+    print(f"design review from {results}:", flush=True)
+    path = build_report(results, Path(args.out), progress=lambda m: print(m, flush=True))
+    size = path.stat().st_size / 1e6
+    print(f"wrote {path} ({size:.1f} MB, {time.perf_counter() - t0:.1f} s)")
+    return 0

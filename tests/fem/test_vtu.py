@@ -1,0 +1,119 @@
+"""VTU files as ParaView users expect them, read back with meshio and pyvista (VTK's own reader).
+
+A fibered ePSA on the quick mesh, 0 -> 10 kPa: curved quadratic tetrahedra (VTK type 24) with every
+point used, the reference state first in the series, named vector and tensor components, region
+names, pressure and load factor in every file, and the winding's fiber tension."""
+
+import xml.etree.ElementTree as ET
+
+import meshio
+import numpy as np
+import pytest
+
+from fem.vtu import SKFEM_TET_EDGES, VTK_TET10_EDGES, write_path
+from geometry.design import EPSADesign
+from studies.parts.epsa_response import simulate_epsa
+
+pv = pytest.importorskip("pyvista")
+
+
+@pytest.fixture(scope="module")
+def series(tmp_path_factory):
+    design = EPSADesign(length=40.0, fiber_turns=8)
+    solved = simulate_epsa(design, quick=True, pressures_kpa=(5.0, 10.0), keep_model=True)
+    folder = tmp_path_factory.mktemp("vtu")
+    files = write_path(folder, solved.model, solved.path)
+    return solved, folder, files
+
+
+def test_the_skfem_and_vtk_edge_orders_are_the_same_edges():
+    assert [set(e) for e in SKFEM_TET_EDGES] == [set(e) for e in VTK_TET10_EDGES]
+
+
+def test_solid_files_are_quadratic_tets_without_orphan_points(series):
+    solved, folder, files = series
+    assert len(files) == 3  # the reference state and the two pressures
+    m = meshio.read(files[-1])
+    assert [c.type for c in m.cells] == ["tetra10"]
+    cells = m.cells[0].data
+    assert cells.shape == (solved.model.mesh.t.shape[1], 10)
+    assert np.array_equal(np.unique(cells), np.arange(len(m.points)))  # every point is used
+    # every midside node lies on its VTK edge (the mesh is curved: near, not at, the midpoint),
+    # and it is nearer to its own edge's midpoint than to any other edge's of the cell
+    p = m.points[cells]  # (E, 10, 3)
+    mids = np.stack([(p[:, a] + p[:, b]) / 2 for a, b in VTK_TET10_EDGES], axis=1)  # (E, 6, 3)
+    dist = np.linalg.norm(p[:, 4:, None, :] - mids[:, None, :, :], axis=-1)  # (E, node, edge)
+    assert np.array_equal(dist.argmin(axis=2), np.tile(np.arange(6), (len(cells), 1)))
+    grid = pv.read(files[-1])
+    assert set(np.unique(grid.celltypes)) == {24}  # VTK_QUADRATIC_TETRA
+    # the curved geometry survives: VTK's volume of the quadratic cells (it subdivides them) is
+    # far closer to the solver's exact P2 volume than that of the straight-sided tetrahedra
+    exact = solved.model.space.volume
+    straight = grid.linear_copy().volume
+    assert abs(grid.volume - exact) < 0.5 * abs(straight - exact)
+
+
+def test_every_file_names_its_pressure_load_factor_regions_and_components(series):
+    solved, folder, files = series
+    pressures = [0.0, 5.0, 10.0]
+    for f, p in zip(files, pressures):
+        grid = pv.read(f)
+        assert grid.field_data["pressure_kPa"][0] == pytest.approx(p, rel=1e-6)
+        assert grid.field_data["load_factor"][0] == 0.0
+        regions = {
+            k.split(":", 1)[1]: int(v[0]) for k, v in grid.field_data.items() if k.startswith("region:")
+        }
+        assert regions == {"epsa": 0, "seal_head": 1}
+        assert set(np.unique(grid.cell_data["region"])) == {0, 1}
+    tree = ET.parse(files[-1])
+    names = {
+        a.get("Name"): [a.get(f"ComponentName{i}") for i in range(int(a.get("NumberOfComponents", 1)))]
+        for a in tree.iter("DataArray")
+    }
+    assert names["displacement_mm"] == ["X", "Y", "Z"]
+    assert names["cauchy_stress_MPa"] == ["XX", "YY", "ZZ", "XY", "YZ", "XZ"]
+    grid = pv.read(files[-1])
+    array = grid.GetCellData().GetArray("cauchy_stress_MPa")
+    assert array.GetComponentName(3) == "XY"  # VTK's reader sees the names
+    m = meshio.read(files[-1])
+    assert m.field_data["pressure_kPa"][0] == pytest.approx(10.0)
+    # the nodal displacements are the solver's, to the last digit
+    u_model = solved.model.displacement(solved.path.steps[-1].x)
+    u_file = m.point_data["displacement_mm"]
+    assert np.abs(u_file).max(axis=0) == pytest.approx(np.abs(u_model).max(axis=1), rel=1e-12)
+    assert u_file[:, 2].max() > 1.0  # and the state is not the reference one
+
+
+def test_series_starts_at_the_reference_state_and_has_the_winding(series):
+    solved, folder, files = series
+    pvd = ET.parse(folder / "step.pvd").getroot()
+    entries = [(float(d.get("timestep")), d.get("file")) for d in pvd.iter("DataSet")]
+    assert entries == [(0.0, "step_000.vtu"), (1.0, "step_001.vtu"), (2.0, "step_002.vtu")]
+    assert np.abs(meshio.read(files[0]).point_data["displacement_mm"]).max() == 0.0
+    winding = sorted(folder.glob("winding_*.vtu"))
+    assert len(winding) == 3 and (folder / "winding.pvd").exists()
+    w = pv.read(winding[-1])
+    assert set(np.unique(w.celltypes)) == {22}  # VTK_QUADRATIC_TRIANGLE: the wrapped outer surface
+    assert w.GetCellData().GetArray("fiber_tension_N").GetComponentName(1) == "family 2"
+    tension = w.cell_data["fiber_tension_N"]
+    assert tension.shape[1] == 2 and tension.max() > 0
+    # the same fibers, the same forces as the solver's (facet averages of its quadrature points)
+    assert tension.max() <= solved.curve.rows[-1].max_fiber_tension_n * (1 + 1e-9)
+    assert tension.max() > 0.5 * solved.curve.rows[-1].max_fiber_tension_n
+    assert w.field_data["pressure_kPa"][0] == pytest.approx(10.0)
+    assert np.abs(pv.read(winding[0]).cell_data["fiber_tension_N"]).max() < 1e-12
+    used = meshio.read(winding[-1]).cells[0].data
+    assert np.unique(used).size == w.n_points  # no orphan points in the winding file either
+
+
+def test_line_fibers_are_written_with_their_segment_forces(tmp_path):
+    from fem.vtu import write_winding
+
+    design = EPSADesign(length=40.0, fiber_turns=8)
+    solved = simulate_epsa(design, quick=True, pressures_kpa=(5.0,), keep_model=True, fibers="lines")
+    step = solved.path.steps[-1]
+    path = write_winding(tmp_path / "w.vtu", solved.model, step.x, pressure_mpa=step.pressure)
+    w = pv.read(path)
+    assert set(np.unique(w.celltypes)) == {3}  # VTK_LINE
+    assert w.cell_data["fiber_tension_N"].max() == pytest.approx(solved.curve.rows[-1].max_fiber_tension_n)
+    assert w.field_data["pressure_kPa"][0] == pytest.approx(5.0)

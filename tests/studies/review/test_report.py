@@ -1,0 +1,90 @@
+"""`softcrawl report` on the committed results/: every section and image is in the page, a section
+whose results are missing names its command, and a real headless browser renders it."""
+
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from studies.cli import main
+from studies.review.report import SECTIONS
+
+RESULTS = Path(__file__).resolve().parents[3] / "results"
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("report")
+    assert main(["report", "--results", str(RESULTS), "--out", str(out)]) == 0
+    return out / "index.html"
+
+
+def test_every_section_and_image_is_in_the_page(report):
+    text = report.read_text()
+    for sid, _heading, _ in SECTIONS:
+        assert f'<section id="{sid}">' in text, sid
+    images = re.findall(r'<img alt="[^"]*" src="data:image/png;base64,', text)
+    # the three renders, the study figures (2 + 2 + 4 + 1), the fit and the calibration
+    assert len(images) >= 14
+    assert "http://" not in text and "https://" not in text  # nothing to fetch
+    assert "what limits" in text.lower() and "limit point at" in text
+    assert 'class="missing"' not in text.split('id="provenance"')[0].split('id="benchmarks"')[0]
+
+
+def test_missing_results_name_their_command(tmp_path):
+    empty = tmp_path / "results"
+    empty.mkdir()
+    assert main(["report", "--results", str(empty), "--out", str(tmp_path / "r")]) == 0
+    text = (tmp_path / "r" / "index.html").read_text()
+    assert text.count('class="missing"') >= 6
+    for command in ("softcrawl study fiber-turns", "softcrawl calibrate", "softcrawl verify", "--render"):
+        assert command in text
+
+
+def test_report_of_a_folder_that_does_not_exist_is_an_input_error(tmp_path, capsys):
+    assert main(["report", "--results", str(tmp_path / "nope"), "--out", str(tmp_path / "r")]) == 2
+    assert "results" in capsys.readouterr().err
+
+
+def _chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        if shutil.which(name):
+            return shutil.which(name)
+    return None
+
+
+@pytest.mark.skipif(_chromium() is None, reason="no headless Chromium (Debian: apt-get install chromium)")
+def test_headless_chromium_renders_every_section_and_image(report, tmp_path):
+    flags = [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-background-networking",
+        "--no-first-run",
+        f"--user-data-dir={tmp_path / 'profile'}",
+    ]
+    url = report.resolve().as_uri()
+    env = dict(os.environ, HOME=str(tmp_path))
+    dom = subprocess.run(
+        [_chromium(), *flags, "--virtual-time-budget=10000", "--dump-dom", url],
+        capture_output=True,
+        text=True,
+        timeout=180,
+        env=env,
+    ).stdout
+    for sid, _, _ in SECTIONS:
+        assert f'id="{sid}"' in dom, sid
+    loaded = re.search(r'data-images-loaded="(\d+)/(\d+)"', dom)
+    assert loaded, "the page's image check did not run"
+    assert int(loaded.group(1)) == int(loaded.group(2)) >= 14  # every embedded image decoded
+    shot = tmp_path / "report.png"
+    subprocess.run(
+        [_chromium(), *flags, "--window-size=1280,3000", f"--screenshot={shot}", url],
+        capture_output=True,
+        timeout=180,
+        env=env,
+    )
+    assert shot.exists() and shot.stat().st_size > 50_000
