@@ -30,13 +30,25 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
 
-from geometry.design_base import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, DesignBase, check_number
+from geometry.design_base import (
+    ACTUATOR_ANGLES_DEG,
+    MAX_DIMENSION,
+    MAX_FEATURE_COUNT,
+    MIN_FEATURE,
+    MIN_LIGAMENT,
+    DesignBase,
+    check_number,
+)
 from geometry.design_files import read_design_file
 from geometry.errors import DesignError
 
 __all__ = [
     "ACTUATOR_ANGLES_DEG",
+    "MAX_DIMENSION",
+    "MAX_FEATURE_COUNT",
+    "MIN_FEATURE",
     "MIN_LIGAMENT",
+    "MIN_SKIRT_ANGLE",
     "DesignError",
     "EPSADesign",
     "FootDesign",
@@ -44,6 +56,11 @@ __all__ = [
     "RobotDesign",
     "load_design",
 ]
+
+#: Smallest included angle of the foot's conical skirt (deg). Below it the "cone" is a tube along
+#: the axis, not a foot, and the skirt geometry divides by sin(angle / 2) (a 5e-324 deg skirt
+#: was a ZeroDivisionError). The paper's foot has 120 deg.
+MIN_SKIRT_ANGLE = 10.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -69,8 +86,15 @@ class EPSADesign(DesignBase):
             "seal_head_thickness",
         ):
             check_number(self, name)
-        check_number(self, "fiber_turns", positive=False, integer=True, minimum=0)
+        check_number(self, "fiber_turns", integer=True, minimum=0)
         p = ""
+        if self.fiber_turns > self.length / self.fiber_diameter:
+            raise DesignError(
+                p + "fiber_turns",
+                f"{self.fiber_turns} turns over {self.length} mm put the turns of one helix closer "
+                f"than the {self.fiber_diameter} mm thread is thick (at most L / fiber_diameter = "
+                f"{math.floor(self.length / self.fiber_diameter)})",
+            )
         if self.chamber_radius >= self.outer_radius:
             raise DesignError(
                 p + "chamber_radius",
@@ -145,17 +169,15 @@ class FootDesign(DesignBase):
             "hub_radius",
             "hub_thickness",
             "tip_radius",
-            "angle",
             "skirt_thickness",
             "groove_height",
             "groove_width",
         ):
             check_number(self, name)
-        check_number(self, "bore_radius", positive=False, minimum=0.0)
-        check_number(self, "n_grooves", positive=False, integer=True, minimum=0)
+        check_number(self, "angle", minimum=MIN_SKIRT_ANGLE, maximum=180.0, unit="deg")
+        check_number(self, "bore_radius", minimum=0.0)
+        check_number(self, "n_grooves", integer=True, minimum=0)
         p = ""
-        if self.angle > 180:
-            raise DesignError(p + "angle", f"{self.angle} deg: the skirt angle must be in (0, 180]")
         if self.bore_radius + MIN_LIGAMENT > self.hub_radius:
             raise DesignError(p + "bore_radius", "leaves no hub material (must be < hub_radius)")
         if self.tip_radius <= self.hub_radius + self.skirt_thickness:
@@ -210,7 +232,7 @@ class RingDesign(DesignBase):
     def __post_init__(self) -> None:
         for name in ("d", "hole_radius", "outer_radius", "thickness"):
             check_number(self, name)
-        check_number(self, "bore_radius", positive=False, minimum=0.0)
+        check_number(self, "bore_radius", minimum=0.0)
         p = ""
         gap = self.d * math.sqrt(3) - 2 * self.hole_radius
         if gap < MIN_LIGAMENT:
@@ -254,7 +276,7 @@ class RobotDesign(DesignBase):
 
     def __post_init__(self) -> None:
         check_number(self, "d")
-        check_number(self, "n_rings", positive=False, integer=True, minimum=0)
+        check_number(self, "n_rings", integer=True, minimum=0)
         check_number(self, "pipe_diameter_min")
         check_number(self, "pipe_diameter_max")
         if not isinstance(self.epsa, EPSADesign):
@@ -266,25 +288,11 @@ class RobotDesign(DesignBase):
                 f"actuators of radius {R0} overlap at d = {self.d} "
                 f"(need d > 2 R0 / sqrt(3) = {2 * R0 / math.sqrt(3):.3f})",
             )
-        if self.d <= R0:
-            raise DesignError("d", f"d = {self.d} <= R0 = {R0}: no centre channel for the endoscope")
+        # (d > 2 R0 / sqrt(3) > R0: the centre channel d - R0 for the endoscope is never empty)
         if self.foot is None:
-            object.__setattr__(
-                self,
-                "foot",
-                FootDesign(d=self.d, hub_radius=self.d + R0 + 1.0, bore_radius=min(4.0, self.d - R0)),
-            )
+            object.__setattr__(self, "foot", _derived_part("foot", FootDesign, self._foot_sizes()))
         if self.ring is None:
-            object.__setattr__(
-                self,
-                "ring",
-                RingDesign(
-                    d=self.d,
-                    hole_radius=R0,
-                    outer_radius=self.d + R0 + 2.0,
-                    bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5)),
-                ),
-            )
+            object.__setattr__(self, "ring", _derived_part("ring", RingDesign, self._ring_sizes()))
         if not isinstance(self.foot, FootDesign):
             raise DesignError("foot", "must be a FootDesign")
         if not isinstance(self.ring, RingDesign):
@@ -328,6 +336,21 @@ class RobotDesign(DesignBase):
 
     _nested: ClassVar[dict[str, type]] = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign}
 
+    def _foot_sizes(self) -> dict[str, float]:
+        """The default foot: d, a hub 1 mm beyond the actuator bundle, a bore of up to 4 mm."""
+        R0 = self.epsa.outer_radius
+        return dict(d=self.d, hub_radius=self.d + R0 + 1.0, bore_radius=min(4.0, self.d - R0))
+
+    def _ring_sizes(self) -> dict[str, float]:
+        """The default ring: holes of the ePSA radius, 2 mm of rim, a bore of up to 3.5 mm."""
+        R0 = self.epsa.outer_radius
+        return dict(
+            d=self.d,
+            hole_radius=R0,
+            outer_radius=self.d + R0 + 2.0,
+            bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5)),
+        )
+
     @property
     def channel_radius(self) -> float:
         """Radius of the free centre channel between the actuators (endoscope room): d - R0."""
@@ -354,6 +377,17 @@ class RobotDesign(DesignBase):
         return 2 * (self.d + self.epsa.outer_radius)
 
 
+def _derived_part(name: str, cls: type, sizes: dict[str, float]):
+    """A part sized from the robot's d and R0; its errors are named ``<name>.<field>`` and say that
+    the part was derived from d (the user gave no explicit part)."""
+    try:
+        return cls(**sizes)
+    except DesignError as exc:
+        raise DesignError(
+            f"{name}.{exc.parameter}", f"{exc.detail} (the {name} sized from d = {sizes['d']:g} mm)"
+        ) from None
+
+
 DESIGN_TYPES: dict[str, type] = {
     "epsa": EPSADesign,
     "foot": FootDesign,
@@ -365,7 +399,7 @@ DESIGN_TYPES: dict[str, type] = {
 def load_design(path: str | Path) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
     """Load any design file; its ``kind`` key selects the class."""
     data = read_design_file(path)
-    kind = data.get("kind")
-    if kind not in DESIGN_TYPES:
+    kind = data.get("kind") if isinstance(data, dict) else None
+    if not isinstance(kind, str) or kind not in DESIGN_TYPES:
         raise DesignError("kind", f"unknown design kind {kind!r} (one of {sorted(DESIGN_TYPES)})")
     return DESIGN_TYPES[kind].from_dict(data)
