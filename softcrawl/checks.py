@@ -54,12 +54,12 @@ def number(
     bounds = _describe(minimum, maximum, min_open, max_open, unit)
     expected = ("an integer" if integer else "a finite number") + (f" {bounds}" if bounds else "")
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise error(parameter, f"must be {expected}, got {_short(value)}")
+        raise error(parameter, f"must be {expected}, got {brief(value)}")
     if not isinstance(value, numbers.Integral):
         try:
             value = float(value)
         except (OverflowError, ValueError):  # e.g. a Fraction beyond the float range
-            raise error(parameter, f"must be {expected}, got {_short(value)}") from None
+            raise error(parameter, f"must be {expected}, got {brief(value)}") from None
         if not math.isfinite(value) or (integer and not value.is_integer()):
             raise error(parameter, f"must be {expected}, got {value!r}")
         if integer:
@@ -67,18 +67,18 @@ def number(
     else:
         value = int(value)  # exact comparisons, whatever its size
     if _outside(value, minimum, maximum, min_open, max_open):
-        raise error(parameter, f"must be {expected}, got {_short(value)}")
+        raise error(parameter, f"must be {expected}, got {brief(value)}")
     if integer:
         return value
     try:
         return float(value)
     except OverflowError:  # an integer beyond the float range, with no upper bound given
         raise error(
-            parameter, f"must be {expected} within the float range (|x| < 1.8e308), got {_short(value)}"
+            parameter, f"must be {expected} within the float range (|x| < 1.8e308), got {brief(value)}"
         ) from None
 
 
-def _short(value, width: int = 40) -> str:
+def brief(value, width: int = 40) -> str:
     """repr of a value cut to `width` characters (a 401-digit integer stays one readable line)."""
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 100:
         return f"an integer of {len(str(abs(value))) if value.bit_length() < 10_000 else 'over 3000'} digits"
