@@ -38,9 +38,11 @@ from geometry.design_base import (
     MIN_LIGAMENT,
     DesignBase,
     check_number,
+    spec,
 )
 from geometry.design_files import read_design_file
 from geometry.errors import DesignError
+from softcrawl.checks import brief
 
 __all__ = [
     "ACTUATOR_ANGLES_DEG",
@@ -68,13 +70,13 @@ class EPSADesign(DesignBase):
     """Extensible pneumatic soft actuator: silicone cylinder with a closed axial air chamber."""
 
     kind: ClassVar[str] = "epsa"
-    length: float = 100.0  #: L0, body length (mm)
-    outer_radius: float = 9.0  #: R0 (mm)
-    chamber_radius: float = 3.0  #: r0 (mm)
-    fiber_turns: int = 20  #: N, turns of each of the two helices
-    fiber_diameter: float = 0.3  #: Kevlar thread diameter (mm)
-    end_cap_thickness: float = 5.0  #: silicone closing each chamber end (mm)
-    seal_head_thickness: float = 3.0  #: ABS seal head disk (mm)
+    length: float = spec(100.0, "L0, body length")
+    outer_radius: float = spec(9.0, "R0, outer radius")
+    chamber_radius: float = spec(3.0, "r0, air chamber radius")
+    fiber_turns: int = spec(20, "N, turns of each of the two helices", "")
+    fiber_diameter: float = spec(0.3, "Kevlar thread diameter")
+    end_cap_thickness: float = spec(5.0, "silicone closing each chamber end")
+    seal_head_thickness: float = spec(3.0, "ABS seal head disk")
 
     def __post_init__(self) -> None:
         for name in (
@@ -152,16 +154,16 @@ class FootDesign(DesignBase):
     """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
 
     kind: ClassVar[str] = "foot"
-    d: float = 14.0  #: distance foot centre -> actuator ("sub circle") centres (mm)
-    hub_radius: float = 24.0  #: hub disk radius (>= d + R0 to carry the actuators) (mm)
-    hub_thickness: float = 4.0  #: axial hub thickness (mm)
-    bore_radius: float = 4.0  #: central bore for the endoscope (<= d - R0) (mm)
-    tip_radius: float = 39.0  #: skirt tip radius: 78 mm prototype maximum diameter (mm)
-    angle: float = 120.0  #: included angle of the conical skirt (deg), 180 = flat disk
-    skirt_thickness: float = 3.0  #: skirt wall thickness (mm)
-    groove_height: float = 1.0  #: h, groove depth on the back face (mm)
-    groove_width: float = 1.0  #: width of a groove along the skirt (mm)
-    n_grooves: int = 5  #: number of grooves on the back face
+    d: float = spec(14.0, "distance foot centre -> actuator centres (the sub circle)")
+    hub_radius: float = spec(24.0, "hub disk radius (>= d + R0 to carry the actuators)")
+    hub_thickness: float = spec(4.0, "axial hub thickness")
+    bore_radius: float = spec(4.0, "central bore for the endoscope (<= d - R0)")
+    tip_radius: float = spec(39.0, "skirt tip radius: 78 mm prototype maximum diameter")
+    angle: float = spec(120.0, "included angle of the conical skirt, 180 = flat disk", "deg")
+    skirt_thickness: float = spec(3.0, "skirt wall thickness")
+    groove_height: float = spec(1.0, "h, groove depth on the back face")
+    groove_width: float = spec(1.0, "width of a groove along the skirt")
+    n_grooves: int = spec(5, "number of grooves on the back face", "")
 
     def __post_init__(self) -> None:
         for name in (
@@ -223,11 +225,11 @@ class RingDesign(DesignBase):
     """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
 
     kind: ClassVar[str] = "ring"
-    d: float = 14.0  #: radius of the actuator hole centres (mm)
-    hole_radius: float = 9.0  #: actuator holes (= ePSA radius, tied to it) (mm)
-    outer_radius: float = 25.0  #: ring outer radius (mm)
-    bore_radius: float = 3.5  #: central bore (endoscope passage; 0 = none) (mm)
-    thickness: float = 5.0  #: axial thickness (mm)
+    d: float = spec(14.0, "radius of the actuator hole centres")
+    hole_radius: float = spec(9.0, "actuator holes (= ePSA radius, tied to it)")
+    outer_radius: float = spec(25.0, "ring outer radius")
+    bore_radius: float = spec(3.5, "central bore (endoscope passage; 0 = none)")
+    thickness: float = spec(5.0, "axial thickness")
 
     def __post_init__(self) -> None:
         for name in ("d", "hole_radius", "outer_radius", "thickness"):
@@ -267,12 +269,12 @@ class RobotDesign(DesignBase):
 
     kind: ClassVar[str] = "robot"
     epsa: EPSADesign = field(default_factory=EPSADesign)
-    d: float = 14.0
-    n_rings: int = 3
+    d: float = spec(14.0, "distance robot axis -> actuator centres")
+    n_rings: int = spec(3, "number of connecting rings", "")
     foot: FootDesign | None = None
     ring: RingDesign | None = None
-    pipe_diameter_min: float = 55.0  #: smallest pipe the robot is sized for (mm)
-    pipe_diameter_max: float = 75.0  #: largest pipe the robot is sized for (mm)
+    pipe_diameter_min: float = spec(55.0, "smallest pipe the robot is sized for")
+    pipe_diameter_max: float = spec(75.0, "largest pipe the robot is sized for")
 
     def __post_init__(self) -> None:
         check_number(self, "d")
@@ -396,10 +398,13 @@ DESIGN_TYPES: dict[str, type] = {
 }
 
 
-def load_design(path: str | Path) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
-    """Load any design file; its ``kind`` key selects the class."""
-    data = read_design_file(path)
-    kind = data.get("kind") if isinstance(data, dict) else None
+def load_design(
+    path: str | Path, parameter: str = "path"
+) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
+    """Load any design file; its ``kind`` key selects the class. A file that cannot be read is a
+    `DesignError` named `parameter`; a bad field is named by the field."""
+    data = read_design_file(path, parameter)
+    kind = data.get("kind")
     if not isinstance(kind, str) or kind not in DESIGN_TYPES:
-        raise DesignError("kind", f"unknown design kind {kind!r} (one of {sorted(DESIGN_TYPES)})")
+        raise DesignError("kind", f"unknown design kind {brief(kind)} (one of {sorted(DESIGN_TYPES)})")
     return DESIGN_TYPES[kind].from_dict(data)

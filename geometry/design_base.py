@@ -19,7 +19,7 @@ from typing import Any, ClassVar, Self
 
 from geometry.design_files import read_design_file, to_toml
 from geometry.errors import DesignError
-from softcrawl.checks import number
+from softcrawl.checks import brief, number
 
 #: Angular positions psi_i of the three actuators on the circle of radius d (degrees).
 ACTUATOR_ANGLES_DEG: tuple[float, float, float] = (90.0, 210.0, 330.0)
@@ -37,6 +37,12 @@ MIN_FEATURE = 0.01
 #: Largest count of repeated features (grooves, rings): no part of the robot has more than a few
 #: tens; the geometric checks reject far smaller counts, this bound keeps their arithmetic finite.
 MAX_FEATURE_COUNT = 10_000
+
+
+def spec(default: float, doc: str, unit: str = "mm") -> Any:
+    """A design field with its default, a one-line description and its unit (shown by the
+    command-line help of `softcrawl mesh`)."""
+    return dataclasses.field(default=default, metadata={"doc": doc, "unit": unit})
 
 
 def check_number(
@@ -92,11 +98,12 @@ class DesignBase:
         data = dict(data)
         kind = data.pop("kind", cls.kind)
         if kind != cls.kind:
-            raise DesignError(_prefix + "kind", f"expected {cls.kind!r}, got {kind!r}")
+            raise DesignError(_prefix + "kind", f"expected {cls.kind!r}, got {brief(kind)}")
         names = {f.name for f in fields(cls)}
         for key in data:
             if key not in names:
-                raise DesignError(_prefix + key, f"unknown parameter of {cls.__name__}")
+                name = key if len(key) <= 60 else key[:57] + "..."
+                raise DesignError(_prefix + name, f"unknown parameter of {cls.__name__}")
         for key, sub in cls._nested.items():
             if isinstance(data.get(key), dict):
                 try:
@@ -138,6 +145,7 @@ class DesignBase:
         return path
 
     @classmethod
-    def load(cls, path: str | Path) -> Self:
-        """Read a design from ``.json`` or ``.toml`` (the inverse of :meth:`save`)."""
-        return cls.from_dict(read_design_file(path))
+    def load(cls, path: str | Path, parameter: str = "path") -> Self:
+        """Read a design from ``.json`` or ``.toml`` (the inverse of :meth:`save`); a file that
+        cannot be read is a `DesignError` named `parameter`."""
+        return cls.from_dict(read_design_file(path, parameter))

@@ -33,22 +33,41 @@ def _scalar_fields(cls) -> list[tuple[str, type]]:
     return out
 
 
-def _add_param(parser, name: str, typ: type) -> None:
+def _add_param(parser, name: str, typ: type, field: dataclasses.Field, default) -> None:
+    """A design field as an option; the design class checks its value (and names it)."""
     flags = [f"--{name}"]
     if "_" in name:
         flags.append("--" + name.replace("_", "-"))
+    doc, unit = field.metadata.get("doc", name), field.metadata.get("unit", "")
     parser.add_argument(
         *flags,
         dest=f"p:{name}",
         type=typ,
         default=None,
         metavar=typ.__name__.upper(),
-        help=f"design parameter {name}",
+        help=f"{doc} ({unit + '; ' if unit else ''}default {default:g})",
     )
+
+
+def _add_design_options(parser, kind: str, classes: dict) -> None:
+    from geometry.design import RobotDesign
+
+    default = classes[kind]()
+    for name, typ in _scalar_fields(classes[kind]):
+        field = next(f for f in dataclasses.fields(classes[kind]) if f.name == name)
+        _add_param(parser, name, typ, field, getattr(default, name))
+    if kind == "robot":
+        robot = RobotDesign()
+        for part in ("epsa", "foot", "ring"):
+            for name, typ in _scalar_fields(classes[part]):
+                field = next(f for f in dataclasses.fields(classes[part]) if f.name == name)
+                _add_param(parser, f"{part}.{name}", typ, field, getattr(getattr(robot, part), name))
 
 
 def register(subparsers) -> None:
     from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
+    from geometry.tetwild import MAX_EDGE_LENGTH, MIN_EDGE_LENGTH
+    from studies.commands.options import add_number
 
     classes = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
     parser = subparsers.add_parser(
@@ -56,10 +75,18 @@ def register(subparsers) -> None:
     )
     kinds = parser.add_subparsers(dest="kind", required=True, parser_class=type(parser))
     for kind in KINDS:
-        sp = kinds.add_parser(kind, help=f"mesh the {kind}")
-        sp.add_argument("--out", required=True, help="output folder")
+        sp = kinds.add_parser(kind, help=f"mesh the {kind}", description=f"Mesh the {kind} (pytetwild).")
+        sp.add_argument("--out", required=True, help="output folder (created if needed)")
         sp.add_argument("--design", default=None, help="design file (.json or .toml) to start from")
-        sp.add_argument("--edge-length", type=float, default=None, help="target tet edge length (mm)")
+        add_number(
+            sp,
+            "--edge-length",
+            help="target tet edge length",
+            unit="mm",
+            default_text="5 %% of the part's bounding-box diagonal",
+            minimum=MIN_EDGE_LENGTH,
+            maximum=MAX_EDGE_LENGTH,
+        )
         sp.add_argument(
             "--cache-dir",
             default=None,
@@ -67,12 +94,7 @@ def register(subparsers) -> None:
         )
         sp.add_argument("--no-cache", action="store_true", help="always mesh anew")
         sp.add_argument("--no-png", action="store_true", help="skip the PNG render")
-        for name, typ in _scalar_fields(classes[kind]):
-            _add_param(sp, name, typ)
-        if kind == "robot":
-            for part in ("epsa", "foot", "ring"):
-                for name, typ in _scalar_fields(classes[part]):
-                    _add_param(sp, f"{part}.{name}", typ)
+        _add_design_options(sp, kind, classes)
         sp.set_defaults(func=run)
 
 
@@ -117,20 +139,17 @@ def _part(design, name: str, changes: dict):
 def run(args: argparse.Namespace) -> int:
     import json
     import time
-    from pathlib import Path
 
     from geometry.assembly import MESHERS
     from geometry.design import EPSADesign, load_design
+    from studies.commands.options import output_folder
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
-    base = load_design(args.design) if args.design else None
+    base = load_design(args.design, parameter="design") if args.design else None
     design = build_design(args.kind, params, base)
-    if args.edge_length is not None and args.edge_length <= 0:
-        from geometry.design import DesignError
-
-        raise DesignError("edge_length", f"must be positive, got {args.edge_length}")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder(args.out)
+    if args.cache_dir is not None and not args.no_cache:
+        output_folder(args.cache_dir, "cache-dir")
     cache = False if args.no_cache else args.cache_dir
     t0 = time.perf_counter()
     mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)

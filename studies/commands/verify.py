@@ -18,7 +18,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "verify", help="run the solver verification cases", description=__doc__.splitlines()[0]
     )
-    p.add_argument("--json", metavar="FILE", help="write the results as JSON")
+    p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE (its folder is created)")
     p.add_argument("--case", action="append", choices=sorted(CASES), help="run only this case (repeatable)")
     p.set_defaults(func=run)
 
@@ -36,7 +36,10 @@ def _plain(value):
 
 def run(args) -> int:
     from fem.verification import CASES
+    from studies.commands.options import output_file
 
+    if args.json:
+        output_file(args.json, "json")  # checked before the cases run
     names = args.case or list(CASES)
     rows = []
     print(f"{'case':<15}{'error':>12}{'tolerance':>12}  result   time")

@@ -24,9 +24,34 @@ CLASSES = (EPSADesign, FootDesign, RingDesign, RobotDesign)
 #: extreme floats (ZeroDivisionError, infinite helix lengths), NaN and inf, wrong types.
 NASTY = st.one_of(
     st.integers(min_value=-(10**400), max_value=10**400),
-    st.sampled_from([0, 1, -1, 10**20, 10**308, 10**400, 2**1023, 5e-324, -5e-324, 2.2e-308, 1e-300,
-                     1e308, 1.7976931348623157e308, -1e308, math.inf, -math.inf, math.nan, 0.0, -0.0,
-                     True, None, "3", [], 3 + 0j]),  # fmt: skip
+    st.sampled_from(
+        [
+            0,
+            1,
+            -1,
+            10**20,
+            10**308,
+            10**400,
+            2**1023,
+            5e-324,
+            -5e-324,
+            2.2e-308,
+            1e-300,
+            1e308,
+            1.7976931348623157e308,
+            -1e308,
+            math.inf,
+            -math.inf,
+            math.nan,
+            0.0,
+            -0.0,
+            True,
+            None,
+            "3",
+            [],
+            3 + 0j,
+        ]
+    ),  # fmt: skip
     st.floats(allow_nan=True, allow_infinity=True, allow_subnormal=True),
     st.floats(min_value=0.0, max_value=200.0),
 )

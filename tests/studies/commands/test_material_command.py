@@ -74,7 +74,9 @@ def test_user_errors_exit_2_with_one_line_naming_the_parameter(capsys, argv, par
     code, out, err = run(capsys, *argv)
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and f"error: {parameter}:" in lines[0]
+    assert len(lines) == 1 and (
+        f"error: {parameter}:" in lines[0] or f"--{parameter.replace('_', '-')}:" in lines[0]
+    )
 
 
 def test_console_entry_point_unknown_preset_exit_code_2():
