@@ -38,6 +38,7 @@ from geometry.design_base import (
     MIN_LIGAMENT,
     DesignBase,
     check_number,
+    derived_part,
     spec,
 )
 from geometry.design_files import read_design_file
@@ -292,9 +293,9 @@ class RobotDesign(DesignBase):
             )
         # (d > 2 R0 / sqrt(3) > R0: the centre channel d - R0 for the endoscope is never empty)
         if self.foot is None:
-            object.__setattr__(self, "foot", _derived_part("foot", FootDesign, self._foot_sizes()))
+            object.__setattr__(self, "foot", derived_part("foot", FootDesign, self._foot_sizes()))
         if self.ring is None:
-            object.__setattr__(self, "ring", _derived_part("ring", RingDesign, self._ring_sizes()))
+            object.__setattr__(self, "ring", derived_part("ring", RingDesign, self._ring_sizes()))
         if not isinstance(self.foot, FootDesign):
             raise DesignError("foot", "must be a FootDesign")
         if not isinstance(self.ring, RingDesign):
@@ -377,17 +378,6 @@ class RobotDesign(DesignBase):
     def bundle_diameter(self) -> float:
         """Envelope of the actuator bundle, 2 (d + R0) (46 mm for Table 1: the prototype minimum)."""
         return 2 * (self.d + self.epsa.outer_radius)
-
-
-def _derived_part(name: str, cls: type, sizes: dict[str, float]):
-    """A part sized from the robot's d and R0; its errors are named ``<name>.<field>`` and say that
-    the part was derived from d (the user gave no explicit part)."""
-    try:
-        return cls(**sizes)
-    except DesignError as exc:
-        raise DesignError(
-            f"{name}.{exc.parameter}", f"{exc.detail} (the {name} sized from d = {sizes['d']:g} mm)"
-        ) from None
 
 
 DESIGN_TYPES: dict[str, type] = {

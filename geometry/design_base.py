@@ -76,6 +76,17 @@ def check_number(
     object.__setattr__(obj, name, value)
 
 
+def derived_part(name: str, cls: type, sizes: dict[str, float]) -> Any:
+    """A part of the robot sized from its d and R0; its errors are named ``<name>.<field>`` and say
+    that the part was derived from d (the user gave no explicit part)."""
+    try:
+        return cls(**sizes)
+    except DesignError as exc:
+        raise DesignError(
+            f"{name}.{exc.parameter}", f"{exc.detail} (the {name} sized from d = {sizes['d']:g} mm)"
+        ) from None
+
+
 class DesignBase:
     """Shared serialisation, hashing and file I/O of the design dataclasses."""
 

@@ -48,8 +48,6 @@ MAX_SEED = 2**32 - 1
 
 
 def register(subparsers) -> None:
-    from studies.commands.options import add_number
-    from studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MIN_MESH_SIZE
 
     parser = subparsers.add_parser(
         "study",
@@ -75,6 +73,29 @@ def register(subparsers) -> None:
         default=None,
         help="optuna RDB URL shared by all workers (default: SQLite in the output folder)",
     )
+    _add_run_options(parser)
+    parser.add_argument(
+        "--simulator",
+        default=None,
+        metavar="MODULE:FUNCTION",
+        help="replace studies.parts.epsa_response:simulate_epsa (same signature), e.g. a "
+        "surrogate or a test fake",
+    )
+    parser.add_argument(
+        "--retry-failed",
+        action="store_true",
+        help="sweeps: evaluate the failed points again (after an evaluator fix); "
+        "otherwise a failed evaluation is a result and is kept",
+    )
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.set_defaults(func=run)
+
+
+def _add_run_options(parser) -> None:
+    """Workers, mesh, winding and the optimiser's options."""
+    from studies.commands.options import add_number
+    from studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MIN_MESH_SIZE
+
     add_number(
         parser,
         "--workers",
@@ -123,21 +144,6 @@ def register(subparsers) -> None:
         maximum=MAX_SEED,
         integer=True,
     )
-    parser.add_argument(
-        "--simulator",
-        default=None,
-        metavar="MODULE:FUNCTION",
-        help="replace studies.parts.epsa_response:simulate_epsa (same signature), e.g. a "
-        "surrogate or a test fake",
-    )
-    parser.add_argument(
-        "--retry-failed",
-        action="store_true",
-        help="sweeps: evaluate the failed points again (after an evaluator fix); "
-        "otherwise a failed evaluation is a result and is kept",
-    )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    parser.set_defaults(func=run)
 
 
 def _check(args) -> None:

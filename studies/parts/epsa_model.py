@@ -148,8 +148,15 @@ MAX_END_LOAD_N = 100.0
 def check_end_conditions(blocked: bool, guided: bool, end_load_n, side_load_n) -> None:
     """The end conditions of the module docstring exclude each other as stated there."""
     if side_load_n is not None:
-        number(side_load_n, "side_load", minimum=0.0, min_open=True, maximum=MAX_SIDE_LOAD_N, unit="N",
-               error=DesignError)  # fmt: skip
+        number(
+            side_load_n,
+            "side_load",
+            minimum=0.0,
+            min_open=True,
+            maximum=MAX_SIDE_LOAD_N,
+            unit="N",
+            error=DesignError,
+        )
     if side_load_n is not None and (blocked or guided or end_load_n is not None):
         raise DesignError(
             "side_load", "the sideways probe is for the free actuator (no guide, block or weight)"

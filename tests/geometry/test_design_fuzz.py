@@ -51,7 +51,7 @@ NASTY = st.one_of(
             [],
             3 + 0j,
         ]
-    ),  # fmt: skip
+    ),
     st.floats(allow_nan=True, allow_infinity=True, allow_subnormal=True),
     st.floats(min_value=0.0, max_value=200.0),
 )
