@@ -18,15 +18,20 @@ import numbers
 from softcrawl.errors import InputError
 
 
+def _fmt(value) -> str:
+    """An int in full (2**32 - 1 = 4294967295), a float in %g."""
+    return str(value) if isinstance(value, int) else format(value, "g")
+
+
 def _describe(minimum, maximum, min_open: bool, max_open: bool, unit: str) -> str:
     unit = f" {unit}" if unit else ""
     if minimum is not None and maximum is not None:
         lo, hi = "(" if min_open else "[", ")" if max_open else "]"
-        return f"in {lo}{minimum:g}, {maximum:g}{hi}{unit}"
+        return f"in {lo}{_fmt(minimum)}, {_fmt(maximum)}{hi}{unit}"
     if minimum is not None:
-        return f"{'>' if min_open else '>='} {minimum:g}{unit}"
+        return f"{'>' if min_open else '>='} {_fmt(minimum)}{unit}"
     if maximum is not None:
-        return f"{'<' if max_open else '<='} {maximum:g}{unit}"
+        return f"{'<' if max_open else '<='} {_fmt(maximum)}{unit}"
     return ""
 
 

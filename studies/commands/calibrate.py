@@ -35,7 +35,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from studies.catalogue.calibration import calibrate_mu
-    from studies.commands.options import body_material, output_folder
+    from studies.commands.options import body_material, make_folder, output_folder
     from studies.plots.calibration import plot_calibration
 
     body_material(args.material)
@@ -45,6 +45,7 @@ def run(args) -> int:
         mesh="default" if args.full_mesh else "quick",
         progress=lambda m: print("  " + m, flush=True),
     )
+    make_folder(out)
     (out / "calibration.json").write_text(json.dumps(asdict(cal), indent=2))
     plot_calibration(cal, out / "calibration.png")
     print(

@@ -112,7 +112,13 @@ def _end_condition(args) -> str:
 
 def run(args) -> int:
     from geometry.design import DesignError
-    from studies.commands.options import body_material, output_folder, parse_pressures, parse_sizes
+    from studies.commands.options import (
+        body_material,
+        make_folder,
+        output_folder,
+        parse_pressures,
+        parse_sizes,
+    )
     from studies.parts.epsa_model import DEFAULT_FIBERS, check_end_conditions, resolve_mesh
     from studies.parts.epsa_response import simulate_epsa
     from studies.plots.epsa_run import plot_epsa
@@ -154,6 +160,7 @@ def run(args) -> int:
         progress=lambda msg: print("  " + msg, flush=True),
     )
     curve = solved.curve
+    make_folder(out)
     write_csv(curve.table(args.blocked), out / "curve.csv")
     summary = curve.to_dict()
     summary["limit_point"] = (
@@ -179,6 +186,7 @@ def run(args) -> int:
 
 
 def run_convergence(args, design, pressures, sizes, out) -> int:
+    from studies.commands.options import make_folder
     from studies.parts.epsa_convergence import convergence_table, mesh_convergence
     from studies.sweeps.engine import write_csv
 
@@ -191,6 +199,7 @@ def run_convergence(args, design, pressures, sizes, out) -> int:
         fibers=args.fibers,
         progress=lambda m: print("  " + m, flush=True),
     )
+    make_folder(out)
     write_csv(convergence_table(rows), out / "convergence.csv")
     print(f"-> {out / 'convergence.csv'}")
     return 0

@@ -145,7 +145,7 @@ def _run_fit(args: argparse.Namespace) -> int:
     import json
 
     import materials
-    from studies.commands.options import output_folder
+    from studies.commands.options import make_folder, output_folder
     from studies.plots.material_fit import plot_fit
 
     if args.out is not None:
@@ -155,7 +155,7 @@ def _run_fit(args: argparse.Namespace) -> int:
     fit = materials.fit_tensile(data, args.model, _max_strain(args))
     record = _fit_record(data, fit)
     if args.out is not None:
-        out = output_folder(args.out)
+        out = make_folder(args.out)
         (out / "fit.json").write_text(json.dumps(record, indent=2) + "\n")
         plot_fit(data, fit, out / "fit.png")
         record["outputs"] = [str(out / "fit.json"), str(out / "fit.png")]

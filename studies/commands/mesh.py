@@ -142,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
 
     from geometry.assembly import MESHERS
     from geometry.design import EPSADesign, load_design
-    from studies.commands.options import output_folder
+    from studies.commands.options import make_folder, output_folder
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
     base = load_design(args.design, parameter="design") if args.design else None
@@ -154,6 +154,7 @@ def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
     seconds = time.perf_counter() - t0
+    make_folder(out)
     mesh.write(out / "mesh.vtu")
     mesh.write(out / "mesh.msh")
     design.save(out / "design.json")

@@ -21,7 +21,7 @@ from robot.limits import (
 )
 from robot.statics import P_MAX_KPA
 from studies.commands.model import add_json, add_length, emit
-from studies.commands.options import CommandLineError, add_number, output_folder
+from studies.commands.options import CommandLineError, add_number, make_folder, output_folder
 
 # -- workspace -------------------------------------------------------------------------------------
 
@@ -32,6 +32,7 @@ def _workspace(args) -> int:
 
     out = output_folder(args.out)
     ws = sample(args.n, args.actuators, args.d)
+    make_folder(out)
     save_csv(ws, out / "workspace.csv")
     plot_workspace(ws, out / "workspace.png")
     tip = ws.tip_mm
@@ -152,6 +153,7 @@ def _plan(args) -> int:
         gait=[dict(phase=g[0], pressures_kpa=list(g[1:])) for g in result.gait()],
         steps=[asdict(c) for c in result.cycles],
     )
+    make_folder(out)
     (out / "plan.json").write_text(json.dumps(payload, indent=2))
     _write_gait_csv(result, out / "gait.csv")
     plot_plan(result, out / "plan.png")

@@ -33,6 +33,11 @@ class CommandLineError(InputError):
     """A bad command-line option that is not a field of a design, a material or a model."""
 
 
+def _fmt(value) -> str:
+    """An int in full (2**32 - 1 = 4294967295), a float in %g."""
+    return str(value) if isinstance(value, int) else format(value, "g")
+
+
 def number_type(
     *,
     minimum: float | None = None,
@@ -72,11 +77,11 @@ def number_type(
 
 
 def range_text(minimum, maximum, min_open: bool = False, max_open: bool = False) -> str:
-    lo = "" if minimum is None else f"{'(' if min_open else '['}{minimum:g}"
-    hi = "" if maximum is None else f"{maximum:g}{')' if max_open else ']'}"
+    lo = "" if minimum is None else f"{'(' if min_open else '['}{_fmt(minimum)}"
+    hi = "" if maximum is None else f"{_fmt(maximum)}{')' if max_open else ']'}"
     if lo and hi:
         return f"{lo}, {hi}"
-    return f">{'' if min_open else '='} {minimum:g}" if lo else f"<= {maximum:g}"
+    return f">{'' if min_open else '='} {_fmt(minimum)}" if lo else f"<= {_fmt(maximum)}"
 
 
 def add_number(
@@ -178,24 +183,42 @@ def parse_sizes(spec: str, parameter: str = "convergence") -> list[float]:
 
 
 def output_folder(path, parameter: str = "out") -> Path:
-    """The folder `path`, created if needed and checked to be writable (a file is created in it
-    and removed), before any work starts. An existing file, a folder that cannot be created or a
-    read-only one is a `CommandLineError` naming `parameter`."""
+    """Check, before any work, that the folder `path` can be written, without creating it: it is
+    a folder, or its nearest existing ancestor is, and a file can be created there (one is made
+    and removed at once). The command creates the folder (`make_folder`) when it writes. An
+    existing file, a path through a file and a read-only folder are a `CommandLineError` naming
+    `parameter`."""
     folder = Path(path)
     if folder.exists() and not folder.is_dir():
         raise CommandLineError(parameter, f"{folder} exists and is not a folder")
+    probe = folder
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if not probe.is_dir():
+        raise CommandLineError(parameter, f"cannot create {folder}: {probe} is not a folder")
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=folder):
+        with tempfile.TemporaryFile(dir=probe):
             pass
     except OSError as exc:
-        raise CommandLineError(parameter, f"cannot write to {folder}: {exc.strerror or exc}") from None
+        raise CommandLineError(parameter, f"cannot write to {probe}: {exc.strerror or exc}") from None
+    return folder
+
+
+def make_folder(path, parameter: str = "out") -> Path:
+    """Create the (checked) output folder just before the first file is written."""
+    folder = Path(path)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CommandLineError(parameter, f"cannot create {folder}: {exc.strerror or exc}") from None
     return folder
 
 
 def output_file(path, parameter: str) -> Path:
-    """A file `path` that can be written: not a folder, in a writable folder (checked as
-    `output_folder`, which creates it)."""
+    """A file `path` that can be written: not a folder, in a folder that can be written or
+    created (checked as `output_folder`; create it with `make_folder(path.parent)`)."""
     target = Path(path)
     if target.is_dir():
         raise CommandLineError(parameter, f"{target} is a folder, not a file")

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import sys
 import time
+from pathlib import Path
 
 
 def register(subparsers) -> None:
@@ -36,7 +37,7 @@ def _plain(value):
 
 def run(args) -> int:
     from fem.verification import CASES
-    from studies.commands.options import output_file
+    from studies.commands.options import make_folder, output_file
 
     if args.json:
         output_file(args.json, "json")  # checked before the cases run
@@ -63,6 +64,7 @@ def run(args) -> int:
             flush=True,
         )
     if args.json:
+        make_folder(Path(args.json).parent, "json")
         with open(args.json, "w") as fh:
             json.dump({"cases": rows, "all_passed": all(r["passed"] for r in rows)}, fh, indent=2)
     failed = [r["case"] for r in rows if not r["passed"]]
