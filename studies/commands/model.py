@@ -292,7 +292,10 @@ def _register_loads(sub) -> None:
     )
     add_gravity(s, 0.0, "axial gravity (0 = horizontal)")
     s.add_argument(
-        "--actuators", choices=["nominal", "prototype"], default="prototype", help="(default prototype)"
+        "--actuators",
+        choices=["nominal", "prototype"],
+        default="prototype",
+        help="identified laws: the nominal ePSA for all three, or the three prototypes (default prototype)",
     )
     add_number(
         s,

@@ -278,7 +278,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         integer=True,
     )
     s.add_argument(
-        "--actuators", choices=["nominal", "prototype"], default="prototype", help="(default prototype)"
+        "--actuators",
+        choices=["nominal", "prototype"],
+        default="prototype",
+        help="identified laws: the nominal ePSA for all three, or the three prototypes (default prototype)",
     )
     add_length(s, "--d", "actuator circle radius", default=14.0)
     s.set_defaults(func=_workspace)
@@ -286,7 +289,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     s = sub.add_parser("plan", help="gait through a pipe (Section IV, Fig. 25)")
     add_json(s)
     s.add_argument("--pipe", choices=["straight", "vertical", "elbow"], required=True, help="pipe shape")
-    add_length(s, "--bend-radius", "elbow centreline radius (required for elbow)")
+    add_length(s, "--bend-radius", "elbow centreline radius", default_text="none, required for --pipe elbow")
     add_length(s, "--diameter", "pipe inner diameter", default=70.0)
     add_length(s, "--length", "straight length (straight/vertical) or entry leg (elbow)", default=150.0)
     add_number(
@@ -299,7 +302,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         maximum=MAX_LENGTH_MM,
     )
     s.add_argument(
-        "--actuators", choices=["nominal", "prototype"], default="nominal", help="(default nominal)"
+        "--actuators",
+        choices=["nominal", "prototype"],
+        default="nominal",
+        help="identified laws: the nominal ePSA for all three, or the three prototypes (default nominal)",
     )
     s.add_argument(
         "--deflation", choices=["paper", "held"], default="paper", help="deflation rule (default paper)"
@@ -320,5 +326,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_length(s, "--radii", f"bend radii (at most {MAX_SCAN_RADII})", nargs="+", required=True)
     add_length(s, "--diameter", "pipe inner diameter", default=70.0)
     _add_search_options(s, beam=32)
-    s.add_argument("--search", choices=["beam", "bfs", "continuous"], default="beam", help="(default beam)")
+    s.add_argument(
+        "--search",
+        choices=["beam", "bfs", "continuous"],
+        default="beam",
+        help="planner (see model plan --help; default beam)",
+    )
     s.set_defaults(func=_elbow_scan)
