@@ -91,13 +91,6 @@ class EPSADesign(DesignBase):
             check_number(self, name)
         check_number(self, "fiber_turns", integer=True, minimum=0)
         p = ""
-        if self.fiber_turns > self.length / self.fiber_diameter:
-            raise DesignError(
-                p + "fiber_turns",
-                f"{self.fiber_turns} turns over {self.length} mm put the turns of one helix closer "
-                f"than the {self.fiber_diameter} mm thread is thick (at most L / fiber_diameter = "
-                f"{math.floor(self.length / self.fiber_diameter)})",
-            )
         if self.chamber_radius >= self.outer_radius:
             raise DesignError(
                 p + "chamber_radius",
@@ -110,6 +103,13 @@ class EPSADesign(DesignBase):
             )
         if self.fiber_diameter >= self.outer_radius - self.chamber_radius:
             raise DesignError(p + "fiber_diameter", "must be smaller than the wall thickness")
+        if self.fiber_turns > self.length / self.fiber_diameter:
+            raise DesignError(
+                p + "fiber_turns",
+                f"{self.fiber_turns} turns over {self.length} mm put the turns of one helix closer "
+                f"than the {self.fiber_diameter} mm thread is thick (at most L / fiber_diameter = "
+                f"{math.floor(self.length / self.fiber_diameter)})",
+            )
         if 2 * self.end_cap_thickness >= self.length:
             raise DesignError(
                 p + "end_cap_thickness",

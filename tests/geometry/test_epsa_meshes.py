@@ -23,6 +23,10 @@ EPSA_TAGS = {"chamber_wall", "chamber_ends", "outer", "end_bottom", "end_top"}
 FIBER_SURFACE_TOL = 0.1
 
 
+#: The session mesh fixture (pytetwild, ~25 s idle) is paid by the first test that uses it.
+pytestmark = pytest.mark.timeout(600)
+
+
 @pytest.fixture(scope="session")
 def cache_dir(tmp_path_factory):
     return tmp_path_factory.mktemp("mesh_cache")
