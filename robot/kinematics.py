@@ -80,9 +80,17 @@ def _atan_over(u: ArrayLike) -> np.ndarray:
     return np.where(small, 1.0 - u * u / 3.0 + u**4 / 5.0, np.arctan(us) / us)
 
 
+def _array(values: ArrayLike, parameter: str) -> np.ndarray:
+    """`values` as a float array, or a `ModelInputError` (text, or integers beyond the float range)."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise ModelInputError(parameter, "must be numbers (mm) within the float range") from None
+
+
 def forward(lengths: ArrayLike, d: float = 14.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Lengths (..., 3) in mm -> (kappa, theta, phi, l_c) arrays (eqs. 4-6)."""
-    l = np.asarray(lengths, dtype=float)
+    l = _array(lengths, "lengths")
     if l.shape[-1] != 3:
         raise ModelInputError("lengths", "need three ePSA lengths")
     d = length_mm(d, "d")
@@ -162,7 +170,7 @@ def tip(lengths: ArrayLike, d: float = 14.0) -> np.ndarray:
 
 def inverse_configuration(tip_xyz: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Tip position (..., 3) -> (kappa, theta, phi, l_c); exact inverse of `arc_point`."""
-    x = np.asarray(tip_xyz, dtype=float)
+    x = _array(tip_xyz, "tip")
     if x.shape[-1] != 3 or np.any(~np.isfinite(x)) or np.any(np.abs(x) > MAX_LENGTH_MM):
         raise ModelInputError("tip", f"need a finite (x, y, z) within +-{MAX_LENGTH_MM:g} mm")
     r = np.hypot(x[..., 0], x[..., 1])

@@ -365,3 +365,63 @@ def test_the_suite_covers_every_subcommand():
     covered = {line.split()[0] for line, _ in CASES if line}
     assert set(sub.choices) <= covered
     assert len(CASES) >= 150
+
+
+def _api_calls():
+    import materials
+    from geometry.design import EPSADesign
+    from robot import kinematics, loads, workspace
+    from robot.pipe import Pipe
+    from robot.planner import plan
+    from studies.parts.epsa_model import MeshSettings, resolve_mesh
+
+    huge = 10**400
+    return [
+        ("material mu", lambda: materials.Material(name="x", model="neo-hookean", density=1e-9, mu=huge)),
+        (
+            "material density",
+            lambda: materials.Material(name="x", model="neo-hookean", density=huge, mu=0.03),
+        ),
+        ("yeoh", lambda: materials.Material(name="y", model="yeoh", density=1e-9, yeoh_c=(0.01, huge, 0))),
+        ("with_mu", lambda: materials.get_material("ecoflex-00-50").with_mu(1e300)),
+        ("get_material", lambda: materials.get_material(huge)),
+        ("forward", lambda: kinematics.forward([huge, 100.0, 100.0])),
+        ("forward d", lambda: kinematics.forward([100.0, 110.0, 120.0], d=huge)),
+        ("inverse", lambda: kinematics.inverse([0.0, 0.0, 100.0], d=float("nan"))),
+        ("workspace", lambda: workspace.sample(n=huge)),
+        ("load", lambda: loads.theoretical_load(8.42, float("nan"), 9810.0)),
+        ("speed", lambda: loads.crawl_speed((), 100.0, float("nan"))),
+        ("pipe", lambda: Pipe("straight", diameter=huge)),
+        ("plan step", lambda: plan(Pipe("straight"), step_kpa=0.0)),
+        ("plan beam", lambda: plan(Pipe("straight"), beam=huge)),
+        ("mesh size", lambda: MeshSettings.from_size(5e-324, EPSADesign())),
+        ("mesh cost", lambda: resolve_mesh(EPSADesign(length=1000.0), mesh_size=0.2)),
+    ]
+
+
+@pytest.mark.parametrize("index", range(16))
+def test_python_api_bad_numbers_raise_input_errors(index):
+    """The library entry points behind the commands: a huge integer, NaN or a subnormal is an
+    `InputError` naming a parameter, never an OverflowError or ZeroDivisionError."""
+    from softcrawl.errors import InputError
+
+    name, call = _api_calls()[index]
+    with pytest.raises(InputError) as info:
+        call()
+    assert info.value.parameter and len(str(info.value)) < 300, name
+
+
+@pytest.mark.parametrize(
+    "spec, expected",
+    [
+        ("0:100:20", (20.0, 40.0, 60.0, 80.0, 100.0)),
+        ("0:100:30", (30.0, 60.0, 90.0)),
+        ("10,30,50", (10.0, 30.0, 50.0)),
+        ("0,20", (20.0,)),
+        ("5:10:5", (5.0, 10.0)),
+    ],
+)
+def test_valid_pressures_parse_as_before(spec, expected):
+    from studies.commands.options import parse_pressures
+
+    assert parse_pressures(spec) == pytest.approx(expected)
