@@ -8,9 +8,6 @@ against the ranges of `robot.limits` when it is parsed.
 
 from __future__ import annotations
 
-import json
-import sys
-
 from robot.limits import (
     MAX_FORCE_N,
     MAX_G,
@@ -20,45 +17,17 @@ from robot.limits import (
     MAX_SPEED_MM_S,
     MAX_TIME_S,
 )
-from studies.commands.options import add_number
-
-
-def emit(args, payload: dict, text: str) -> None:
-    """`payload` as JSON with --json, else `text`."""
-    if getattr(args, "json", False):
-        json.dump(payload, sys.stdout, indent=2)
-        sys.stdout.write("\n")
-    else:
-        print(text)
+from studies.commands.options import add_json, add_length, add_number, emit
 
 
 def _g(args) -> float:
     return args.g * 1000.0  # m/s^2 -> mm/s^2 (the range is checked when parsed)
 
 
-def add_length(parser, flag: str, help: str, default=None, **kwargs) -> None:
-    """A length option in (0, MAX_LENGTH_MM] mm."""
-    add_number(
-        parser,
-        flag,
-        help=help,
-        unit="mm",
-        default=default,
-        minimum=0.0,
-        min_open=True,
-        maximum=MAX_LENGTH_MM,
-        **kwargs,
-    )
-
-
 def add_gravity(parser, default: float, help: str, positive: bool = False) -> None:
     add_number(
         parser, "--g", help=help, unit="m/s^2", default=default, minimum=0.0, min_open=positive, maximum=MAX_G
     )
-
-
-def add_json(parser) -> None:
-    parser.add_argument("--json", action="store_true", help="print JSON on stdout")
 
 
 # -- statics, kinematics, loads --------------------------------------------------------------

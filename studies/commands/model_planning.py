@@ -20,8 +20,15 @@ from robot.limits import (
     MIN_PLAN_STEP_KPA,
 )
 from robot.statics import P_MAX_KPA
-from studies.commands.model import add_json, add_length, emit
-from studies.commands.options import CommandLineError, add_number, make_folder, output_folder
+from studies.commands.options import (
+    CommandLineError,
+    add_json,
+    add_length,
+    add_number,
+    emit,
+    make_folder,
+    output_folder,
+)
 
 # -- workspace -------------------------------------------------------------------------------------
 

@@ -11,7 +11,9 @@ limits are named constants here or in the library module that owns the quantity
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import sys
 import tempfile
 from pathlib import Path
 
@@ -240,3 +242,33 @@ def body_material(name: str, parameter: str = "material"):
     except MaterialError as exc:
         raise exc.renamed(parameter) if exc.parameter != parameter else exc from None
     return material
+
+
+def emit(args, payload: dict, text: str) -> None:
+    """`payload` as JSON with --json, else `text`."""
+    if getattr(args, "json", False):
+        json.dump(payload, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        print(text)
+
+
+def add_length(parser, flag: str, help: str, default=None, **kwargs) -> None:
+    """A length option in (0, MAX_LENGTH_MM] mm (the analytic models' limit)."""
+    from robot.limits import MAX_LENGTH_MM
+
+    add_number(
+        parser,
+        flag,
+        help=help,
+        unit="mm",
+        default=default,
+        minimum=0.0,
+        min_open=True,
+        maximum=MAX_LENGTH_MM,
+        **kwargs,
+    )
+
+
+def add_json(parser) -> None:
+    parser.add_argument("--json", action="store_true", help="print JSON on stdout")
