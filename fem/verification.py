@@ -89,7 +89,7 @@ def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
             "nominal_stress_MPa": nominal,
             "analytic_MPa": target,
             "stress_error": stress_err,
-            "stress_tolerance": 5e-3,
+            "stress_tolerance": 2e-4,  # observed 5.7e-5 (K/mu = 1e4 against incompressible)
             "lateral_stretch": lat,
             "iterations": res.stats.iterations,
         },
@@ -189,7 +189,7 @@ def sheet_bar_test(stretch=1.5, stiffness=0.1, k_over_mu=1e4, tolerance=1e-8) ->
 
 
 def sheet_tube_test(
-    pressures_over_mu=(0.5, 1.0), stiffness=2.0, inner=3.0, outer=9.0, n_radial=6, n_angle=8, tolerance=0.01
+    pressures_over_mu=(0.5, 1.0), stiffness=2.0, inner=3.0, outer=9.0, n_radial=6, n_angle=8, tolerance=5e-3
 ) -> CaseResult:
     """Errors relative to the radial displacement (the part the sheet changes)."""
     from fem.sheets import FiberSheet
@@ -219,7 +219,7 @@ def tube_test(
     n_radial=12,
     n_angle=8,
     formulation="p2p1",
-    tolerance=0.01,
+    tolerance=4e-3,
 ) -> CaseResult:
     model = tube_model(inner, outer, n_radial, n_angle, formulation=formulation)
     return _tube_case("tube", model, pressures_over_mu, inner, outer, tolerance)
@@ -258,7 +258,7 @@ def _tube_case(
 
 
 def sphere_volume_test(
-    inner=5.0, outer=7.5, max_stretch=2.4, n_points=12, tolerance=0.02, **mesh
+    inner=5.0, outer=7.5, max_stretch=2.4, n_points=12, tolerance=3e-3, **mesh
 ) -> CaseResult:
     model = sphere_model(inner, outer, **mesh)
     la_max_p, p_max = analytic.sphere_limit(MU, inner, outer)
@@ -287,7 +287,7 @@ def sphere_volume_test(
     return CaseResult("sphere-volume", err, tolerance, details)
 
 
-def sphere_limit_test(inner=5.0, outer=7.5, tolerance=0.03, **mesh) -> CaseResult:
+def sphere_limit_test(inner=5.0, outer=7.5, tolerance=2e-3, **mesh) -> CaseResult:
     model = sphere_model(inner, outer, **mesh)
     _, p_max = analytic.sphere_limit(MU, inner, outer)
     targets = [(f * p_max, 0.0) for f in np.linspace(0.2, 1.2, 6)]

@@ -30,13 +30,28 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
 
-from geometry.design_base import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, DesignBase, check_number
+from geometry.design_base import (
+    ACTUATOR_ANGLES_DEG,
+    MAX_DIMENSION,
+    MAX_FEATURE_COUNT,
+    MIN_FEATURE,
+    MIN_LIGAMENT,
+    DesignBase,
+    check_number,
+    derived_part,
+    spec,
+)
 from geometry.design_files import read_design_file
 from geometry.errors import DesignError
+from softcrawl.checks import brief
 
 __all__ = [
     "ACTUATOR_ANGLES_DEG",
+    "MAX_DIMENSION",
+    "MAX_FEATURE_COUNT",
+    "MIN_FEATURE",
     "MIN_LIGAMENT",
+    "MIN_SKIRT_ANGLE",
     "DesignError",
     "EPSADesign",
     "FootDesign",
@@ -45,19 +60,24 @@ __all__ = [
     "load_design",
 ]
 
+#: Smallest included angle of the foot's conical skirt (deg). Below it the "cone" is a tube along
+#: the axis, not a foot, and the skirt geometry divides by sin(angle / 2) (a 5e-324 deg skirt
+#: was a ZeroDivisionError). The paper's foot has 120 deg.
+MIN_SKIRT_ANGLE = 10.0
+
 
 @dataclass(frozen=True, kw_only=True)
 class EPSADesign(DesignBase):
     """Extensible pneumatic soft actuator: silicone cylinder with a closed axial air chamber."""
 
     kind: ClassVar[str] = "epsa"
-    length: float = 100.0  #: L0, body length (mm)
-    outer_radius: float = 9.0  #: R0 (mm)
-    chamber_radius: float = 3.0  #: r0 (mm)
-    fiber_turns: int = 20  #: N, turns of each of the two helices
-    fiber_diameter: float = 0.3  #: Kevlar thread diameter (mm)
-    end_cap_thickness: float = 5.0  #: silicone closing each chamber end (mm)
-    seal_head_thickness: float = 3.0  #: ABS seal head disk (mm)
+    length: float = spec(100.0, "L0, body length")
+    outer_radius: float = spec(9.0, "R0, outer radius")
+    chamber_radius: float = spec(3.0, "r0, air chamber radius")
+    fiber_turns: int = spec(20, "N, turns of each of the two helices", "")
+    fiber_diameter: float = spec(0.3, "Kevlar thread diameter")
+    end_cap_thickness: float = spec(5.0, "silicone closing each chamber end")
+    seal_head_thickness: float = spec(3.0, "ABS seal head disk")
 
     def __post_init__(self) -> None:
         for name in (
@@ -69,7 +89,7 @@ class EPSADesign(DesignBase):
             "seal_head_thickness",
         ):
             check_number(self, name)
-        check_number(self, "fiber_turns", positive=False, integer=True, minimum=0)
+        check_number(self, "fiber_turns", integer=True, minimum=0)
         p = ""
         if self.chamber_radius >= self.outer_radius:
             raise DesignError(
@@ -83,6 +103,13 @@ class EPSADesign(DesignBase):
             )
         if self.fiber_diameter >= self.outer_radius - self.chamber_radius:
             raise DesignError(p + "fiber_diameter", "must be smaller than the wall thickness")
+        if self.fiber_turns > self.length / self.fiber_diameter:
+            raise DesignError(
+                p + "fiber_turns",
+                f"{self.fiber_turns} turns over {self.length} mm put the turns of one helix closer "
+                f"than the {self.fiber_diameter} mm thread is thick (at most L / fiber_diameter = "
+                f"{math.floor(self.length / self.fiber_diameter)})",
+            )
         if 2 * self.end_cap_thickness >= self.length:
             raise DesignError(
                 p + "end_cap_thickness",
@@ -128,16 +155,16 @@ class FootDesign(DesignBase):
     """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
 
     kind: ClassVar[str] = "foot"
-    d: float = 14.0  #: distance foot centre -> actuator ("sub circle") centres (mm)
-    hub_radius: float = 24.0  #: hub disk radius (>= d + R0 to carry the actuators) (mm)
-    hub_thickness: float = 4.0  #: axial hub thickness (mm)
-    bore_radius: float = 4.0  #: central bore for the endoscope (<= d - R0) (mm)
-    tip_radius: float = 39.0  #: skirt tip radius: 78 mm prototype maximum diameter (mm)
-    angle: float = 120.0  #: included angle of the conical skirt (deg), 180 = flat disk
-    skirt_thickness: float = 3.0  #: skirt wall thickness (mm)
-    groove_height: float = 1.0  #: h, groove depth on the back face (mm)
-    groove_width: float = 1.0  #: width of a groove along the skirt (mm)
-    n_grooves: int = 5  #: number of grooves on the back face
+    d: float = spec(14.0, "distance foot centre -> actuator centres (the sub circle)")
+    hub_radius: float = spec(24.0, "hub disk radius (>= d + R0 to carry the actuators)")
+    hub_thickness: float = spec(4.0, "axial hub thickness")
+    bore_radius: float = spec(4.0, "central bore for the endoscope (<= d - R0)")
+    tip_radius: float = spec(39.0, "skirt tip radius: 78 mm prototype maximum diameter")
+    angle: float = spec(120.0, "included angle of the conical skirt, 180 = flat disk", "deg")
+    skirt_thickness: float = spec(3.0, "skirt wall thickness")
+    groove_height: float = spec(1.0, "h, groove depth on the back face")
+    groove_width: float = spec(1.0, "width of a groove along the skirt")
+    n_grooves: int = spec(5, "number of grooves on the back face", "")
 
     def __post_init__(self) -> None:
         for name in (
@@ -145,17 +172,15 @@ class FootDesign(DesignBase):
             "hub_radius",
             "hub_thickness",
             "tip_radius",
-            "angle",
             "skirt_thickness",
             "groove_height",
             "groove_width",
         ):
             check_number(self, name)
-        check_number(self, "bore_radius", positive=False, minimum=0.0)
-        check_number(self, "n_grooves", positive=False, integer=True, minimum=0)
+        check_number(self, "angle", minimum=MIN_SKIRT_ANGLE, maximum=180.0, unit="deg")
+        check_number(self, "bore_radius", minimum=0.0)
+        check_number(self, "n_grooves", integer=True, minimum=0)
         p = ""
-        if self.angle > 180:
-            raise DesignError(p + "angle", f"{self.angle} deg: the skirt angle must be in (0, 180]")
         if self.bore_radius + MIN_LIGAMENT > self.hub_radius:
             raise DesignError(p + "bore_radius", "leaves no hub material (must be < hub_radius)")
         if self.tip_radius <= self.hub_radius + self.skirt_thickness:
@@ -201,16 +226,16 @@ class RingDesign(DesignBase):
     """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
 
     kind: ClassVar[str] = "ring"
-    d: float = 14.0  #: radius of the actuator hole centres (mm)
-    hole_radius: float = 9.0  #: actuator holes (= ePSA radius, tied to it) (mm)
-    outer_radius: float = 25.0  #: ring outer radius (mm)
-    bore_radius: float = 3.5  #: central bore (endoscope passage; 0 = none) (mm)
-    thickness: float = 5.0  #: axial thickness (mm)
+    d: float = spec(14.0, "radius of the actuator hole centres")
+    hole_radius: float = spec(9.0, "actuator holes (= ePSA radius, tied to it)")
+    outer_radius: float = spec(25.0, "ring outer radius")
+    bore_radius: float = spec(3.5, "central bore (endoscope passage; 0 = none)")
+    thickness: float = spec(5.0, "axial thickness")
 
     def __post_init__(self) -> None:
         for name in ("d", "hole_radius", "outer_radius", "thickness"):
             check_number(self, name)
-        check_number(self, "bore_radius", positive=False, minimum=0.0)
+        check_number(self, "bore_radius", minimum=0.0)
         p = ""
         gap = self.d * math.sqrt(3) - 2 * self.hole_radius
         if gap < MIN_LIGAMENT:
@@ -245,16 +270,16 @@ class RobotDesign(DesignBase):
 
     kind: ClassVar[str] = "robot"
     epsa: EPSADesign = field(default_factory=EPSADesign)
-    d: float = 14.0
-    n_rings: int = 3
+    d: float = spec(14.0, "distance robot axis -> actuator centres")
+    n_rings: int = spec(3, "number of connecting rings", "")
     foot: FootDesign | None = None
     ring: RingDesign | None = None
-    pipe_diameter_min: float = 55.0  #: smallest pipe the robot is sized for (mm)
-    pipe_diameter_max: float = 75.0  #: largest pipe the robot is sized for (mm)
+    pipe_diameter_min: float = spec(55.0, "smallest pipe the robot is sized for")
+    pipe_diameter_max: float = spec(75.0, "largest pipe the robot is sized for")
 
     def __post_init__(self) -> None:
         check_number(self, "d")
-        check_number(self, "n_rings", positive=False, integer=True, minimum=0)
+        check_number(self, "n_rings", integer=True, minimum=0)
         check_number(self, "pipe_diameter_min")
         check_number(self, "pipe_diameter_max")
         if not isinstance(self.epsa, EPSADesign):
@@ -266,25 +291,11 @@ class RobotDesign(DesignBase):
                 f"actuators of radius {R0} overlap at d = {self.d} "
                 f"(need d > 2 R0 / sqrt(3) = {2 * R0 / math.sqrt(3):.3f})",
             )
-        if self.d <= R0:
-            raise DesignError("d", f"d = {self.d} <= R0 = {R0}: no centre channel for the endoscope")
+        # (d > 2 R0 / sqrt(3) > R0: the centre channel d - R0 for the endoscope is never empty)
         if self.foot is None:
-            object.__setattr__(
-                self,
-                "foot",
-                FootDesign(d=self.d, hub_radius=self.d + R0 + 1.0, bore_radius=min(4.0, self.d - R0)),
-            )
+            object.__setattr__(self, "foot", derived_part("foot", FootDesign, self._foot_sizes()))
         if self.ring is None:
-            object.__setattr__(
-                self,
-                "ring",
-                RingDesign(
-                    d=self.d,
-                    hole_radius=R0,
-                    outer_radius=self.d + R0 + 2.0,
-                    bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5)),
-                ),
-            )
+            object.__setattr__(self, "ring", derived_part("ring", RingDesign, self._ring_sizes()))
         if not isinstance(self.foot, FootDesign):
             raise DesignError("foot", "must be a FootDesign")
         if not isinstance(self.ring, RingDesign):
@@ -328,6 +339,21 @@ class RobotDesign(DesignBase):
 
     _nested: ClassVar[dict[str, type]] = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign}
 
+    def _foot_sizes(self) -> dict[str, float]:
+        """The default foot: d, a hub 1 mm beyond the actuator bundle, a bore of up to 4 mm."""
+        R0 = self.epsa.outer_radius
+        return dict(d=self.d, hub_radius=self.d + R0 + 1.0, bore_radius=min(4.0, self.d - R0))
+
+    def _ring_sizes(self) -> dict[str, float]:
+        """The default ring: holes of the ePSA radius, 2 mm of rim, a bore of up to 3.5 mm."""
+        R0 = self.epsa.outer_radius
+        return dict(
+            d=self.d,
+            hole_radius=R0,
+            outer_radius=self.d + R0 + 2.0,
+            bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5)),
+        )
+
     @property
     def channel_radius(self) -> float:
         """Radius of the free centre channel between the actuators (endoscope room): d - R0."""
@@ -362,10 +388,13 @@ DESIGN_TYPES: dict[str, type] = {
 }
 
 
-def load_design(path: str | Path) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
-    """Load any design file; its ``kind`` key selects the class."""
-    data = read_design_file(path)
+def load_design(
+    path: str | Path, parameter: str = "path"
+) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
+    """Load any design file; its ``kind`` key selects the class. A file that cannot be read is a
+    `DesignError` named `parameter`; a bad field is named by the field."""
+    data = read_design_file(path, parameter)
     kind = data.get("kind")
-    if kind not in DESIGN_TYPES:
-        raise DesignError("kind", f"unknown design kind {kind!r} (one of {sorted(DESIGN_TYPES)})")
+    if not isinstance(kind, str) or kind not in DESIGN_TYPES:
+        raise DesignError("kind", f"unknown design kind {brief(kind)} (one of {sorted(DESIGN_TYPES)})")
     return DESIGN_TYPES[kind].from_dict(data)

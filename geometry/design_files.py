@@ -12,16 +12,43 @@ from typing import Any
 
 from geometry.errors import DesignError
 
+#: Largest design file read (bytes). A design is a few hundred bytes; anything near this size is
+#: not a design file, and reading it whole would only cost memory.
+MAX_DESIGN_FILE_BYTES = 1_000_000
 
-def read_design_file(path: str | Path) -> dict[str, Any]:
+
+def read_design_file(path: str | Path, parameter: str = "path") -> dict[str, Any]:
+    """The table of a ``.json`` or ``.toml`` design file. A file that is missing, unreadable, too
+    large, not valid JSON / TOML or not a table raises `DesignError` named `parameter`."""
     path = Path(path)
-    if path.suffix == ".json":
-        return json.loads(path.read_text())
-    if path.suffix == ".toml":
-        import tomllib
+    if path.suffix not in (".json", ".toml"):
+        raise DesignError(parameter, f"unsupported design file type {path.suffix!r} (use .json or .toml)")
+    try:
+        size = path.stat().st_size
+        if size > MAX_DESIGN_FILE_BYTES:
+            raise DesignError(
+                parameter, f"{path} has {size} bytes; a design file has at most {MAX_DESIGN_FILE_BYTES}"
+            )
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise DesignError(parameter, f"cannot read {path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise DesignError(parameter, f"{path} is not a text file") from None
+    try:
+        if path.suffix == ".json":
+            data = json.loads(text)
+        else:
+            import tomllib
 
-        return tomllib.loads(path.read_text())
-    raise DesignError("path", f"unsupported design file type {path.suffix!r} (use .json or .toml)")
+            data = tomllib.loads(text)
+    except (ValueError, RecursionError) as exc:  # json.JSONDecodeError, tomllib.TOMLDecodeError
+        kind = "JSON" if path.suffix == ".json" else "TOML"
+        raise DesignError(parameter, f"{path} is not valid {kind}: {str(exc).splitlines()[0]}") from None
+    if not isinstance(data, dict):
+        raise DesignError(
+            parameter, f"{path} must hold a table of design fields, not a {type(data).__name__}"
+        )
+    return data
 
 
 def _toml_scalar(value: Any) -> str:

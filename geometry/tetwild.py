@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from geometry.design import EPSADesign, FootDesign, RingDesign
+from geometry.design import DesignError, EPSADesign, FootDesign, RingDesign
 from geometry.epsa_shape import (
     DEFAULT_N_THETA,
     epsa_segments,
@@ -65,6 +65,14 @@ MESH_VERSION = 1
 EPSILON = 1e-3
 #: Default target edge length as a fraction of the bounding-box diagonal.
 EDGE_LENGTH_FAC = 0.05
+#: Range of the target edge length (mm): from the smallest design feature (0.01 mm) to the largest
+#: part size. Which edge lengths are affordable depends on the part: see MAX_TETWILD_TETS.
+MIN_EDGE_LENGTH, MAX_EDGE_LENGTH = 0.01, 1000.0
+#: Most tetrahedra a pytetwild mesh may have, estimated before meshing as the part volume over the
+#: volume of a regular tet of the target edge, 6 sqrt(2) V / a^3 (fTetWild adds more where the
+#: surface is curved, up to ~10x at coarse sizes). 1e6 tets is ~5M P2 unknowns, beyond what the
+#: solver can factorise on a laptop; --edge-length 1e-6 asked for ~1e23 and ran without end.
+MAX_TETWILD_TETS = 1_000_000
 
 
 def default_cache_dir() -> Path:
@@ -166,6 +174,19 @@ def mesh_part(
         return TaggedMesh.load_npz(path)
     if surface is None:
         surface = surface_fn()
+    estimate = 6 * 2**0.5 * abs(float(surface.volume)) / float(edge_length) ** 3
+    if not estimate <= MAX_TETWILD_TETS:
+        raise DesignError(
+            "edge_length",
+            f"{edge_length:g} mm on the {kind} ({abs(surface.volume):.4g} mm^3) gives ~{estimate:.3g} "
+            f"tetrahedra; at most {MAX_TETWILD_TETS}: use a larger edge length",
+        )
+    log.info(
+        "meshing the %s with pytetwild: edge %.3g mm, ~%.3g tetrahedra (up to a minute)",
+        kind,
+        float(edge_length),
+        estimate,
+    )
     tol = 2 * EPSILON * _diag(surface) + sagitta
     t0 = time.perf_counter()
     points, tets = tetrahedralize(surface, edge_length)

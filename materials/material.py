@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from softcrawl.checks import brief
 from softcrawl.errors import InputError
 
 MODELS = ("neo-hookean", "yeoh", "linear-elastic")
@@ -53,8 +54,12 @@ HYPERELASTIC_MODELS = ("neo-hookean", "yeoh")
 #: Default bulk-to-shear modulus ratio of the nearly incompressible solids (nu = 0.4995).
 DEFAULT_K_OVER_MU = 1000.0
 
-#: is almost surely given in g/cm^3 or kg/m^3.
+#: Largest density accepted (t/mm^3): 100 g/cm^3, four times the densest element (osmium,
+#: 22.6 g/cm^3); a larger value is almost surely given in g/cm^3 or kg/m^3.
 MAX_DENSITY = 1.0e-7
+#: Largest modulus accepted (MPa), for mu, K, E and the Yeoh constants: 1e6 MPa = 1 TPa, the Young's
+#: modulus of diamond, the stiffest bulk solid. Larger values are unit mistakes (Pa for MPa).
+MAX_MODULUS = 1.0e6
 
 
 class MaterialError(InputError):
@@ -150,10 +155,8 @@ class Material:
             raise MaterialError("youngs", "required for model 'linear-elastic'")
         if self.poisson is None:
             raise MaterialError("poisson", "required for model 'linear-elastic'")
-        youngs = finite_number(self.youngs, "youngs")
+        youngs = modulus(self.youngs, "youngs")
         poisson = finite_number(self.poisson, "poisson")
-        if youngs <= 0.0:
-            raise MaterialError("youngs", f"must be > 0 MPa, got {youngs:g}")
         if not -1.0 < poisson < 0.5:
             raise MaterialError("poisson", f"must be in (-1, 0.5), got {poisson:g}")
         object.__setattr__(self, "youngs", youngs)
@@ -181,12 +184,14 @@ class Material:
                 raise MaterialError("yeoh_c", "only for model 'yeoh'")
             if self.mu is None:
                 raise MaterialError("mu", f"required for model {self.model!r}")
-            mu = finite_number(self.mu, "mu")
-            if mu <= 0.0:
-                raise MaterialError("mu", f"must be > 0 MPa, got {mu:g}")
+            mu = modulus(self.mu, "mu")
+        if mu > MAX_MODULUS:  # 2 C10 of a Yeoh law
+            raise MaterialError("yeoh_c", f"2 C10 = {mu:g} MPa exceeds {MAX_MODULUS:g} MPa")
         bulk = DEFAULT_K_OVER_MU * mu if self.bulk is None else finite_number(self.bulk, "bulk")
         if bulk <= 0.0:
             raise MaterialError("bulk", f"must be > 0 MPa, got {bulk:g}")
+        if bulk > DEFAULT_K_OVER_MU * MAX_MODULUS:
+            raise MaterialError("bulk", f"must be <= {DEFAULT_K_OVER_MU * MAX_MODULUS:g} MPa, got {bulk:g}")
         if bulk < 2.0 * mu / 3.0:
             raise MaterialError(
                 "bulk",
@@ -228,9 +233,7 @@ class Material:
         scaled by mu_new / mu_old (same curve shape); for linear-elastic E is scaled and nu kept.
         The source text records the change. Used for calibration studies.
         """
-        new_mu = finite_number(mu, "mu")
-        if new_mu <= 0.0:
-            raise MaterialError("mu", f"must be > 0 MPa, got {new_mu:g}")
+        new_mu = modulus(mu, "mu")
         scale = new_mu / self.mu
         note = f"{self.source}; mu rescaled {self.mu:.6g} -> {new_mu:.6g} MPa (K/mu kept)"
         if self.model == "linear-elastic":
@@ -268,14 +271,24 @@ class Material:
 
 
 def finite_number(value: object, parameter: str) -> float:
+    """`value` as a finite float (numbers and numeric strings), or a `MaterialError`; the moduli
+    are bounded by `MAX_MODULUS` in magnitude (a larger number is a unit mistake)."""
     if isinstance(value, bool):
         raise MaterialError(parameter, f"must be a number, got {value!r}")
     try:
         number = float(value)
-    except (TypeError, ValueError):
-        raise MaterialError(parameter, f"must be a number, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise MaterialError(parameter, f"must be a finite number, got {brief(value)}") from None
     if not math.isfinite(number):
         raise MaterialError(parameter, f"must be finite, got {number!r}")
+    return number
+
+
+def modulus(value: object, parameter: str) -> float:
+    """A modulus in (0, MAX_MODULUS] MPa."""
+    number = finite_number(value, parameter)
+    if not 0.0 < number <= MAX_MODULUS:
+        raise MaterialError(parameter, f"must be in (0, {MAX_MODULUS:g}] MPa, got {number:g}")
     return number
 
 
@@ -307,6 +320,8 @@ def _yeoh_coefficients(yeoh_c: Sequence[float] | None) -> tuple[float, float, fl
     if len(values) != 3:
         raise MaterialError("yeoh_c", f"needs 3 constants (C10, C20, C30), got {len(values)}")
     c10, c20, c30 = (finite_number(v, "yeoh_c") for v in values)
+    if max(abs(c10), abs(c20), abs(c30)) > MAX_MODULUS:
+        raise MaterialError("yeoh_c", f"constants must be within +-{MAX_MODULUS:g} MPa")
     if c10 <= 0.0:
         raise MaterialError("yeoh_c", f"initial shear modulus 2 C10 must be > 0, got C10 = {c10:g}")
     if not yeoh_is_stable((c10, c20, c30)):

@@ -10,6 +10,7 @@ from dataclasses import replace
 from materials.fitting import DEFAULT_MAX_STRAIN, fit_tensile
 from materials.material import Material, MaterialError, shear_modulus_nearly_incompressible, shore_a_to_youngs
 from materials.tensile import DATA_ATTRIBUTION, DATA_LICENSE, TENSILE_FILES, load_tensile
+from softcrawl.checks import brief
 
 _G_PER_CM3 = 1.0e-9  # t/mm^3 per g/cm^3
 
@@ -130,26 +131,39 @@ def material_names() -> tuple[str, ...]:
     return tuple(PRESETS)
 
 
+#: Range of the shear modulus of a `NAME@mu=VALUE` override (MPa). The override re-scales a
+#: preset for calibration; soft robots are made of elastomers, from the softest silicone gels
+#: (~1 kPa) to hard rubbers (Shore 90A: mu ~ 10 MPa; 100 MPa leaves a margin). Outside it the
+#: value is a unit mistake: at mu = 1e6 MPa a 20 kPa load is below the solver's tolerance and the
+#: ePSA run reports meaningless states.
+OVERRIDE_MU_RANGE = (1.0e-3, 100.0)
+
+
 def get_material(name: str) -> Material:
     """The preset called `name` (fit presets are computed at first use, then cached).
 
     `NAME@mu=VALUE` is the preset with its shear modulus replaced by VALUE MPa (K/mu kept, see
-    `Material.with_mu`): how a calibrated modulus (`softcrawl calibrate`) is used in studies.
+    `Material.with_mu`), VALUE within `OVERRIDE_MU_RANGE`: how a calibrated modulus (`softcrawl
+    calibrate`) is used in studies.
     """
-    base, _, override = str(name).partition("@")
-    try:
-        factory = PRESETS[base]
-    except (KeyError, TypeError):
+    if not isinstance(name, str):
+        raise MaterialError("material", f"must be a preset name, got {brief(name)}")
+    base, at, override = name.partition("@")
+    if base not in PRESETS:
         raise MaterialError(
-            "material", f"unknown material {name!r}; valid: {', '.join(PRESETS)} (optionally NAME@mu=VALUE)"
-        ) from None
-    if not override:
-        return factory()
+            "material",
+            f"unknown material {brief(name)}; valid: {', '.join(PRESETS)} (optionally NAME@mu=VALUE)",
+        )
+    if not at:
+        return PRESETS[base]()
     key, _, value = override.partition("=")
     try:
         mu = float(value)
     except ValueError:
-        mu = float("nan")
-    if key.strip() != "mu" or not math.isfinite(mu) or mu <= 0:
-        raise MaterialError("material", f"{name!r}: write NAME@mu=VALUE with a positive VALUE in MPa")
-    return replace(factory().with_mu(mu), name=f"{base}@mu={value}")
+        mu = math.nan
+    low, high = OVERRIDE_MU_RANGE
+    if key.strip() != "mu" or not math.isfinite(mu) or not low <= mu <= high:
+        raise MaterialError(
+            "material", f"{brief(name)}: write NAME@mu=VALUE with VALUE in [{low:g}, {high:g}] MPa"
+        )
+    return replace(PRESETS[base]().with_mu(mu), name=f"{base}@mu={value}")

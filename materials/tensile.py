@@ -16,6 +16,9 @@ import numpy as np
 from materials.material import MaterialError
 
 DATA_DIR = Path(__file__).resolve().parent / "data"
+#: Largest tensile-test file read (bytes): the shipped tests are 17-33 kB; 50 MB is a
+#: million-row test, and anything larger is not a tensile test.
+MAX_TENSILE_FILE_BYTES = 50_000_000
 
 #: Shipped tensile tests: data name -> CSV file in DATA_DIR.
 TENSILE_FILES = {
@@ -67,7 +70,14 @@ def load_tensile(name: str) -> TensileData:
     must then be strictly increasing.
     """
     path, shipped = _tensile_path(name)
-    text = path.read_text(encoding="utf-8-sig")
+    try:
+        if path.stat().st_size > MAX_TENSILE_FILE_BYTES:
+            raise MaterialError("data", f"{path} is larger than {MAX_TENSILE_FILE_BYTES} bytes")
+        text = path.read_text(encoding="utf-8-sig")
+    except OSError as exc:
+        raise MaterialError("data", f"cannot read {path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise MaterialError("data", f"{path} is not a UTF-8 text (CSV) file") from None
     metadata, strain, stress = _parse_tensile_csv(text, str(path))
     peak = int(np.argmax(stress))
     strain, stress = strain[: peak + 1], stress[: peak + 1]
@@ -88,7 +98,7 @@ def load_tensile(name: str) -> TensileData:
 def _tensile_path(name: str) -> tuple[Path, bool]:
     if name in TENSILE_FILES:
         return DATA_DIR / TENSILE_FILES[name], True
-    path = Path(name)
+    path = Path(str(name))
     if path.is_file():
         return path, False
     raise MaterialError(

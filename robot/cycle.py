@@ -63,6 +63,7 @@ from numpy.typing import ArrayLike
 
 from robot import kinematics as kin
 from robot.errors import ModelInputError
+from robot.limits import MIN_PLAN_STEP_KPA, check
 from robot.pipe import Pipe
 from robot.prototype import BODY_RADIUS_MM, EPSA_RADIUS_MM
 from robot.statics import G_STANDARD, P_MAX_KPA, EPSAParams
@@ -91,7 +92,9 @@ def elbow_roll(pipe: Pipe) -> np.ndarray:
 
 
 def pressure_grid(step_kpa: float, planar: bool = False) -> np.ndarray:
-    """All triples on a `step_kpa` grid, or only P2 = P3 (bending in the plane of ePSA 1)."""
+    """All triples on a `step_kpa` grid, or only P2 = P3 (bending in the plane of ePSA 1); the step
+    is at least `robot.limits.MIN_PLAN_STEP_KPA` and divides 100 kPa."""
+    step_kpa = check(step_kpa, "step", minimum=MIN_PLAN_STEP_KPA, maximum=P_MAX_KPA, unit="kPa")
     n = int(round(P_MAX_KPA / step_kpa))
     if n < 1 or abs(n * step_kpa - P_MAX_KPA) > 1e-9:
         raise ModelInputError("step", f"must divide {P_MAX_KPA:g} kPa, got {step_kpa:g}")

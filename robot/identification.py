@@ -23,6 +23,7 @@ the paper's N/m). The table can be synthetic (`synthetic_table`), measured, or F
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -156,18 +157,27 @@ def synthetic_table(
     return P, W, y + noise_mm * rng.standard_normal(y.shape)
 
 
+#: Largest identification table read (bytes): a test of 10 pressures x 3 loads is a few hundred
+#: bytes; 50 MB is a million rows.
+MAX_TABLE_BYTES = 50_000_000
+
+
 def read_table(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """CSV with header columns pressure_kpa, load_n, extension_mm (extra columns ignored)."""
     import csv
 
     try:
-        with open(path, newline="") as fh:
+        if os.stat(path).st_size > MAX_TABLE_BYTES:
+            raise ModelInputError("table", f"{path} is larger than {MAX_TABLE_BYTES} bytes")
+        with open(path, newline="", encoding="utf-8") as fh:
             rows = list(csv.DictReader(fh))
     except OSError as exc:
-        raise ModelInputError("table", f"cannot read {path}: {exc.strerror}") from None
+        raise ModelInputError("table", f"cannot read {path}: {exc.strerror or exc}") from None
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise ModelInputError("table", f"{path} is not a CSV text file ({exc})") from None
     try:
         cols = [np.array([float(r[c]) for r in rows]) for c in ("pressure_kpa", "load_n", "extension_mm")]
-    except (KeyError, ValueError) as exc:
+    except (KeyError, ValueError, TypeError) as exc:
         raise ModelInputError(
             "table", f"{path}: need numeric columns pressure_kpa, load_n, extension_mm ({exc})"
         ) from None

@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
+from robot.limits import MAX_LENGTH_MM, length_mm
 
 PSI = np.deg2rad([90.0, 210.0, 330.0])
 
@@ -79,15 +80,22 @@ def _atan_over(u: ArrayLike) -> np.ndarray:
     return np.where(small, 1.0 - u * u / 3.0 + u**4 / 5.0, np.arctan(us) / us)
 
 
+def _array(values: ArrayLike, parameter: str) -> np.ndarray:
+    """`values` as a float array, or a `ModelInputError` (text, or integers beyond the float range)."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise ModelInputError(parameter, "must be numbers (mm) within the float range") from None
+
+
 def forward(lengths: ArrayLike, d: float = 14.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Lengths (..., 3) in mm -> (kappa, theta, phi, l_c) arrays (eqs. 4-6)."""
-    l = np.asarray(lengths, dtype=float)
+    l = _array(lengths, "lengths")
     if l.shape[-1] != 3:
         raise ModelInputError("lengths", "need three ePSA lengths")
-    if d <= 0:
-        raise ModelInputError("d", "must be > 0")
-    if np.any(~np.isfinite(l)) or np.any(l <= 0):
-        raise ModelInputError("lengths", "must be finite and > 0")
+    d = length_mm(d, "d")
+    if np.any(~np.isfinite(l)) or np.any(l <= 0) or np.any(l > MAX_LENGTH_MM):
+        raise ModelInputError("lengths", f"must be finite and in (0, {MAX_LENGTH_MM:g}] mm")
     l1, l2, l3 = l[..., 0], l[..., 1], l[..., 2]
     q = 0.5 * ((l1 - l2) ** 2 + (l1 - l3) ** 2 + (l2 - l3) ** 2)
     s = np.sqrt(q)
@@ -162,9 +170,9 @@ def tip(lengths: ArrayLike, d: float = 14.0) -> np.ndarray:
 
 def inverse_configuration(tip_xyz: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Tip position (..., 3) -> (kappa, theta, phi, l_c); exact inverse of `arc_point`."""
-    x = np.asarray(tip_xyz, dtype=float)
-    if x.shape[-1] != 3 or np.any(~np.isfinite(x)):
-        raise ModelInputError("tip", "need a finite (x, y, z)")
+    x = _array(tip_xyz, "tip")
+    if x.shape[-1] != 3 or np.any(~np.isfinite(x)) or np.any(np.abs(x) > MAX_LENGTH_MM):
+        raise ModelInputError("tip", f"need a finite (x, y, z) within +-{MAX_LENGTH_MM:g} mm")
     r = np.hypot(x[..., 0], x[..., 1])
     z = x[..., 2]
     if np.any((r == 0) & (z <= 0)):
@@ -183,8 +191,7 @@ def inverse_configuration(tip_xyz: ArrayLike) -> tuple[np.ndarray, np.ndarray, n
 
 def inverse(tip_xyz: ArrayLike, d: float = 14.0) -> np.ndarray:
     """Tip position (..., 3) in mm -> ePSA lengths (..., 3) in mm (exact IK)."""
-    if d <= 0:
-        raise ModelInputError("d", "must be > 0")
+    d = length_mm(d, "d")
     kappa, theta, phi, lc = inverse_configuration(tip_xyz)
     lengths = lc[..., None] - (theta * d)[..., None] * np.cos(PSI - np.asarray(phi)[..., None])
     if np.any(lengths <= 0):

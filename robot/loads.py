@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot.errors import ModelInputError
+from robot.limits import MAX_FORCE_N, MAX_G, MAX_MASS_G, MAX_PRESSURE_KPA, MAX_SPEED_MM_S, MAX_TIME_S, check
 from robot.statics import EPSAParams
 
 
@@ -55,12 +55,9 @@ def extension_with_friction(
 
 def theoretical_load(force_n: float, robot_mass_t: float, g: float) -> float:
     """Eq. (27): (3 F - M_r g) / g, tonne (force in N, mass in tonne, g in mm/s^2)."""
-    if g <= 0:
-        raise ModelInputError("g", "must be > 0")
-    if force_n < 0:
-        raise ModelInputError("force", "must be >= 0")
-    if robot_mass_t < 0:
-        raise ModelInputError("robot_mass", "must be >= 0")
+    g = check(g, "g", minimum=0.0, min_open=True, maximum=MAX_G * 1e3, unit="mm/s^2")
+    force_n = check(force_n, "force", minimum=0.0, maximum=MAX_FORCE_N, unit="N")
+    robot_mass_t = check(robot_mass_t, "robot_mass", minimum=0.0, maximum=MAX_MASS_G * 1e-6, unit="t")
     return (3.0 * force_n - robot_mass_t * g) / g
 
 
@@ -83,10 +80,10 @@ def crawl_speed(
     g_axial: float = 0.0,
 ) -> SpeedEstimate:
     """Stride per cycle and speed (see module docstring); friction_n is the total for the robot."""
-    if cycle_s <= 0:
-        raise ModelInputError("cycle", "must be > 0 s")
-    if friction_n < 0:
-        raise ModelInputError("friction", "must be >= 0 N")
+    cycle_s = check(cycle_s, "cycle", minimum=0.0, min_open=True, maximum=MAX_TIME_S, unit="s")
+    friction_n = check(friction_n, "friction", minimum=0.0, maximum=MAX_FORCE_N, unit="N")
+    pressure_kpa = check(pressure_kpa, "pressure", minimum=0.0, maximum=MAX_PRESSURE_KPA, unit="kPa")
+    g_axial = check(g_axial, "g", minimum=0.0, maximum=MAX_G * 1e3, unit="mm/s^2")
     ys = tuple(
         max(0.0, float(extension_with_friction(a, pressure_kpa, friction_n / 3.0, g_axial)))
         for a in actuators
@@ -105,6 +102,8 @@ def friction_for_speed(
     g_axial: float = 0.0,
 ) -> float:
     """Total friction (N) at which `crawl_speed` would give `speed_mm_s` (all actuators moving)."""
+    speed_mm_s = check(speed_mm_s, "speed", minimum=0.0, maximum=MAX_SPEED_MM_S, unit="mm/s")
+    cycle_s = check(cycle_s, "cycle", minimum=0.0, min_open=True, maximum=MAX_TIME_S, unit="s")
     y = speed_mm_s * cycle_s
     per = [float(a.f_p(pressure_kpa) - a.mass * g_axial - a.k_p(pressure_kpa) * y) for a in actuators]
     return float(sum(per))

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from robot.errors import ModelInputError
+from robot.limits import MAX_LENGTH_MM, length_mm
 
 KINDS = ("straight", "vertical", "elbow")
 
@@ -39,15 +40,16 @@ class Pipe:
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ModelInputError("pipe", f"must be one of {', '.join(KINDS)}, got {self.kind!r}")
-        if not self.diameter > 0:
-            raise ModelInputError("diameter", "must be > 0 mm")
+        length_mm(self.diameter, "diameter")
+        length_mm(self.entry, "length")
         if self.kind == "elbow":
-            if not self.bend_radius > 0:
-                raise ModelInputError("bend-radius", "must be > 0 mm")
+            length_mm(self.bend_radius, "bend-radius")
+            if not 0.0 <= self.exit <= MAX_LENGTH_MM:
+                raise ModelInputError(
+                    "exit-length", f"must be in [0, {MAX_LENGTH_MM:g}] mm, got {self.exit!r}"
+                )
             if not 0 < self.bend_angle <= np.pi:
                 raise ModelInputError("bend-angle", "must be in (0, 180] deg")
-        if not self.entry > 0:
-            raise ModelInputError("length", "must be > 0 mm")
 
     # -- geometry ----------------------------------------------------------------------------------
     @property

@@ -54,6 +54,7 @@ from robot import cycle as cm
 from robot import kinematics as kin
 from robot.errors import ModelInputError
 from robot.gait import Cycle, Plan, floats, replay, rotation_tuple
+from robot.limits import MAX_BEAM, MAX_CANDIDATES_PER_CYCLE, check
 from robot.pipe import Pipe
 from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
 from robot.statics import EPSAParams
@@ -324,13 +325,18 @@ def plan(
     if body_radius <= 0:
         raise ModelInputError("body-radius", "must be > 0 mm")
     fit = cm.PipeFit.of(pipe, body_radius, body, tol)
-    if beam < 1:
-        raise ModelInputError("beam", "must be >= 1")
+    beam = check(beam, "beam", minimum=1, maximum=MAX_BEAM, integer=True)
     cm.check_deflation(deflation)
     g = cm.gravity(pipe)
     if planar is None:
         planar = pipe.kind == "elbow"
     grid = cm.pressure_grid(step_kpa, planar)
+    if beam * len(grid) > MAX_CANDIDATES_PER_CYCLE:
+        raise ModelInputError(
+            "beam",
+            f"beam {beam} x {len(grid)} pressure triples (step {step_kpa:g} kPa) exceeds "
+            f"{MAX_CANDIDATES_PER_CYCLE} candidates per cycle: use a coarser --step or a narrower --beam",
+        )
     goal = pipe.goal()
     # Roll the robot so that ePSA 1 (psi = 90 deg, local +y) faces the inside of the bend (world +x):
     # bends in the bend plane are then the P2 = P3 family, as in the paper's gait 2.

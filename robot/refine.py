@@ -45,6 +45,7 @@ from scipy.optimize import OptimizeResult, minimize
 from robot import cycle as cm
 from robot.errors import ModelInputError
 from robot.gait import Plan, replay
+from robot.limits import MAX_CONTINUOUS_CYCLES, check
 from robot.pipe import Pipe
 from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
 from robot.statics import P_MAX_KPA, EPSAParams
@@ -235,8 +236,7 @@ def continuous_plan(
     """
     if pipe.kind != "elbow":
         raise ModelInputError("pipe", "continuous refinement is for elbows")
-    if cycles < 1:
-        raise ModelInputError("cycles", "must be >= 1")
+    cycles = check(cycles, "cycles", minimum=1, maximum=MAX_CONTINUOUS_CYCLES, integer=True)
     a = actuator_set("nominal")[0]
     rest, l_max = float(a.length(0.0, 0.0)), float(a.length(P_MAX_KPA, 0.0))
     allow = cm.PipeFit.of(pipe, body_radius).allow

@@ -14,6 +14,7 @@ import numpy as np
 
 from robot import kinematics as kin
 from robot.errors import ModelInputError
+from robot.limits import MAX_PRESSURE_KPA, MAX_WORKSPACE_LEVELS, check
 from robot.prototype import D_MM, actuator_set
 from robot.statics import P_MAX_KPA
 
@@ -41,9 +42,11 @@ HEADER = "P1_kpa,P2_kpa,P3_kpa,l1_mm,l2_mm,l3_mm,kappa_per_mm,theta_rad,phi_rad,
 def sample(
     n: int = 11, actuators: str = "prototype", d: float = D_MM, g: float = 0.0, p_max: float = P_MAX_KPA
 ) -> Workspace:
-    """n^3 pressure triples on a regular grid over [0, p_max] kPa."""
-    if n < 2:
-        raise ModelInputError("n", "need at least 2 pressure levels")
+    """n^3 pressure triples on a regular grid over [0, p_max] kPa (2 <= n <= MAX_WORKSPACE_LEVELS)."""
+    n = check(n, "n", minimum=2, maximum=MAX_WORKSPACE_LEVELS, integer=True)
+    p_max = check(p_max, "p_max", minimum=0.0, min_open=True, maximum=MAX_PRESSURE_KPA, unit="kPa")
+    if not isinstance(actuators, str):
+        raise ModelInputError("actuators", f"must be 'nominal' or 'prototype', got {actuators!r}")
     acts = actuator_set(actuators)
     v = np.linspace(0.0, p_max, n)
     P = np.stack(np.meshgrid(v, v, v, indexing="ij"), -1).reshape(-1, 3)

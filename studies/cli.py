@@ -1,9 +1,18 @@
 """The `softcrawl` command line: one subcommand per job.
 
-Error policy. Bad user input (an unknown option, an impossible design, an unphysical material)
-ends with one line on stderr that names the parameter, and exit code 2. Library code signals such
-input by raising a `ValueError` subclass that carries a `parameter` attribute (for example
-`geometry.design.DesignError`); any other exception is a bug and keeps its traceback.
+Error policy: no traceback reaches a user, whatever the input.
+
+- Bad input (an unknown option, an impossible design, an unphysical material, a number out of its
+  range, an output folder that cannot be written) ends with one line on stderr that names the
+  parameter, and exit code 2. Library code signals such input with a `softcrawl.errors.InputError`
+  (or any `ValueError` that carries a `parameter` attribute); argparse errors are one line too.
+- Ctrl-C ends with one line, "interrupted", and exit code 130 (128 + SIGINT).
+- A file-system error while working (a full disk, a folder removed meanwhile) is one line with the
+  file and the reason, exit code 1.
+- Anything else is a bug: one line saying so, naming the exception, and how to see the traceback
+  (``SOFTCRAWL_DEBUG=1``), exit code 70 (EX_SOFTWARE of sysexits.h). Out of memory is reported
+  the same way, with a hint to reduce the problem size.
+
 Pressures are entered in kPa here and converted to MPa once, in the command modules.
 """
 
@@ -11,16 +20,22 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from studies.commands import COMMAND_MODULES
+
+#: Exit codes (see the module docstring).
+EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL, EXIT_INTERRUPTED = 2, 1, 70, 130
+#: Set to 1 to get the full traceback of an unexpected error instead of the one-line report.
+DEBUG_VARIABLE = "SOFTCRAWL_DEBUG"
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse, but usage errors are a single line (no usage dump) with exit code 2."""
 
     def error(self, message: str) -> None:
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {' '.join(message.split())}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -37,17 +52,75 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+def _one_line(text: str, width: int = 300) -> str:
+    text = " ".join(str(text).split())
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def _parse(argv: list[str] | None) -> argparse.Namespace | int:
+    """The parsed options, or the exit code of argparse (2 for a usage error, 0 after --help)."""
     try:
+        return build_parser().parse_args(argv)
+    except SystemExit as exc:
+        return exc.code if isinstance(exc.code, int) else EXIT_INPUT
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run one command line and return its exit code (see the module docstring); usage errors
+    and --help return too, so that tests can run any command line in-process."""
+    prog = "softcrawl"
+    if os.environ.get(DEBUG_VARIABLE, "") not in ("", "0"):
+        args = _parse(argv)
+        return args if isinstance(args, int) else int(args.func(args) or 0)
+    try:
+        args = _parse(argv)
+        if isinstance(args, int):
+            return args
+        prog = f"softcrawl {args.command}"
         return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except ValueError as exc:
         parameter = getattr(exc, "parameter", None)
         if parameter is None:
-            raise
-        print(f"softcrawl {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+            return _internal(prog, exc)
+        print(_one_line(f"{prog}: error: {exc}"), file=sys.stderr)
+        return EXIT_INPUT
+    except MemoryError:
+        print(
+            f"{prog}: internal error: out of memory; reduce the problem size (mesh, pressures, "
+            f"samples), or set {DEBUG_VARIABLE}=1 for the traceback",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
+    except BrokenPipeError:  # e.g. `softcrawl material list | head -1`
+        _silence_stdout()
+        return 0
+    except OSError as exc:
+        where = f" {exc.filename}" if exc.filename else ""
+        print(_one_line(f"{prog}: error:{where}: {exc.strerror or exc}"), file=sys.stderr)
+        return EXIT_FAILED
+    except Exception as exc:  # noqa: BLE001 - the documented last resort: one line, not a traceback
+        return _internal(prog, exc)
+
+
+def _internal(prog: str, exc: BaseException) -> int:
+    print(
+        _one_line(
+            f"{prog}: internal error ({type(exc).__name__}: {exc}); please report it; "
+            f"{DEBUG_VARIABLE}=1 shows the traceback"
+        ),
+        file=sys.stderr,
+    )
+    return EXIT_INTERNAL
+
+
+def _silence_stdout() -> None:
+    """After a broken pipe, point stdout at /dev/null so that the interpreter's final flush does
+    not raise again (Python's documented idiom)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
 
 
 if __name__ == "__main__":

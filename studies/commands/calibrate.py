@@ -1,37 +1,52 @@
-"""`softcrawl calibrate --out DIR`: the body's shear modulus that makes the FE Table 1 ePSA match the
-prototype statics model (eqs. 19-24) over 0-100 kPa; writes calibration.json and calibration.png."""
+"""`softcrawl calibrate`: the body's shear modulus that makes the FE Table 1 ePSA match the prototype.
+
+    softcrawl calibrate [--material M] [--full-mesh] --out DIR
+
+Finds the shear modulus mu of the body (the base material's K/mu kept) whose FE Table 1 actuator
+follows the prototype statics model (mean of eqs. 19-24, g = 0) over 20-100 kPa with the least RMS
+length error; writes DIR/calibration.json and DIR/calibration.png."""
 
 from __future__ import annotations
 
 from dataclasses import asdict
-from pathlib import Path
 
 from softcrawl import jsonio
 
 
 def register(subparsers) -> None:
+    import argparse
+
     p = subparsers.add_parser(
         "calibrate",
         help="calibrate mu to the prototype statics (eqs. 19-24)",
-        description=__doc__.splitlines()[0],
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--material", default="ecoflex-00-50", help="base material (its K/mu is kept)")
-    p.add_argument("--full-mesh", action="store_true", help="default mesh instead of the quick one")
-    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument(
+        "--material",
+        default="ecoflex-00-50",
+        help="base material, a Neo-Hookean preset (its K/mu is kept; default ecoflex-00-50)",
+    )
+    p.add_argument(
+        "--full-mesh", action="store_true", help="the default (converged) mesh instead of the quick one"
+    )
+    p.add_argument("--out", required=True, help="output folder (created if needed)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     from studies.catalogue.calibration import calibrate_mu
+    from studies.commands.options import body_material, make_folder, output_folder
     from studies.plots.calibration import plot_calibration
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    body_material(args.material)
+    out = output_folder(args.out)
     cal = calibrate_mu(
         base_material=args.material,
         mesh="default" if args.full_mesh else "quick",
         progress=lambda m: print("  " + m, flush=True),
     )
+    make_folder(out)
     jsonio.write(out / "calibration.json", asdict(cal))
     plot_calibration(cal, out / "calibration.png")
     print(

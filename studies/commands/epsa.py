@@ -16,28 +16,43 @@ rings and the other actuators do in the robot.
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 from softcrawl import jsonio
 
 
 def register(subparsers) -> None:
-    from studies.parts.epsa_model import FIBER_MODELS
+    from studies.commands.options import add_number
+    from studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MAX_SIDE_LOAD_N, MIN_MESH_SIZE
 
     p = subparsers.add_parser(
         "epsa", help="simulate one actuator under a pressure ramp", description=__doc__.splitlines()[0]
     )
-    p.add_argument("--chamber-radius", type=float, default=None, help="r0 (mm), Table 1: 3")
-    p.add_argument("--fiber-turns", type=int, default=None, help="N turns of each helix, Table 1: 20")
-    p.add_argument("--outer-radius", type=float, default=None, help="R0 (mm), Table 1: 9")
-    p.add_argument("--length", type=float, default=None, help="L0 (mm), Table 1: 100")
+    p.add_argument("--chamber-radius", type=float, default=None, metavar="X", help="r0 (mm; Table 1: 3)")
+    p.add_argument(
+        "--fiber-turns", type=int, default=None, metavar="N", help="turns of each helix (Table 1: 20)"
+    )
+    p.add_argument("--outer-radius", type=float, default=None, metavar="X", help="R0 (mm; Table 1: 9)")
+    p.add_argument("--length", type=float, default=None, metavar="X", help="L0 (mm; Table 1: 100)")
     p.add_argument("--design", default=None, help="ePSA design file (.json/.toml) to start from")
     p.add_argument(
-        "--material", default="ecoflex-00-50", help="body material preset (softcrawl material list)"
+        "--material",
+        default="ecoflex-00-50",
+        help="body material preset, or NAME@mu=VALUE (MPa) (default ecoflex-00-50; softcrawl material list)",
     )
-    p.add_argument("--pressures", default="0:100:20", help="kPa: START:STOP:STEP or a comma list")
     p.add_argument(
-        "--mesh-size", type=float, default=None, help="element size (mm); default: converged preset"
+        "--pressures",
+        default="0:100:20",
+        help="kPa: START:STOP:STEP or an increasing comma list (default 0:100:20; at most "
+        "1000 kPa and 200 targets)",
+    )
+    add_number(
+        p,
+        "--mesh-size",
+        help="element size",
+        unit="mm",
+        default_text="the converged preset (about 5 mm)",
+        minimum=MIN_MESH_SIZE,
+        maximum=1000.0,
     )
     p.add_argument("--quick", action="store_true", help="coarse mesh (seconds; for CI and trials)")
     p.add_argument("--blocked", action="store_true", help="fix both ends: blocked force (paper Fig. 19)")
@@ -51,14 +66,17 @@ def register(subparsers) -> None:
         choices=FIBER_MODELS,
         default=None,
         help="Kevlar winding as embedded truss lines or as a smeared two-family sheet on the "
-        "outer surface (default: studies.parts.epsa_model.DEFAULT_FIBERS)",
+        f"outer surface (default {DEFAULT_FIBERS})",
     )
-    p.add_argument(
+    add_number(
+        p,
         "--side-load",
-        type=float,
-        default=None,
-        metavar="N",
-        help="small sideways force on the free top (N), an imperfection that shows bending over",
+        help="small sideways force on the free top, an imperfection that shows bending over",
+        unit="N",
+        default_text="none",
+        minimum=0.0,
+        min_open=True,
+        maximum=MAX_SIDE_LOAD_N,
     )
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
     p.add_argument(
@@ -74,14 +92,14 @@ def register(subparsers) -> None:
         help="mesh study instead: element sizes in mm, coarse to fine (e.g. 10,5,2.5); "
         "extension at the last pressure -> convergence.csv",
     )
-    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--out", required=True, help="output folder (created if needed)")
     p.set_defaults(func=run)
 
 
 def design_from_args(args):
     from geometry.design import EPSADesign
 
-    base = EPSADesign.load(args.design) if args.design else EPSADesign()
+    base = EPSADesign.load(args.design, parameter="design") if args.design else EPSADesign()
     changes = {
         k: v
         for k, v in (
@@ -100,18 +118,35 @@ def _end_condition(args) -> str:
 
 
 def run(args) -> int:
-    from studies.commands.options import parse_pressures
-    from studies.parts.epsa_model import DEFAULT_FIBERS
+    from geometry.design import DesignError
+    from studies.commands.options import (
+        body_material,
+        make_folder,
+        output_folder,
+        parse_pressures,
+        parse_sizes,
+    )
+    from studies.parts.epsa_model import DEFAULT_FIBERS, check_end_conditions, resolve_mesh
     from studies.parts.epsa_response import simulate_epsa
     from studies.plots.epsa_run import plot_epsa
     from studies.sweeps.engine import write_csv
 
+    # every input is checked before the output folder is made and any mesh is built
     design = design_from_args(args)
     pressures = parse_pressures(args.pressures)
-    out = Path(args.out)
+    body_material(args.material)
+    check_end_conditions(args.blocked, args.guided, None, args.side_load)
     args.fibers = args.fibers or DEFAULT_FIBERS
     if args.convergence:
-        return run_convergence(args, design, pressures, out)
+        sizes = parse_sizes(args.convergence)
+        for h in sizes:
+            try:
+                resolve_mesh(design, mesh_size=h)
+            except DesignError as exc:
+                raise exc.renamed("convergence") from None
+        return run_convergence(args, design, pressures, sizes, output_folder(args.out))
+    resolve_mesh(design, mesh_size=args.mesh_size, quick=args.quick)
+    out = output_folder(args.out)
     print(
         f"ePSA {design.short_hash()}: r0 = {design.chamber_radius} mm, N = {design.fiber_turns}, "
         f"material {args.material}, {args.fibers} fibers, {_end_condition(args)}, "
@@ -132,7 +167,7 @@ def run(args) -> int:
         progress=lambda msg: print("  " + msg, flush=True),
     )
     curve = solved.curve
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out)
     write_csv(curve.table(args.blocked), out / "curve.csv")
     summary = curve.to_dict()
     summary["limit_point"] = (
@@ -166,17 +201,11 @@ def run(args) -> int:
     return 0
 
 
-def run_convergence(args, design, pressures, out) -> int:
-    from geometry.design import DesignError
+def run_convergence(args, design, pressures, sizes, out) -> int:
+    from studies.commands.options import make_folder
     from studies.parts.epsa_convergence import convergence_table, mesh_convergence
     from studies.sweeps.engine import write_csv
 
-    try:
-        sizes = [float(v) for v in args.convergence.split(",")]
-    except ValueError:
-        raise DesignError(
-            "convergence", f"{args.convergence!r}: give element sizes in mm, e.g. 10,5,2.5"
-        ) from None
     rows = mesh_convergence(
         design,
         material=args.material,
@@ -186,6 +215,7 @@ def run_convergence(args, design, pressures, out) -> int:
         fibers=args.fibers,
         progress=lambda m: print("  " + m, flush=True),
     )
+    make_folder(out)
     write_csv(convergence_table(rows), out / "convergence.csv")
     print(f"-> {out / 'convergence.csv'}")
     return 0

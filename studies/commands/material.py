@@ -33,23 +33,37 @@ def register(subparsers) -> None:
 
     fit = sub.add_parser("fit", help="fit Neo-Hookean or Yeoh constants to uniaxial tensile data")
     fit.add_argument("--data", default="ecoflex-00-50", help=f"{DATA_CHOICES_HELP} (default ecoflex-00-50)")
-    fit.add_argument("--model", default="neo-hookean", choices=("neo-hookean", "yeoh"))
     fit.add_argument(
-        "--max-strain",
-        type=float,
-        default=None,
-        help="upper engineering strain of the fit (default 1.0: stretch 2, the actuator's operating range)",
+        "--model", default="neo-hookean", choices=("neo-hookean", "yeoh"), help="law (default neo-hookean)"
     )
-    fit.add_argument("--out", default=None, help="directory for fit.json and fit.png")
+    _max_strain_option(fit, "upper engineering strain of the fit (1.0: stretch 2, the actuator's range)")
+    fit.add_argument("--out", default=None, help="folder for fit.json and fit.png (created if needed)")
     fit.add_argument("--json", action="store_true", help="print JSON")
     fit.set_defaults(func=_run_fit)
 
     table = sub.add_parser("fit-table", help="both models fitted to every shipped data set")
-    table.add_argument(
-        "--max-strain", type=float, default=None, help="upper engineering strain of the fits (default 1.0)"
-    )
+    _max_strain_option(table, "upper engineering strain of the fits")
     table.add_argument("--json", action="store_true", help="print JSON")
     table.set_defaults(func=_run_fit_table)
+
+
+#: Largest upper strain of a fit: 100 (stretch 101), beyond any elastomer's elongation at break
+#: (Ecoflex 00-50: ~9); the fit then simply uses every point of the test.
+MAX_FIT_STRAIN = 100.0
+
+
+def _max_strain_option(parser, help_text: str) -> None:
+    from studies.commands.options import add_number
+
+    add_number(
+        parser,
+        "--max-strain",
+        help=help_text,
+        default_text="1.0",
+        minimum=0.0,
+        min_open=True,
+        maximum=MAX_FIT_STRAIN,
+    )
 
 
 # -- list / show --------------------------------------------------------------------------------
@@ -76,7 +90,7 @@ def _run_list(args: argparse.Namespace) -> int:
         )
     print(
         "Full source text: softcrawl material show NAME. Fit presets are derived from the Soft "
-        "Robotics Materials Database (ODbL 1.0 / DbCL 1.0), see fem/data/README.md."
+        "Robotics Materials Database (ODbL 1.0 / DbCL 1.0), see materials/data/README.md."
     )
     return 0
 
@@ -126,18 +140,19 @@ def _fit_record(data, fit) -> dict:
 
 
 def _run_fit(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
     import materials
     from softcrawl import jsonio
+    from studies.commands.options import make_folder, output_folder
     from studies.plots.material_fit import plot_fit
+
+    if args.out is not None:
+        output_folder(args.out)  # before the fit: a bad folder is reported first
 
     data = materials.load_tensile(args.data)
     fit = materials.fit_tensile(data, args.model, _max_strain(args))
     record = _fit_record(data, fit)
     if args.out is not None:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
+        out = make_folder(args.out)
         jsonio.write(out / "fit.json", record)
         plot_fit(data, fit, out / "fit.png")
         record["outputs"] = [str(out / "fit.json"), str(out / "fit.png")]

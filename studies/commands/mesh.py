@@ -11,7 +11,10 @@ starts from a saved design (.json/.toml); options override it.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
+import logging
+import sys
 import typing
 
 KINDS = ("epsa", "foot", "ring", "robot")
@@ -33,22 +36,41 @@ def _scalar_fields(cls) -> list[tuple[str, type]]:
     return out
 
 
-def _add_param(parser, name: str, typ: type) -> None:
+def _add_param(parser, name: str, typ: type, field: dataclasses.Field, default) -> None:
+    """A design field as an option; the design class checks its value (and names it)."""
     flags = [f"--{name}"]
     if "_" in name:
         flags.append("--" + name.replace("_", "-"))
+    doc, unit = field.metadata.get("doc", name), field.metadata.get("unit", "")
     parser.add_argument(
         *flags,
         dest=f"p:{name}",
         type=typ,
         default=None,
         metavar=typ.__name__.upper(),
-        help=f"design parameter {name}",
+        help=f"{doc} ({unit + '; ' if unit else ''}default {default:g})",
     )
+
+
+def _add_design_options(parser, kind: str, classes: dict) -> None:
+    from geometry.design import RobotDesign
+
+    default = classes[kind]()
+    for name, typ in _scalar_fields(classes[kind]):
+        field = next(f for f in dataclasses.fields(classes[kind]) if f.name == name)
+        _add_param(parser, name, typ, field, getattr(default, name))
+    if kind == "robot":
+        robot = RobotDesign()
+        for part in ("epsa", "foot", "ring"):
+            for name, typ in _scalar_fields(classes[part]):
+                field = next(f for f in dataclasses.fields(classes[part]) if f.name == name)
+                _add_param(parser, f"{part}.{name}", typ, field, getattr(getattr(robot, part), name))
 
 
 def register(subparsers) -> None:
     from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
+    from geometry.tetwild import MAX_EDGE_LENGTH, MIN_EDGE_LENGTH
+    from studies.commands.options import add_number
 
     classes = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
     parser = subparsers.add_parser(
@@ -56,10 +78,18 @@ def register(subparsers) -> None:
     )
     kinds = parser.add_subparsers(dest="kind", required=True, parser_class=type(parser))
     for kind in KINDS:
-        sp = kinds.add_parser(kind, help=f"mesh the {kind}")
-        sp.add_argument("--out", required=True, help="output folder")
+        sp = kinds.add_parser(kind, help=f"mesh the {kind}", description=f"Mesh the {kind} (pytetwild).")
+        sp.add_argument("--out", required=True, help="output folder (created if needed)")
         sp.add_argument("--design", default=None, help="design file (.json or .toml) to start from")
-        sp.add_argument("--edge-length", type=float, default=None, help="target tet edge length (mm)")
+        add_number(
+            sp,
+            "--edge-length",
+            help="target tet edge length",
+            unit="mm",
+            default_text="5 %% of the part's bounding-box diagonal",
+            minimum=MIN_EDGE_LENGTH,
+            maximum=MAX_EDGE_LENGTH,
+        )
         sp.add_argument(
             "--cache-dir",
             default=None,
@@ -67,12 +97,7 @@ def register(subparsers) -> None:
         )
         sp.add_argument("--no-cache", action="store_true", help="always mesh anew")
         sp.add_argument("--no-png", action="store_true", help="skip the PNG render")
-        for name, typ in _scalar_fields(classes[kind]):
-            _add_param(sp, name, typ)
-        if kind == "robot":
-            for part in ("epsa", "foot", "ring"):
-                for name, typ in _scalar_fields(classes[part]):
-                    _add_param(sp, f"{part}.{name}", typ)
+        _add_design_options(sp, kind, classes)
         sp.set_defaults(func=run)
 
 
@@ -114,30 +139,42 @@ def _part(design, name: str, changes: dict):
         raise DesignError(f"{name}.{exc.parameter}", exc.detail) from None
 
 
+@contextlib.contextmanager
+def _progress_lines(logger_name: str):
+    """INFO lines of a library logger printed on stdout while the block runs."""
+    handler = logging.StreamHandler(sys.stdout)
+    handler.setFormatter(logging.Formatter("%(message)s"))
+    logger = logging.getLogger(logger_name)
+    level = logger.level
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(level)
+
+
 def run(args: argparse.Namespace) -> int:
     import time
-    from pathlib import Path
 
     from geometry.assembly import MESHERS
     from geometry.design import EPSADesign, load_design
     from softcrawl import jsonio
+    from studies.commands.options import make_folder, output_folder
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
-    base = load_design(args.design) if args.design else None
+    base = load_design(args.design, parameter="design") if args.design else None
     design = build_design(args.kind, params, base)
-    if args.edge_length is not None and args.edge_length <= 0:
-        from geometry.design import DesignError
-
-        raise DesignError("edge_length", f"must be positive, got {args.edge_length}")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder(args.out)
+    if args.cache_dir is not None and not args.no_cache:
+        output_folder(args.cache_dir, "cache-dir")
     cache = False if args.no_cache else args.cache_dir
-    print(
-        f"meshing the {args.kind} (a new mesh takes up to a minute; cached meshes are instant)...", flush=True
-    )
     t0 = time.perf_counter()
-    mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
+    with _progress_lines("geometry"):  # the mesher's log lines: what it meshes, not a cache hit
+        mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
     seconds = time.perf_counter() - t0
+    make_folder(out)
     mesh.write(out / "mesh.vtu")
     mesh.write(out / "mesh.msh")
     design.save(out / "design.json")

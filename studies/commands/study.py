@@ -37,8 +37,17 @@ from studies.catalogue.optimise_actuator import NAME as OPTIMISER
 STUDIES = (*GRIDS, OPTIMISER)
 
 
+#: Most worker processes: each is a process with its own solver (0.3-1 GB on the default mesh);
+#: more workers than cores only share the cores, and the sweeps have 5-60 points.
+MAX_WORKERS = 64
+#: Most trials of the optimiser: 60 take about an hour on the default mesh (2 cores); 10,000 would
+#: take a week and more.
+MAX_TRIALS = 10_000
+#: Largest sampler seed: numpy's random generators take seeds below 2^32.
+MAX_SEED = 2**32 - 1
+
+
 def register(subparsers) -> None:
-    from studies.parts.epsa_model import FIBER_MODELS
 
     parser = subparsers.add_parser(
         "study",
@@ -64,27 +73,7 @@ def register(subparsers) -> None:
         default=None,
         help="optuna RDB URL shared by all workers (default: SQLite in the output folder)",
     )
-    parser.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
-    parser.add_argument("--mesh-size", type=float, default=None, help="element size (mm)")
-    parser.add_argument(
-        "--fibers",
-        choices=FIBER_MODELS,
-        default=None,
-        help="Kevlar winding model (default: studies.parts.epsa_model.DEFAULT_FIBERS; see softcrawl epsa)",
-    )
-    parser.add_argument(
-        "--trials",
-        type=int,
-        default=None,
-        help=f"optimise-actuator: total trials (default {DEFAULT_TRIALS}, {QUICK_TRIALS} with --quick)",
-    )
-    parser.add_argument(
-        "--sampler",
-        default="nsga2",
-        choices=("nsga2", "tpe"),
-        help="optimise-actuator: optuna sampler (default nsga2)",
-    )
-    parser.add_argument("--seed", type=int, default=0, help="optimise-actuator: sampler seed")
+    _add_run_options(parser)
     parser.add_argument(
         "--simulator",
         default=None,
@@ -102,25 +91,101 @@ def register(subparsers) -> None:
     parser.set_defaults(func=run)
 
 
+def _add_run_options(parser) -> None:
+    """Workers, mesh, winding and the optimiser's options."""
+    from studies.commands.options import add_number
+    from studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MIN_MESH_SIZE
+
+    add_number(
+        parser,
+        "--workers",
+        help="worker processes",
+        default=1,
+        minimum=1,
+        maximum=MAX_WORKERS,
+        integer=True,
+    )
+    add_number(
+        parser,
+        "--mesh-size",
+        help="element size",
+        unit="mm",
+        default_text="the converged preset (about 5 mm)",
+        minimum=MIN_MESH_SIZE,
+        maximum=1000.0,
+    )
+    parser.add_argument(
+        "--fibers",
+        choices=FIBER_MODELS,
+        default=None,
+        help=f"Kevlar winding model (default {DEFAULT_FIBERS}; see softcrawl epsa)",
+    )
+    add_number(
+        parser,
+        "--trials",
+        help="optimise-actuator: total trials",
+        default_text=f"{DEFAULT_TRIALS}, {QUICK_TRIALS} with --quick",
+        minimum=1,
+        maximum=MAX_TRIALS,
+        integer=True,
+    )
+    parser.add_argument(
+        "--sampler",
+        default="nsga2",
+        choices=("nsga2", "tpe"),
+        help="optimise-actuator: optuna sampler (default nsga2)",
+    )
+    add_number(
+        parser,
+        "--seed",
+        help="optimise-actuator: sampler seed",
+        default=0,
+        minimum=0,
+        maximum=MAX_SEED,
+        integer=True,
+    )
+
+
 def _check(args) -> None:
-    from materials import get_material
+    """Every option checked before the sweep starts: a bad one is one line and exit code 2, not a
+    sweep in which every point fails."""
+    from geometry.design import EPSADesign
+    from studies.commands.options import body_material, output_folder
+    from studies.parts.epsa_model import resolve_mesh
     from studies.sweeps.engine import StudyError
 
-    get_material(args.material)  # MaterialError (parameter "material") for an unknown name
+    body_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
-    if args.mesh_size is not None and not args.mesh_size > 0:
-        raise StudyError("mesh-size", f"must be positive, got {args.mesh_size}")
+    if args.mesh_size is not None:
+        for radius in (2.0, 3.0):  # the thickest wall of the grids needs the most cells
+            resolve_mesh(EPSADesign(chamber_radius=radius), mesh_size=args.mesh_size)
     if args.trials is not None and args.trials < 1:
         raise StudyError("trials", f"must be >= 1, got {args.trials}")
+    if args.simulator is not None:
+        _check_simulator(args.simulator)
     if args.storage is not None and "://" not in args.storage:
         raise StudyError(
             "storage",
             f"expected a database URL such as sqlite:///PATH or "
             f"postgresql://USER@HOST/DB, got {args.storage!r}",
         )
-    if args.simulator is not None and ":" not in args.simulator:
-        raise StudyError("simulator", f"expected MODULE:FUNCTION, got {args.simulator!r}")
+    output_folder(args.out)
+
+
+def _check_simulator(ref: str) -> None:
+    """MODULE:FUNCTION must import and name a callable (the evaluator would fail every point)."""
+    from softcrawl.checks import brief
+    from studies.sweeps.engine import StudyError, load_callable
+
+    if ":" not in ref:
+        raise StudyError("simulator", f"expected MODULE:FUNCTION, got {brief(ref)}")
+    try:
+        target = load_callable(ref)
+    except (ImportError, AttributeError, ValueError) as exc:
+        raise StudyError("simulator", f"cannot load {brief(ref)}: {type(exc).__name__}: {exc}") from None
+    if not callable(target):
+        raise StudyError("simulator", f"{brief(ref)} is not a function")
 
 
 def run(args: argparse.Namespace) -> int:

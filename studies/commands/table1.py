@@ -18,7 +18,9 @@ def register(subparsers) -> None:
         "table1", help="reproduce Table 1 from the study outputs", description=__doc__.splitlines()[0]
     )
     parser.add_argument(
-        "--out", required=True, help="folder for table1.md (and, by default, the study results to read)"
+        "--out",
+        required=True,
+        help="folder for table1.md (created if needed; by default also the study results to read)",
     )
     parser.add_argument(
         "--results", default=None, help="results folder with the study outputs (default: --out)"
@@ -27,7 +29,7 @@ def register(subparsers) -> None:
         "--material",
         action="append",
         default=None,
-        help="material to report (repeatable; default: every material found)",
+        help="material to report, a preset or NAME@mu=VALUE (repeatable; default: every material found)",
     )
     parser.set_defaults(func=run)
 
@@ -35,12 +37,18 @@ def register(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from materials import get_material
+    from studies.commands.options import CommandLineError, output_folder
     from studies.review.table1 import find_materials, write_table1
-    from studies.sweeps.engine import StudyError
 
     results = Path(args.results if args.results is not None else args.out)
+    for name in args.material or ():
+        get_material(name)  # an unknown material is an error naming --material
+    if args.results is not None and not results.is_dir():
+        raise CommandLineError("results", f"no such folder: {results}")
+    output_folder(args.out)
     if not results.is_dir():
-        raise StudyError("results", f"no such folder: {results}")
+        raise CommandLineError("results", f"no such folder: {results}")
     materials = args.material or find_materials(results)
     path = write_table1(results, args.out, materials)
     print(f"wrote {path} ({len(materials)} material(s): {', '.join(materials) or 'none'})")

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import sys
 import time
+from pathlib import Path
 
 
 def register(subparsers) -> None:
@@ -17,7 +18,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "verify", help="run the solver verification cases", description=__doc__.splitlines()[0]
     )
-    p.add_argument("--json", metavar="FILE", help="write the results as JSON")
+    p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE (its folder is created)")
     p.add_argument("--case", action="append", choices=sorted(CASES), help="run only this case (repeatable)")
     p.set_defaults(func=run)
 
@@ -35,7 +36,10 @@ def _plain(value):
 
 def run(args) -> int:
     from fem.verification import CASES
+    from studies.commands.options import make_folder, output_file
 
+    if args.json:
+        output_file(args.json, "json")  # checked before the cases run
     names = args.case or list(CASES)
     rows = []
     print(f"{'case':<15}{'error':>12}{'tolerance':>12}  result   time")
@@ -61,6 +65,7 @@ def run(args) -> int:
     if args.json:
         from softcrawl.jsonio import write
 
+        make_folder(Path(args.json).parent, "json")
         write(args.json, {"cases": rows, "all_passed": all(r["passed"] for r in rows)})
     failed = [r["case"] for r in rows if not r["passed"]]
     if failed:

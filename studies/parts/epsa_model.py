@@ -42,7 +42,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from geometry.design import DesignError, EPSADesign
+from geometry.design import MAX_DIMENSION, DesignError, EPSADesign
+from softcrawl.checks import number
+
+#: Smallest element size of an ePSA mesh (mm): a tenth of a millimetre, 25 times finer than the
+#: finest mesh of the convergence study (h = 2.5 mm, whose extension differs from h = 3.33 mm by
+#: 0.003-0.09 %). A mesh that fine of any ePSA exceeds MAX_MESH_TETS anyway; the bound keeps the
+#: element counts finite (h = 5e-324 overflowed them).
+MIN_MESH_SIZE = 0.1
+#: Most tetrahedra of an ePSA mesh (estimated before meshing, `estimated_tets`). The finest mesh
+#: run so far (h = 2.5 mm, 34k tets, 165k unknowns) took 11 min on 2 cores; a sparse direct solve
+#: grows faster than linearly in time and memory, so 200k tets (~1M unknowns) is hours and many GB.
+MAX_MESH_TETS = 200_000
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -58,8 +69,7 @@ class MeshSettings:
         (a multiple of 4 cells, at least 12), ~h/1.5 across the wall, and at least two fiber
         points per cell around. For the Table 1 ePSA, h = 10 and 5 mm give the "quick" and
         "default" presets, so a convergence study over sizes contains both."""
-        if not (isinstance(h, (int, float)) and h > 0 and math.isfinite(h)):
-            raise DesignError("mesh_size", f"must be a positive length in mm, got {h}")
+        h = number(h, "mesh_size", minimum=MIN_MESH_SIZE, maximum=MAX_DIMENSION, unit="mm", error=DesignError)
         wall = design.outer_radius - design.chamber_radius
         n_around = max(12, 4 * math.ceil(2 * math.pi * design.outer_radius / (4 * 0.8 * h)))
         return cls(
@@ -68,6 +78,42 @@ class MeshSettings:
             axial_size=float(h),
             fiber_points_per_turn=max(32, 2 * n_around),
         )
+
+
+def estimated_tets(settings: MeshSettings, design: EPSADesign) -> float:
+    """An upper estimate of the swept mesh's tetrahedra: 6 n_around (n_radial + 1) per axial layer
+    (3 tets per prism; the chamber ends fill the chamber too) over L / h + t_s / h + 4 layers. It
+    is 1.1-1.6 times the count of the presets and of the h = 2.5 mm mesh."""
+    layers = (design.length + design.seal_head_thickness) / settings.axial_size + 4
+    return 6.0 * settings.n_around * (settings.n_radial + 1) * layers
+
+
+def resolve_mesh(
+    design: EPSADesign,
+    mesh: MeshSettings | str = "default",
+    mesh_size: float | None = None,
+    quick: bool = False,
+) -> MeshSettings:
+    """The mesh settings of a run (`mesh_size` wins over `quick`, which wins over `mesh`), checked
+    against `MAX_MESH_TETS` before anything is meshed."""
+    if mesh_size is not None:
+        settings = MeshSettings.from_size(mesh_size, design)
+    elif quick:
+        settings = MESH_PRESETS["quick"]
+    elif isinstance(mesh, MeshSettings):
+        settings = mesh
+    elif mesh in MESH_PRESETS:
+        settings = MESH_PRESETS[mesh]
+    else:
+        raise DesignError("mesh", f"{mesh!r} is not one of {tuple(MESH_PRESETS)} or MeshSettings")
+    tets = estimated_tets(settings, design)
+    if tets > MAX_MESH_TETS:
+        raise DesignError(
+            "mesh_size",
+            f"the mesh of this ePSA would have ~{tets:.3g} tetrahedra (h = {settings.axial_size:g} mm, "
+            f"L = {design.length:g} mm); at most {MAX_MESH_TETS}: use a larger element size",
+        )
+    return settings
 
 
 #: How the Kevlar winding is modelled (`build_model`). The default is the smeared sheet, because
@@ -91,18 +137,34 @@ def solid_material(name):
     return mat, solid_law(mat, hyperelastic_only=True)
 
 
+#: Largest sideways probe (N). The probe is an imperfection (1e-4 N in the studies); the pressure
+#: force on the chamber end at 100 kPa is ~2.8 N, so above 0.1 N it is a load, not a probe.
+MAX_SIDE_LOAD_N = 0.1
+#: Largest end load (N): 100 N, a hundred times the paper's weights (0.5-1 N) and 35 times the
+#: actuator's ~2.8 N chamber-end force at 100 kPa.
+MAX_END_LOAD_N = 100.0
+
+
 def check_end_conditions(blocked: bool, guided: bool, end_load_n, side_load_n) -> None:
     """The end conditions of the module docstring exclude each other as stated there."""
-    if side_load_n is not None and not (math.isfinite(side_load_n) and side_load_n > 0):
-        raise DesignError("side_load", f"must be a small force > 0 N, got {side_load_n}")
+    if side_load_n is not None:
+        number(
+            side_load_n,
+            "side_load",
+            minimum=0.0,
+            min_open=True,
+            maximum=MAX_SIDE_LOAD_N,
+            unit="N",
+            error=DesignError,
+        )
     if side_load_n is not None and (blocked or guided or end_load_n is not None):
         raise DesignError(
             "side_load", "the sideways probe is for the free actuator (no guide, block or weight)"
         )
     if blocked and (end_load_n is not None or guided):
         raise DesignError("blocked", "a blocked actuator (top fixed) takes no end load and no guide")
-    if end_load_n is not None and not (math.isfinite(end_load_n) and end_load_n >= 0):
-        raise DesignError("end_load", f"must be a weight >= 0 N, got {end_load_n}")
+    if end_load_n is not None:
+        number(end_load_n, "end_load", minimum=0.0, maximum=MAX_END_LOAD_N, unit="N", error=DesignError)
 
 
 def _end_conditions(blocked: bool, guided: bool, end_load_n, side_load_n):
@@ -158,7 +220,7 @@ def build_model(
     if fibers not in FIBER_MODELS:
         raise DesignError("fibers", f"{fibers!r} is not one of {FIBER_MODELS}")
     check_end_conditions(blocked, guided, end_load_n, side_load_n)
-    settings = MESH_PRESETS[mesh] if isinstance(mesh, str) else mesh
+    settings = resolve_mesh(design, mesh)
     mat, body_law = solid_material(material)
     tagged = mesh_epsa_swept(
         design,

@@ -23,13 +23,14 @@ that as an artefact of the line model.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
 from geometry.design import DesignError, EPSADesign
-from studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings, build_model
+from studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings, build_model, resolve_mesh
 
 #: Row statuses: "reference" the undeformed 0 kPa state; "converged" the equilibrium at a requested
 #: pressure (under pressure control, or landed on by volume control when pressure control stalled
@@ -134,13 +135,10 @@ def simulate_epsa(
     from fem.path import NewtonRecord, Step, load_path
 
     t0 = time.perf_counter()
-    if quick:
-        mesh = "quick"
-    if mesh_size is not None:
-        mesh = MeshSettings.from_size(mesh_size, design)
+    mesh = resolve_mesh(design, mesh, mesh_size, quick)
     pressures = tuple(float(p) for p in pressures_kpa)
-    if not pressures or min(pressures) <= 0:
-        raise DesignError("pressures", "give positive pressures in kPa")
+    if not pressures or not all(math.isfinite(p) and p > 0 for p in pressures):
+        raise DesignError("pressures", "give positive, finite pressures in kPa")
     model, mat, settings = build_model(
         design,
         material,

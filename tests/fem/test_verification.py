@@ -15,16 +15,16 @@ from fem.structured import box
 def test_patch_test_reproduces_homogeneous_stretch():
     r = V.patch_test()
     assert r.details["field_error"] <= 1e-8, r.details
-    assert r.details["stress_error"] <= 5e-3, r.details
+    assert r.details["stress_error"] <= 2e-4, r.details  # observed 5.7e-5: K/mu = 1e4 vs incompressible
 
 
 def test_dead_load_gives_the_homogeneous_uniaxial_stretch():
     r = V.dead_load_test()
     assert r.passed, r.details
-    assert r.details["incompressible_error"] <= 5e-3, r.details  # K/mu = 1e4 vs incompressible
+    assert r.details["incompressible_error"] <= 2.5e-4, r.details  # observed 7.6e-5: K/mu = 1e4
     # the load really is dead: doubling it follows the material law, not a linear spring
     r2 = V.dead_load_test(stretch=2.5)
-    assert r2.passed and abs(r2.details["stretch"] - 2.5) / 1.5 < 5e-3, r2.details
+    assert r2.passed and abs(r2.details["stretch"] - 2.5) / 1.5 < 6e-4, r2.details  # observed 2.0e-4
 
 
 @pytest.mark.parametrize(
@@ -44,20 +44,23 @@ def test_bad_dead_load_names_the_parameter(loads, word):
 def test_plane_strain_tube_at_half_and_twice_mu():
     r = V.tube_test()
     assert r.passed, r.details
-    for key in ("P=0.5mu", "P=2.0mu"):
-        assert r.details[key]["inner_err"] < 0.01
-        assert r.details[key]["outer_err"] < 0.01
+    # observed (inner, outer): 2.3e-5, 6.6e-7 at 0.5 mu; 1.4e-3, 8.7e-5 at 2 mu (the K/mu = 1000
+    # compressibility against the incompressible solution grows with the pressure)
+    limits = {"P=0.5mu": (1e-4, 1e-5), "P=2.0mu": (4e-3, 3e-4)}
+    for key, (inner, outer) in limits.items():
+        assert r.details[key]["inner_err"] < inner, r.details[key]
+        assert r.details[key]["outer_err"] < outer, r.details[key]
 
 
 def test_sphere_volume_control_follows_analytic_curve_past_its_maximum():
     r = V.sphere_volume_test()
     assert r.details["passed_maximum"]
-    assert r.passed, r.details
+    assert r.passed and r.tolerance <= 3e-3, r.details  # observed 1.0e-3
 
 
 def test_sphere_pressure_control_reports_the_limit_point():
     r = V.sphere_limit_test()
-    assert r.passed, r.details
+    assert r.passed and r.tolerance <= 2e-3, r.details  # observed 6.8e-4
     assert any("limit point at P ~" in e for e in r.details["events"])
     # the states after the maximum are flagged as past the limit, the ones before are not
     assert r.details["past_limit_states"] >= 1 and r.details["past_limit_flags_consistent"]
