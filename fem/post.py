@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fem.model import SolidModel
-from fem.neohooke import cauchy_stress, det3, inv_transpose3, iso_stress, principal_stretches, von_mises
+from fem.neohooke import cauchy_stress, principal_stretches, von_mises
 
 
 def deformed_nodes(model: SolidModel, x: np.ndarray) -> np.ndarray:
@@ -58,12 +58,9 @@ class ElementFields:
 
 
 def element_fields(model: SolidModel, x: np.ndarray) -> ElementFields:
-    F = model.deformation_gradient(x)
-    J = det3(F)
-    H = inv_transpose3(F)
-    p = model.pressure_field(x)
-    P = iso_stress(F, model.mu, J, H) + p * J * H
-    sigma = cauchy_stress(P, F)
+    state = model.solid.stress(x)  # the body's own law (Neo-Hookean, Yeoh, Gent)
+    F, J = state.F, state.J
+    sigma = cauchy_stress(state.P, F)
     w = model.dx / model.dx.sum(axis=1, keepdims=True)
     avg = lambda a: (a * w).sum(axis=-1)  # noqa: E731
     stretch = principal_stretches(F)[..., -1].max(axis=1)
