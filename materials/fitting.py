@@ -9,7 +9,8 @@ Residuals are absolute (MPa, `weighting="absolute"`, the default for the 0-100 %
 relative to the measured stress (`weighting="relative"`): over the full pull-to-failure curve the
 stress spans three decades (0.005-1 MPa), so an absolute fit is decided by the last points and
 ignores the actuator's range (stretch < 3), while a relative fit weighs every decade alike. The
-full-range presets (`materials.presets`) use the relative residuals and state both errors. See `select_fit_points` for the data handling and `DEFAULT_MAX_STRAIN` for the
+full-range presets (`materials.presets`) use the relative residuals and state both errors.
+See `select_fit_points` for the data handling and `DEFAULT_MAX_STRAIN` for the
 default strain range.
 """
 
