@@ -117,7 +117,7 @@ def summary_rows(rows, param: str) -> list[dict]:
                 "radial_expansion_100kpa_mm": "" if top is None else top[1] - c.radius0,
                 "fluctuating": fluct,
                 "fluctuation": how,
-                "linearity_r2": round(rules.linearity_r2(c), 6) if c.pressures else "",
+                "nonlinearity": "" if rules.nonlinearity(c) is None else round(rules.nonlinearity(c), 6),
             }
         )
     return summary

@@ -133,6 +133,10 @@ def run(args) -> int:
         if curve.limit_pressure_kpa is not None
         else None
     )
+    if curve.volumetric_error:
+        summary["volumetric_error_last_state"] = dict(
+            zip(("pressure_kpa", "max", "volume_average"), curve.volumetric_error[-1])
+        )
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
     if not args.no_vtu:
         from fem.vtu import write_path
@@ -143,6 +147,10 @@ def run(args) -> int:
         if "sways" in event:
             print(f"note: {event}")
     print(f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s -> {out}")
+    print(f"material law: {curve.material_law}")
+    if curve.volumetric_error:
+        p_kpa, vmax, vmean = curve.volumetric_error[-1]
+        print(f"volumetric constraint |J - 1 - p/K| at {p_kpa:.4g} kPa: max {vmax:.3g}, mean {vmean:.3g}")
     if curve.limit_pressure_kpa is not None:
         print(f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa")
     if not curve.converged:

@@ -170,8 +170,7 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
         f"`{results}` with the rules of `studies/review/rules.py` (thresholds: target pressure "
         f"{rules.TARGET_PRESSURE_KPA:g} kPa, fluctuation tolerance "
         f"{rules.FLUCTUATION_REL_TOL:.0%} / {rules.FLUCTUATION_SIGN_CHANGES} trend changes, "
-        f"similar extension {rules.SIMILAR_EXTENSION_REL:.0%}, linearity R^2 >= "
-        f"{rules.LINEARITY_R2}). The paper's values are those of its Table 1.",
+        f"similar extension {rules.SIMILAR_EXTENSION_REL:.0%}). The paper's values are those of its Table 1.",
         "",
     ]
     if not materials:
