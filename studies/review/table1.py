@@ -102,7 +102,9 @@ def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
         elif param == "chamber_radius":
             out[param] = select(read_csv(src), mu=_mu(run.material))
         else:
-            out[param] = select(read_csv(src))
+            rows = read_csv(src)
+            out[param] = select(rows)
+            out["linearity"] = rules.linearity_claim(rows)
     for param, why in PENDING.items():
         out[param] = rules.pending(param, why)
     return out
@@ -139,20 +141,23 @@ def _why_not(sel: rules.Selection, paper: float) -> str:
 
 
 def _mu(material: str) -> float | None:
+    """mu of a Neo-Hookean material (its limit pressures scale with mu at fixed K/mu), else None:
+    for Yeoh and Gent the scaling with the initial modulus alone does not hold."""
     try:
         from materials import get_material
 
-        return float(get_material(material).mu)
+        m = get_material(material)
+        return float(m.mu) if m.model == "neo-hookean" else None
     except Exception:  # noqa: BLE001 - a material unknown to materials
         return None
 
 
 def _material_label(material: str) -> str:
+    """The material's name and its law with constants (every row names its material law)."""
     try:
         from materials import get_material
 
-        m = get_material(material)
-        return f"{material} (mu = {m.mu:.4g} MPa)"
+        return f"{material} ({get_material(material).law_label})"
     except Exception:  # noqa: BLE001 - unknown (e.g. a calibrated material file)
         return material
 
@@ -208,6 +213,11 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             lines += [f"Evidence, {PAPER_TABLE1[param][0]} (`{src if src is not None else 'no data'}`):", ""]
             lines += [f"- {e}" for e in sel[param].evidence] or ["- (none)"]
             lines += [""]
+    if materials:
+        from studies.review.table1_summary import closing, summary_table
+
+        lines[4:4] = summary_table(results, materials, selections)
+        lines += closing(results, materials, selections)
     if len(materials) > 1:
         lines += ["## Dependence on the material", ""]
         for param in STUDY_DIRS:
