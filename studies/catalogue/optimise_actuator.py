@@ -97,7 +97,7 @@ def run_optimiser(
     workers: int = 1,
     progress: bool = True,
 ) -> StudyOutcome:
-    """Run (or resume) the optimiser and write trials.csv, pareto.csv and pareto.png."""
+    """Run (or resume) the optimiser and write trials.csv, optimum.json and pareto.png."""
     from studies.plots.pareto import plot_pareto
     from studies.sweeps import engine
 
