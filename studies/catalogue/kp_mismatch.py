@@ -2,7 +2,9 @@ r"""Why is the FE actuator 1.2-6.5x stiffer against a weight (k_p) than the prot
 
 Three explanations are tested on the identification studies under a results folder
 (`softcrawl study identify`, Section VII-A on FE results) and written to
-RESULTS/identify/kp-mismatch.md and .json (`softcrawl study kp-mismatch --out RESULTS`):
+RESULTS/identify/kp-mismatch.md and .json (`softcrawl study kp-mismatch --out RESULTS`; the line-fiber
+study is `softcrawl study identify --fibers lines --material ecoflex-00-50@mu=0.0638 --out TMP`
+with TMP/identify/ecoflex-00-50@mu=0.0638/ copied to RESULTS/identify/lines/):
 
 1. The winding's confinement. A nearly incompressible tube (radii a < R, length L, shear modulus
    mu) stretched axially by a small strain e has u_r = -e r/2 + D/r. Unconfined (D = 0) its axial
@@ -34,6 +36,20 @@ from pathlib import Path
 
 #: The Table 1 actuator (mm).
 OUTER_RADIUS, CHAMBER_RADIUS, LENGTH = 9.0, 3.0, 100.0
+#: The identification studies compared (label -> (identification.csv under RESULTS, initial mu)):
+#: explanation 1 on the two Neo-Hookean moduli, 2 (Yeoh at the calibrated modulus) and 3 (lines).
+CASES = {
+    "sheet, Neo-Hookean mu = 0.0638 (calibrated)": (
+        "identify/ecoflex-00-50@mu=0.0638/identification.csv",
+        0.0638,
+    ),
+    "sheet, Neo-Hookean mu = 0.03 (literature)": ("identify/ecoflex-00-50/identification.csv", 0.03),
+    "sheet, Yeoh fit scaled to mu = 0.0638": (
+        "identify/ecoflex-00-50-yeoh@mu=0.0638/identification.csv",
+        0.0638,
+    ),
+    "lines, Neo-Hookean mu = 0.0638": ("identify/lines/ecoflex-00-50@mu=0.0638/identification.csv", 0.0638),
+}
 
 
 def tube_stiffness_n_per_m(mu_mpa: float, a=CHAMBER_RADIUS, R=OUTER_RADIUS, L=LENGTH) -> dict:
@@ -79,7 +95,8 @@ def kp_mismatch(results, cases: dict[str, tuple[str, float]]) -> dict:
     return {"rows": rows, "confinement_factor": 1.0 + OUTER_RADIUS**2 / (3.0 * CHAMBER_RADIUS**2)}
 
 
-def write_report(results, cases) -> tuple[Path, Path]:
+def write_report(results, cases=None) -> tuple[Path, Path]:
+    cases = CASES if cases is None else cases
     record = kp_mismatch(results, cases)
     folder = Path(results) / "identify"
     folder.mkdir(parents=True, exist_ok=True)

@@ -6,9 +6,12 @@
     softcrawl study optimise-actuator [--quick] [--material M] [--storage URL] [--workers N]
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
     softcrawl study paper-material    --out DIR
+    softcrawl study kp-mismatch       --out DIR
 
 paper-material: which material (Neo-Hookean, Yeoh, Gent; every shape and shear modulus) reproduces
 the paper's own FE observations of Figs. 8-9; no FE (studies/catalogue/paper_material.py).
+kp-mismatch: the identify studies under DIR against the confined and unconfined tube stiffness
+(studies/catalogue/kp_mismatch.py), DIR/identify/kp-mismatch.md.
 
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm, N =
 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1 ePSA under
@@ -38,7 +41,8 @@ from studies.catalogue.optimise_actuator import DEFAULT_TRIALS, QUICK_TRIALS
 from studies.catalogue.optimise_actuator import NAME as OPTIMISER
 
 PAPER_MATERIAL = "paper-material"
-STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL)
+KP_MISMATCH = "kp-mismatch"
+STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH)
 
 
 def register(subparsers) -> None:
@@ -133,6 +137,11 @@ def run(args: argparse.Namespace) -> int:
     from studies.sweeps.engine import SweepInterrupted
 
     _check(args)
+    if args.name == KP_MISMATCH:  # reads the identify studies under --out (studies.catalogue.kp_mismatch)
+        from studies.catalogue.kp_mismatch import write_report
+
+        print("wrote " + ", ".join(map(str, write_report(args.out))))
+        return 0
     if args.name == PAPER_MATERIAL:  # no FE: the closed-end tube theory (studies.catalogue.paper_material)
         from studies.catalogue.paper_material import run_paper_material
 
