@@ -240,7 +240,12 @@ def run_paper_material(out, results=None) -> tuple[list[str], list[Path]]:
             law: fiber_observation(Path(results or out), c["material"]) for law, c in chosen.items()
         },
         "mesh": "none: closed-end thick-tube theory (fem.tube_theory); FE check by the chamber-radius "
-        "study at the centre material",
+        "studies (default mesh) in fe_check",
+        "fe_check": fe_check(
+            Path(results or out),
+            ["ecoflex-00-50", "ecoflex-00-50-yeoh", "ecoflex-00-50-gent"]
+            + [c["material"] for c in chosen.values()],
+        ),
     }
     (folder / "paper-material.json").write_text(json.dumps(record, indent=2, default=str) + "\n")
     lines = [f"{NAME}: {len(windows)} law shapes scanned -> {folder}"]
@@ -250,6 +255,37 @@ def run_paper_material(out, results=None) -> tuple[list[str], list[Path]]:
     n_all = len(record["all_fig8_limit_observations_reproduced_by"])
     lines.append(f"  shapes reproducing every Fig. 8 limit-pressure observation: {n_all}")
     return lines, [folder / "windows.csv", folder / "paper-material.json"]
+
+
+def fe_check(results, materials) -> dict:
+    """FE limit pressures of the chamber-radius studies under `results` against the closed-end
+    tube theory with the same law (kPa), for every material that has such a study."""
+    import csv
+
+    from fem.tube_theory import closed_end_limit
+    from materials import get_material
+    from materials.fem_law import solid_law
+
+    out = {}
+    for m in materials:
+        path = Path(results) / "chamber-radius" / m / "summary.csv"
+        if not path.exists():
+            continue
+        law = solid_law(get_material(m))
+        rows = {}
+        with open(path) as fh:
+            for row in csv.DictReader(fh):
+                r = float(row["chamber_radius"])
+                fe = float(row["limit_pressure_kpa"]) if row["limit_pressure_kpa"] else None
+                lim = closed_end_limit(law, r, OUTER_RADIUS, la_max=LA_MAX)
+                theory = None if lim is None else lim[1] * 1e3
+                rows[f"{r:g}"] = {
+                    "fe_limit_kpa": fe,
+                    "theory_limit_kpa": theory,
+                    "relative_difference": None if None in (fe, theory) else fe / theory - 1.0,
+                }
+        out[m] = rows
+    return out
 
 
 def to_dict(w: ShapeWindow) -> dict:
