@@ -109,7 +109,7 @@ def _law_label(material) -> str:
 
 def summary_rows(rows, param: str) -> list[dict]:
     """One row per design: status, limit pressure, the response at 100 kPa and the rule inputs."""
-    from studies.review import rules
+    from studies.review import linearity, rules
 
     summary = []
     law = _law_label(rows[0].get("material")) if rows else ""
@@ -128,7 +128,9 @@ def summary_rows(rows, param: str) -> list[dict]:
                 "radial_expansion_100kpa_mm": "" if top is None else top[1] - c.radius0,
                 "fluctuating": fluct,
                 "fluctuation": how,
-                "nonlinearity": "" if rules.nonlinearity(c) is None else round(rules.nonlinearity(c), 6),
+                "nonlinearity": ""
+                if linearity.nonlinearity(c) is None
+                else round(linearity.nonlinearity(c), 6),
                 "material_law": law,
             }
         )

@@ -77,8 +77,8 @@ def evaluate_epsa(
     pressures_kpa, quick, mesh_size,
     simulate ("module:function", default ``studies.parts.epsa_response:simulate_epsa``), objectives
     ("sweep": extension at the highest computed pressure; "pareto": extension and radial
-    expansion at the highest requested pressure, plus the fiber length of both helices;
-    "constrained": the fiber length under the constraints of `studies.catalogue.optimise_actuator`).
+    expansion at the highest requested pressure, plus the fiber length of both helices; the
+    optimiser's constrained objective wraps this, `studies.catalogue.constrained_objective`).
 
     A curve with ``converged = False`` fails the trial (its rows are kept). In "pareto" mode a
     design that does not reach the highest pressure fails too: it does not meet the requirement.
@@ -139,10 +139,6 @@ def evaluate_epsa(
         )
     if top is None:
         return Evaluation(ok=False, attrs=_packed(attrs), message="no computed state")
-    if settings.get("objectives", "sweep") == "constrained":
-        from studies.catalogue.optimise_actuator import constrained_evaluation
-
-        return constrained_evaluation(attrs, design, settings, max(pressures), length0, radius0, _packed)
     if settings.get("objectives", "sweep") == "pareto":
         target = max(pressures)
         at = response_at(attrs["rows"], target)

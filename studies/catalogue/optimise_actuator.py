@@ -6,6 +6,8 @@ so thread length ~ winding work and thread weight), over the chamber radius r in
 (the paper's grid; integer, so each radius has one reference design) and the turns N in 0..50,
 subject to (optuna's constraints_func; a value <= 0 is feasible):
 
+(`studies.catalogue.constrained_objective`)
+
 1. it withstands the target pressure (100 kPa, `studies.review.rules.TARGET_PRESSURE_KPA`): no
    limit point and a computed state there; otherwise (target - reached) / target;
 2. the radius stays put: |dR| / R0 - MAX_RADIUS_CHANGE_REL ("the fiber winding wire effectively
@@ -23,10 +25,10 @@ pareto.png (extension against |dR|, the optimum outlined).
 
 from __future__ import annotations
 
-import functools
 import json
 
 from studies.catalogue.actuator_studies import run_tag, study_folder
+from studies.catalogue.constrained_objective import MAX_RADIUS_CHANGE_REL
 from studies.catalogue.outcome import StudyOutcome
 
 #: Search space and budget of optimise-actuator.
@@ -36,54 +38,7 @@ OBJECTIVES = ("thread_length_mm",)
 DIRECTIONS = ("minimize",)
 DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 NAME = "optimise-actuator"
-#: The most-turned design of the N study (paper Fig. 9: N = 50), the extension reference.
-REFERENCE_TURNS = 50
-#: Bound on |dR| / R0 at the target pressure: 5 % of the outer radius (0.45 mm for R0 = 9 mm).
-#: The paper states no number ("relatively small radial expansion"); a 5 % bulge is what a
-#: crawler in a pipe a few mm wider than the robot can afford. Stated, not tuned.
-MAX_RADIUS_CHANGE_REL = 0.05
-
-
-def constrained_evaluation(attrs, design, settings, target, length0, radius0, packed):
-    """The `Evaluation` of one trial in "constrained" mode (module docstring)."""
-    from studies.catalogue.epsa_evaluator import response_at
-    from studies.review.rules import SIMILAR_EXTENSION_REL
-    from studies.sweeps.engine import Evaluation
-
-    thread = float(attrs["fiber_length_mm"])
-    at = response_at(attrs["rows"], target)
-    limit = attrs["limit_pressure_kpa"]
-    withstands = bool(attrs["converged"]) and at is not None and (limit is None or limit >= target)
-    if not attrs["converged"]:
-        return Evaluation(ok=False, attrs=packed(attrs), message=f"diverged: {attrs['message']}")
-    if not withstands:
-        reached = max(
-            [r["pressure_kpa"] for r in attrs["rows"] if r.get("status") == "converged"], default=0.0
-        )
-        attrs["constraints"] = [max((target - reached) / target, 1e-3), 1.0, 1.0]
-        return Evaluation(ok=True, values=(thread,), attrs=packed(attrs))
-    ext, dr = at["length_mm"] - length0, abs(at["outer_radius_mm"] - radius0)
-    ref = reference_extension(
-        design.chamber_radius, settings.get("simulate", ""), json.dumps(settings, sort_keys=True, default=str)
-    )
-    c_ext = 1.0 if ref is None else abs(ext - ref) / abs(ref) - SIMILAR_EXTENSION_REL
-    attrs["constraints"] = [0.0, dr / radius0 - MAX_RADIUS_CHANGE_REL, c_ext]
-    attrs["reference_extension_mm"] = ref
-    return Evaluation(ok=True, values=(thread,), attrs=packed(attrs))
-
-
-@functools.lru_cache(maxsize=16)
-def reference_extension(chamber_radius: float, simulate: str, settings_json: str) -> float | None:
-    """Extension at the target of the REFERENCE_TURNS design of this radius (None if it does
-    not withstand the target), with the trial's own simulator and settings."""
-    from geometry.design import EPSADesign
-    from studies.catalogue.epsa_evaluator import evaluate_epsa
-
-    settings = json.loads(settings_json) | {"objectives": "pareto"}
-    params = {"chamber_radius": chamber_radius, "fiber_turns": REFERENCE_TURNS}
-    EPSADesign(**params)  # a bad radius raises here, not inside the cache
-    result = evaluate_epsa(params, {}, settings)
-    return float(result.values[0]) if result.ok else None
+CONSTRAINED_EVALUATOR = "studies.catalogue.constrained_objective:evaluate_constrained"
 
 
 def run_optimiser(
@@ -104,7 +59,7 @@ def run_optimiser(
     material, quick = settings["material"], settings.get("quick", False)
     folder = study_folder(out, NAME, material, quick, settings.get("mesh_size"))
     folder.mkdir(parents=True, exist_ok=True)
-    settings = settings | {"objectives": "constrained", "objective_names": list(OBJECTIVES)}
+    settings = settings | {"objective_names": list(OBJECTIVES)}
     trials = trials or (QUICK_TRIALS if quick else DEFAULT_TRIALS)
     tag = run_tag(material, quick, settings.get("mesh_size"))
     spec = engine.SearchSpec(
@@ -120,6 +75,7 @@ def run_optimiser(
         storage=storage,
         initial=(TABLE1_DESIGN,),
         constrained=True,
+        evaluator=CONSTRAINED_EVALUATOR,
     )
     (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
     rows = mark_optimum(engine.run_search(spec, workers=workers, progress=progress))

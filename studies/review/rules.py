@@ -26,12 +26,8 @@ Definitions:
   expansion alternately appear as the main deformation" (paper) is.
 * **differ little**: a design's extension at the target pressure is within
   ``SIMILAR_EXTENSION_REL`` of the most-turned design's.
-* **closer to linear** (a claim of the paper that is checked, not a selection criterion):
-  the nonlinearity of a length-pressure curve is the RMS distance of its points (0 kPa included)
-  from their least-squares line, divided by the extension at the highest compared pressure; a
-  fibered design is closer to linear than the unreinforced one (N = 0) when its nonlinearity is
-  below N = 0's over the pressures both computed (at least ``LINEARITY_MIN_POINTS`` pressure
-  levels, 0 kPa included).
+* **closer to linear**: a claim of the paper that is checked, not a selection criterion
+  (`studies.review.linearity`).
 """
 
 from __future__ import annotations
@@ -61,10 +57,6 @@ FLUCTUATION_SIGN_CHANGES = 2
 #: within 10 % of the most-turned design's (a round engineering tolerance; the evidence lists every
 #: design's difference and `fiber_turns_sensitivity` the choice at 5 % and 20 %).
 SIMILAR_EXTENSION_REL = 0.10
-#: "winding of the fiber wires brings the relationship between the ePSA length and the input air
-#: pressure closer to a linear relationship" (Section V-A, Fig. 9(b)): compared with the
-#: unreinforced actuator over at least this many pressure levels (0 kPa included).
-LINEARITY_MIN_POINTS = 3
 #: Chamber radius studied with fibers (paper Section V-A: r = 3 mm).
 FIBER_STUDY_CHAMBER_RADIUS = 3.0
 
@@ -189,24 +181,6 @@ def fluctuation(curve: DesignCurve) -> tuple[bool, str]:
     if changes >= FLUCTUATION_SIGN_CHANGES:
         return True, f"slope of length alternates ({changes} sign changes of its trend)"
     return False, f"monotone, {changes} change(s) of slope trend"
-
-
-def nonlinearity(curve: DesignCurve, up_to_kpa: float | None = None) -> float | None:
-    """RMS distance of (0, L0) and the computed (p, L) points with p <= `up_to_kpa` from their
-    least-squares line, over the extension at the highest of those pressures (module docstring);
-    None with fewer than ``LINEARITY_MIN_POINTS`` points or no extension."""
-    pts = [(0.0, curve.length0)] + [
-        (p, x) for p, x in zip(curve.pressures, curve.lengths) if up_to_kpa is None or p <= up_to_kpa + 1e-9
-    ]
-    if len(pts) < LINEARITY_MIN_POINTS:
-        return None
-    n = len(pts)
-    mx, my = sum(p for p, _ in pts) / n, sum(x for _, x in pts) / n
-    sxx = sum((p - mx) ** 2 for p, _ in pts)
-    slope = sum((p - mx) * (x - my) for p, x in pts) / sxx
-    rms = (sum((x - my - slope * (p - mx)) ** 2 for p, x in pts) / n) ** 0.5
-    extension = abs(pts[-1][1] - curve.length0)
-    return rms / extension if extension > 0 else None
 
 
 CHAMBER_RADIUS_RULE = (
@@ -355,40 +329,6 @@ def fiber_turns_sensitivity(rows, tolerances=(0.05, 0.10, 0.20)) -> dict[float, 
         return {t: None for t in tolerances}
     ext = {n: e for n, (e, _) in ok.items()}
     return {t: fewest_similar_turns(ext, max(curves), t) for t in tolerances}
-
-
-def linearity_claim(rows: Sequence[Mapping[str, Any]]) -> Selection:
-    """Paper: fibers bring length-pressure "closer to a linear relationship" than without. For
-    every fibered design, its nonlinearity against N = 0's over the pressures both computed.
-    ``value`` is the fraction of fibered designs closer to linear (1.0: the claim holds)."""
-    rule = (
-        "each fibered design's nonlinearity below the unreinforced (N = 0) one's over their common pressures"
-    )
-    curves = design_curves(rows, "fiber_turns")
-    bare = curves.get(0.0)
-    if bare is None or not bare.pressures:
-        return Selection("linearity", None, rule, (), "undetermined", "no unreinforced (N = 0) curve")
-    evidence, closer = [], []
-    for n, c in sorted(curves.items()):
-        if n == 0.0 or not c.pressures:
-            continue
-        common = min(max(c.pressures), max(bare.pressures))
-        mine, ref = nonlinearity(c, common), nonlinearity(bare, common)
-        if mine is None or ref is None:
-            evidence.append(
-                f"N = {n:g}: fewer than {LINEARITY_MIN_POINTS} common points up to {common:g} kPa"
-            )
-            continue
-        closer.append(mine < ref)
-        evidence.append(
-            f"N = {n:g}: nonlinearity {mine:.3g} vs N = 0 {ref:.3g} up to {common:g} kPa -> "
-            f"{'closer to linear' if mine < ref else 'not closer to linear'}"
-        )
-    if not closer:
-        return Selection("linearity", None, rule, tuple(evidence), "undetermined", "no comparable curves")
-    share = sum(closer) / len(closer)
-    verdict = "holds" if share == 1.0 else "does not hold for every design"
-    return Selection("linearity", share, rule, tuple(evidence), reason=f"the paper's claim {verdict}")
 
 
 def input_parameter(parameter: str, value: float, source: str) -> Selection:

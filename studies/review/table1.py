@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from studies.review import rules
+from studies.review.linearity import linearity_claim
 
 #: The paper's Table 1 (docs/DESIGN.md section 4): parameter key -> (label, value, unit).
 PAPER_TABLE1 = {
@@ -104,7 +105,7 @@ def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
         else:
             rows = read_csv(src)
             out[param] = select(rows)
-            out["linearity"] = rules.linearity_claim(rows)
+            out["linearity"] = linearity_claim(rows)
     for param, why in PENDING.items():
         out[param] = rules.pending(param, why)
     return out

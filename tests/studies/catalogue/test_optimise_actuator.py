@@ -6,13 +6,15 @@ from __future__ import annotations
 import pytest
 
 from studies.catalogue import optimise_actuator as OA
-from studies.catalogue.epsa_evaluator import evaluate_epsa
+from studies.catalogue.constrained_objective import evaluate_constrained
 
-SETTINGS = {"objectives": "constrained", "simulate": "tests.studies.fakes:fake_simulate", "quick": True}
+SETTINGS = {"simulate": "tests.studies.fakes:fake_simulate", "quick": True}
 
 
 def constraints(r, n, simulate="tests.studies.fakes:fake_simulate"):
-    result = evaluate_epsa({"chamber_radius": r, "fiber_turns": n}, {}, SETTINGS | {"simulate": simulate})
+    result = evaluate_constrained(
+        {"chamber_radius": r, "fiber_turns": n}, {}, SETTINGS | {"simulate": simulate}
+    )
     assert result.ok
     return result.attrs["constraints"], result.values[0]
 

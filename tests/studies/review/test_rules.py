@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from studies.review import rules
+from studies.review import linearity, rules
 
 
 def _rows(
@@ -221,7 +221,7 @@ def test_no_state_at_the_target_does_not_withstand():
 def test_nonlinearity_measure():
     """0 for a straight line, the exact value for a parabola, None below LINEARITY_MIN_POINTS."""
     straight = rules.design_curves(_rows("fiber_turns", 20, _linear(0.1), [9.0] * 5), "fiber_turns")[20.0]
-    assert rules.nonlinearity(straight) == pytest.approx(0.0, abs=1e-12)
+    assert linearity.nonlinearity(straight) == pytest.approx(0.0, abs=1e-12)
     # L = 100 + p^2/1000 at p = 0, 20, ..., 100: residuals of the LSQ line, RMS / extension 10 mm
     parab = [100 + (20 * (i + 1)) ** 2 / 1000 for i in range(5)]
     curve = rules.design_curves(_rows("fiber_turns", 20, parab, [9.0] * 5), "fiber_turns")[20.0]
@@ -230,10 +230,10 @@ def test_nonlinearity_measure():
     mp, my = sum(p) / 6, sum(y) / 6
     slope = sum((a - mp) * (b - my) for a, b in zip(p, y)) / sum((a - mp) ** 2 for a in p)
     rms = (sum((b - my - slope * (a - mp)) ** 2 for a, b in zip(p, y)) / 6) ** 0.5
-    assert rules.nonlinearity(curve) == pytest.approx(rms / 10.0, rel=1e-12)
-    assert rules.LINEARITY_MIN_POINTS == 3
-    assert rules.nonlinearity(curve, up_to_kpa=20) is None  # 2 points: (0, L0), (20, L)
-    assert rules.nonlinearity(curve, up_to_kpa=40) is not None  # 3 points
+    assert linearity.nonlinearity(curve) == pytest.approx(rms / 10.0, rel=1e-12)
+    assert linearity.LINEARITY_MIN_POINTS == 3
+    assert linearity.nonlinearity(curve, up_to_kpa=20) is None  # 2 points: (0, L0), (20, L)
+    assert linearity.nonlinearity(curve, up_to_kpa=40) is not None  # 3 points
 
 
 def test_linearity_claim_is_relative_to_the_unreinforced_actuator():
@@ -241,10 +241,10 @@ def test_linearity_claim_is_relative_to_the_unreinforced_actuator():
     both reached), and fails for a fibered curve more curved than N = 0's."""
     bare = _rows("fiber_turns", 0, [101, 103, 108, 116], [9.5] * 4, pressures=(20, 40, 60, 80), limit=90)
     straight = _rows("fiber_turns", 20, _linear(0.2), [9.0] * 5)
-    sel = rules.linearity_claim(bare + straight)
+    sel = linearity.linearity_claim(bare + straight)
     assert sel.value == 1.0 and "holds" in sel.reason
     assert "up to 80 kPa" in sel.evidence[0]
     curved = _rows("fiber_turns", 25, [100.2, 100.5, 104, 115, 130], [9.0] * 5)
-    sel = rules.linearity_claim(bare + straight + curved)
+    sel = linearity.linearity_claim(bare + straight + curved)
     assert sel.value == 0.5 and "not closer to linear" in sel.evidence[1]
-    assert rules.linearity_claim(straight).status == "undetermined"
+    assert linearity.linearity_claim(straight).status == "undetermined"
