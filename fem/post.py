@@ -76,8 +76,10 @@ def max_principal_stretch(model: SolidModel, x) -> float:
 def volumetric_error(model: SolidModel, x) -> tuple[float, float]:
     """(max, volume average) of |J - 1 - p/K| over the quadrature points: how far the mixed
     pressure p misses K (J - 1) pointwise (the P1 pressure enforces it only weakly, in L2).
-    Zero by construction for the displacement-only "p2" formulation. The stress of a point is
-    off by about K times this value in its hydrostatic part."""
+    Zero by construction for the displacement-only "p2" formulation. The hydrostatic stress comes
+    from the mixed p itself; a spurious volume change e enters the Cauchy stress through its
+    J^-1 (the isochoric Neo-Hookean stress depends on J^-1/3 F only), so a point with error e has
+    its deviatoric stress off by about a fraction e."""
     state = model.solid.stress(x)
     err = np.abs(state.J - 1.0 - state.p / model.bulk)
     return float(err.max()), float((err * model.dx).sum() / model.dx.sum())

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-#: A point whose |J - 1 - p/K| exceeds this has a hydrostatic stress off by more than 1 % of K,
-#: i.e. 10 mu at K = 1000 mu: its stress is not trusted.
+#: A point whose |J - 1 - p/K| exceeds this has its deviatoric Cauchy stress off by more than
+#: about 1 % (`fem.post.volumetric_error`): its stress is not trusted.
 TRUST_LEVEL = 0.01
 
 
