@@ -144,8 +144,9 @@ class Solid:
         return self.bulk * (det3(F) - 1.0)
 
     def stress(self, x: np.ndarray) -> Stress:
-        """F, J, H = F^-T, the pressure p, c = mu J^-2/3, I1 = F:F and the first Piola stress
-        P = c (F - I1/3 H) + p J H at all quadrature points (p = K (J - 1) for "p2").
+        """F, J, H = F^-T, the pressure p, c = 2 Psi' J^-2/3 (mu J^-2/3 for Neo-Hookean), I1 = F:F,
+        the first Piola stress P = c (F - I1/3 H) + p J H at all quadrature points (p = K (J - 1)
+        for "p2") and, for a non-Neo-Hookean law, d = 4 Psi'' J^-4/3.
 
         Tensors are (3, 3, E, Q) and scalars (E, Q), contiguous: every component is one
         contiguous array, so the pointwise algebra runs at memory speed."""
@@ -218,10 +219,12 @@ class Solid:
 
     def _tangent_chunk(self, s, A, H, weights, blocks, D=None):
         r"""Element matrices of the elements `s` (a slice) into blocks[k][s]; A and H are
-        (n, Q, 3, 3) (A as below, dx included) and weights (3, n, Q) = (w2 dx, c dx, J dx).
+        (n, Q, 3, 3) (A as below, dx included) and weights (3, n, Q) = (w2 dx, c dx, J dx), plus
+        d dx as a fourth row when `D` = F - I1/3 H (n, Q, 3, 3) is given (non-Neo-Hookean laws:
+        the term d (D g_a)_i (D g_b)_k is added to K_fh).
 
         Local dofs: u component i of node a is 10 i + a, then the pressure dofs c. With
-        g_a = grad N_a, f_ai = F_iJ g_aJ, h_ai = H_iJ g_aJ and c = mu J^-2/3, the Neo-Hookean +
+        g_a = grad N_a, f_ai = F_iJ g_aJ, h_ai = H_iJ g_aJ and c = 2 Psi' J^-2/3, the Neo-Hookean +
         pressure tangent (`fem.neohooke.mixed_tangent`) contracted with g_a and g_b is, per
         quadrature point (weight dx),
 
