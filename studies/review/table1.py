@@ -126,10 +126,12 @@ def agreement(param: str, sel: rules.Selection) -> tuple[str, str]:
         return "undetermined", sel.reason
     if abs(sel.value - paper) < 1e-9:
         return "agree", sel.reason
+    from studies.review.table1_summary import paper_note
+
     return (
         "disagree",
         f"{sel.reason}; the paper's {paper:g} is excluded or not preferred by "
-        f"the rule: {_why_not(sel, paper)}",
+        f"the rule: {_why_not(sel, paper)}{paper_note(param, sel)}",
     )
 
 
