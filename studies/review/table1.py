@@ -178,7 +178,8 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
         f"`{results}` with the rules of `studies/review/rules.py` (thresholds: target pressure "
         f"{rules.TARGET_PRESSURE_KPA:g} kPa, fluctuation tolerance "
         f"{rules.FLUCTUATION_REL_TOL:.0%} / {rules.FLUCTUATION_SIGN_CHANGES} trend changes, "
-        f"similar extension {rules.SIMILAR_EXTENSION_REL:.0%}). The paper's values are those of its Table 1.",
+        f"similar extension {rules.SIMILAR_EXTENSION_REL:.0%}). The paper's values are those of its Table 1. "
+        "Studies on the default mesh (h = 5 mm) unless marked (quick mesh).",
         "",
     ]
     if not materials:
@@ -219,7 +220,8 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
     if materials:
         from studies.review.table1_summary import closing, summary_table
 
-        lines[4:4] = summary_table(results, materials, selections)
+        quick = {m for m in materials if any(material_run(results, m).quick(p) for p in STUDY_DIRS)}
+        lines[4:4] = summary_table(results, materials, selections, quick)
         lines += closing(results, materials, selections)
     if len(materials) > 1:
         lines += ["## Dependence on the material", ""]

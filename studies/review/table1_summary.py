@@ -104,7 +104,10 @@ def _cell(text: str) -> str:
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
-def summary_table(results, materials: Sequence[str], selections: Mapping[str, Mapping]) -> list[str]:
+def summary_table(
+    results, materials: Sequence[str], selections: Mapping[str, Mapping], quick=frozenset()
+) -> list[str]:
+    """One row per material; `quick`: materials whose studies ran on the quick mesh."""
     lines = [
         "## Summary per material assumption",
         "",
@@ -120,7 +123,8 @@ def summary_table(results, materials: Sequence[str], selections: Mapping[str, Ma
         why_r0 = _cell(r0.reason + paper_note("chamber_radius", r0))
         why_n = _cell(n.reason + paper_note("fiber_turns", n))
         lines.append(
-            f"| {material_role(results, m)} | {_cell(m)}: {_cell(_law(m))} | "
+            f"| {material_role(results, m)} | {_cell(m)}: {_cell(_law(m))}"
+            f"{' (quick mesh)' if m in quick else ''} | "
             f"{_verdict(r0, 'chamber_radius')} | {why_r0} | {_verdict(n, 'fiber_turns')} | {why_n} | "
             f"{_cell(lin_text)} |"
         )
