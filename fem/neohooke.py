@@ -1,4 +1,19 @@
-r"""Neo-Hookean hyperelasticity: strain energy, first Piola stress and its tangent.
+r"""Isotropic hyperelasticity in I1: the law protocol, Neo-Hookean, and the tensor algebra.
+
+Every law of the solver is decoupled and isochoric-in-I1 (docs/DESIGN.md section 3):
+
+    W(F) = Psi(I1bar) + K/2 (J - 1)^2,   I1bar = J^{-2/3} I1,  I1 = F:F,  J = det F,  H = F^{-T}.
+
+`IsochoricI1Law` turns Psi'(I1bar) and Psi''(I1bar) into stress and tangent for any such law
+(`fem.laws` has Yeoh and Gent). With c = 2 Psi' J^{-2/3}, D = F - I1/3 H and d = 4 Psi'' J^{-4/3}:
+
+    P_iso = c D
+    A_iso = c [ dd - 2/3 (F (x) H + H (x) F) + 2/9 I1 H (x) H + I1/3 H (.) H ] + d D (x) D
+
+(the bracket is the Neo-Hookean tangent per unit c; the last term is d c / dF (x) D, zero for
+Neo-Hookean, whose Psi = mu/2 (I1bar - 3) has Psi' = mu/2, Psi'' = 0).
+
+Neo-Hookean hyperelasticity: strain energy, first Piola stress and its tangent.
 
 Decoupled (isochoric/volumetric) Neo-Hookean solid with shear modulus mu and bulk modulus K:
 
@@ -35,14 +50,38 @@ import numpy as np
 from fem.errors import SolverInputError
 
 
-@dataclass(frozen=True, kw_only=True)
-class NeoHookean:
-    """Shear modulus `mu` and bulk modulus `bulk`, both in MPa."""
+class IsochoricI1Law:
+    """Base of the solver's laws: W = Psi(I1bar) + K/2 (J - 1)^2 (module docstring).
 
+    A law has `mu` (initial shear modulus, 2 Psi'(3)) and `bulk` (MPa) and defines
+    `psi(x)` and `psi_derivatives(x) -> (Psi', Psi'')` at x = I1bar - 3 >= 0 (arrays). Laws
+    with `LINEAR_IN_I1` (Neo-Hookean) take the solver's fast path, which skips the Psi'' term.
+    `check_state(x)` raises ValueError where the law is undefined (Gent's locking stretch).
+    """
+
+    LINEAR_IN_I1 = False
     mu: float
     bulk: float
 
-    def __post_init__(self):
+    def psi(self, x: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def psi_derivatives(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def check_state(self, x: np.ndarray) -> None:
+        """Raise ValueError where the law is undefined (nothing for most laws)."""
+
+    @property
+    def x_limit(self) -> float:
+        """Supremum of the admissible I1bar - 3 (infinite unless the law locks, as Gent does)."""
+        return float("inf")
+
+    @property
+    def poisson_ratio(self) -> float:
+        return (3 * self.bulk - 2 * self.mu) / (2 * (3 * self.bulk + self.mu))
+
+    def _validate_moduli(self) -> None:
         if not np.isfinite(self.mu) or self.mu <= 0:
             raise SolverInputError("mu", f"shear modulus must be positive, got {self.mu} MPa")
         if not np.isfinite(self.bulk) or self.bulk <= 0:
@@ -52,32 +91,52 @@ class NeoHookean:
                 "bulk", f"K = {self.bulk} MPa < 2/3 mu gives a negative Poisson ratio; use K >= 2/3 mu"
             )
 
+    def _state(self, F):
+        J, H = det3(F), inv_transpose3(F)
+        I1 = np.einsum("ij...,ij...->...", F, F)
+        x = J ** (-2.0 / 3.0) * I1 - 3.0
+        self.check_state(x)
+        return J, H, I1, x
+
+    def energy(self, F: np.ndarray) -> np.ndarray:
+        J, _, _, x = self._state(F)
+        return self.psi(x) + 0.5 * self.bulk * (J - 1) ** 2
+
+    def stress(self, F: np.ndarray) -> np.ndarray:
+        """First Piola stress P = dW/dF of the full (displacement-only) energy."""
+        J, H, I1, x = self._state(F)
+        d1, _ = self.psi_derivatives(x)
+        return (2.0 * d1 * J ** (-2 / 3)) * (F - I1 / 3 * H) + self.bulk * (J - 1) * J * H
+
+    def tangent(self, F: np.ndarray) -> np.ndarray:
+        """A = dP/dF of the full energy."""
+        J, H, I1, x = self._state(F)
+        d1, d2 = self.psi_derivatives(x)
+        A = general_iso_tangent(F, 2.0 * d1 * J ** (-2 / 3), 4.0 * d2 * J ** (-4 / 3), J, H)
+        return A + self.bulk * J * J * _outer(H, H) + pressure_tangent(self.bulk * (J - 1), J, H)
+
+
+@dataclass(frozen=True, kw_only=True)
+class NeoHookean(IsochoricI1Law):
+    """Shear modulus `mu` and bulk modulus `bulk`, both in MPa: Psi = mu/2 (I1bar - 3)."""
+
+    LINEAR_IN_I1 = True
+    mu: float
+    bulk: float
+
+    def __post_init__(self):
+        self._validate_moduli()
+
     @classmethod
     def nearly_incompressible(cls, mu: float, k_over_mu: float = 1000.0) -> NeoHookean:
         return cls(mu=mu, bulk=k_over_mu * mu)
 
-    @property
-    def poisson_ratio(self) -> float:
-        return (3 * self.bulk - 2 * self.mu) / (2 * (3 * self.bulk + self.mu))
+    def psi(self, x):
+        return 0.5 * self.mu * x
 
-    def energy(self, F: np.ndarray) -> np.ndarray:
-        J = det3(F)
-        I1 = np.einsum("ij...,ij...->...", F, F)
-        return 0.5 * self.mu * (J ** (-2 / 3) * I1 - 3) + 0.5 * self.bulk * (J - 1) ** 2
-
-    def stress(self, F: np.ndarray) -> np.ndarray:
-        """First Piola stress P = dW/dF of the full (displacement-only) energy."""
-        J, H = det3(F), inv_transpose3(F)
-        return iso_stress(F, self.mu, J, H) + self.bulk * (J - 1) * J * H
-
-    def tangent(self, F: np.ndarray) -> np.ndarray:
-        """A = dP/dF of the full energy."""
-        J, H = det3(F), inv_transpose3(F)
-        return (
-            iso_tangent(F, self.mu, J, H)
-            + self.bulk * J * J * _outer(H, H)
-            + pressure_tangent(self.bulk * (J - 1), J, H)
-        )
+    def psi_derivatives(self, x):
+        x = np.asarray(x, dtype=float)
+        return np.full_like(x, 0.5 * self.mu), np.zeros_like(x)
 
 
 def det3(F: np.ndarray) -> np.ndarray:
@@ -131,6 +190,14 @@ def iso_tangent(F, mu, J, H):
     A += dd
     A *= c
     return A
+
+
+def general_iso_tangent(F, c, d, J, H):
+    """c [Neo-Hookean bracket] + d D (x) D with D = F - I1/3 H (module docstring)."""
+    I1 = np.einsum("ij...,ij...->...", F, F)
+    A = iso_tangent(F, 1.0, J, H) * (c * J ** (2 / 3))
+    D = F - I1 / 3 * H
+    return A + d * _outer(D, D)
 
 
 def mixed_tangent(F, mu, p, J, H):

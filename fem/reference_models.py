@@ -18,20 +18,36 @@ MU = 0.03  # MPa, Ecoflex 00-50 default (docs/DESIGN.md section 3)
 
 
 def tube_model(
-    inner=1.0, outer=20.0, n_radial=12, n_angle=8, k_over_mu=1000.0, formulation="p2p1", fiber_sheets=()
+    inner=1.0,
+    outer=20.0,
+    n_radial=12,
+    n_angle=8,
+    k_over_mu=1000.0,
+    formulation="p2p1",
+    fiber_sheets=(),
+    law=None,
+    top_stretch=None,
 ):
+    """The 1/4 tube slice of height 1 mm. Plane strain (top on a symmetry plane) unless
+    `top_stretch` is given: then the top face moves axially by (top_stretch - 1) mm times the
+    load factor (a prescribed uniform axial stretch). `law` replaces the Neo-Hookean MU body."""
     mesh = tube_sector(
         inner, outer, height=1.0, n_radial=n_radial, n_angle=n_angle, n_height=1, geometric=True
+    )
+    top = (
+        Dirichlet.symmetry("top", 2)
+        if top_stretch is None
+        else Dirichlet.prescribed("top", 2, float(top_stretch) - 1.0)
     )
     bcs = [
         Dirichlet.symmetry("sym_x", 0),
         Dirichlet.symmetry("sym_y", 1),
         Dirichlet.symmetry("bottom", 2),
-        Dirichlet.symmetry("top", 2),
+        top,
     ]
     return SolidModel(
         mesh,
-        NeoHookean.nearly_incompressible(MU, k_over_mu),
+        law if law is not None else NeoHookean.nearly_incompressible(MU, k_over_mu),
         dirichlet=bcs,
         chambers=ChamberSpec(("inner",), (1, 1, 0)),
         formulation=formulation,

@@ -1,6 +1,7 @@
-r"""The hyperelastic body: nearly incompressible Neo-Hookean, mixed u-p or displacement only.
+r"""The hyperelastic body: nearly incompressible, mixed u-p or displacement only, any law W_iso(I1bar).
 
-Energy. With W_iso(F) = mu/2 (J^{-2/3} I1 - 3) (`fem.neohooke`) the mixed ("p2p1") energy is
+Energy. With W_iso(F) = Psi(I1bar), I1bar = J^{-2/3} I1 (Neo-Hookean Psi = mu/2 (I1bar - 3),
+`fem.neohooke`; Yeoh and Gent, `fem.laws`) the mixed ("p2p1") energy is
 
     Pi(u, p) = int_Omega [ W_iso(F) + p (J - 1) - p^2 / (2K) ] dV
 
@@ -9,7 +10,12 @@ Residuals (test functions du, dp):
 
     R_u = int (P_iso + p J F^{-T}) : grad du dV,       R_p = int (J - 1 - p/K) dp dV
 
-mu and K are element-wise (a mapping subdomain -> material gives a multi-material body).
+Psi', Psi'' and K are element-wise (a mapping subdomain -> law gives a multi-material body). The
+stress is P_iso = c (F - I1/3 H) with c = 2 Psi' J^{-2/3}; the tangent is the Neo-Hookean one with
+this c plus d D (x) D, d = 4 Psi'' J^{-4/3}, D = F - I1/3 H (`fem.neohooke`). A body of
+Neo-Hookean laws only has Psi' = mu/2 constant and d = 0: its stress and tangent take the
+original Neo-Hookean path (no Psi'' term, no extra product), so it is not slowed down. Otherwise
+the D (x) D term is one more batched product per chunk, sum_q d dx (D g_a)_i (D g_b)_k.
 
 Assembly is vectorised over all elements and quadrature points (batched matrix products), never a
 per-basis-function loop: docs/DESIGN.md section 7 says why this matters. The pointwise
@@ -45,7 +51,7 @@ import numpy as np
 
 from fem.discretisation import Discretisation
 from fem.errors import SolverInputError
-from fem.neohooke import NeoHookean, cofactor3, det3
+from fem.neohooke import IsochoricI1Law, cofactor3, det3
 from fem.parallel import for_chunks
 from fem.pattern import Mirrored
 
@@ -94,18 +100,20 @@ class Stress(NamedTuple):
     J: np.ndarray  # (E, Q)
     H: np.ndarray  # F^-T, (3, 3, E, Q)
     p: np.ndarray  # pressure, (E, Q)
-    c: np.ndarray  # mu J^-2/3, (E, Q)
+    c: np.ndarray  # 2 Psi' J^-2/3 (mu J^-2/3 for Neo-Hookean), (E, Q)
     I1: np.ndarray  # F:F, (E, Q)
     P: np.ndarray  # first Piola stress, (3, 3, E, Q)
+    d: np.ndarray | None = None  # 4 Psi'' J^-4/3 (E, Q); None for a Neo-Hookean body
 
 
 class Solid:
-    """The body of `space` with `materials` (one `NeoHookean`, or a mapping subdomain -> law)."""
+    """The body of `space` with `materials` (one law, e.g. `NeoHookean`, `fem.laws.Yeoh`, or a
+    mapping subdomain -> law)."""
 
     def __init__(self, space: Discretisation, materials) -> None:
         self.space = space
         self.mixed = space.mixed
-        self.mu, self.bulk = _material_arrays(space.mesh, materials, space.dx.shape[0])
+        self.mu, self.bulk, self._nonlinear = _material_arrays(space.mesh, materials, space.dx.shape[0])
         # g_a . g_b (a <= b, `np.triu_indices(10)`) at each quadrature point: (E, Q, 55)
         ta, tb = np.triu_indices(10)
         self._gg = np.ascontiguousarray(np.einsum("aJeq,aJeq->eqa", space.dN[ta], space.dN[tb]))
@@ -136,8 +144,9 @@ class Solid:
         return self.bulk * (det3(F) - 1.0)
 
     def stress(self, x: np.ndarray) -> Stress:
-        """F, J, H = F^-T, the pressure p, c = mu J^-2/3, I1 = F:F and the first Piola stress
-        P = c (F - I1/3 H) + p J H at all quadrature points (p = K (J - 1) for "p2").
+        """F, J, H = F^-T, the pressure p, c = 2 Psi' J^-2/3 (mu J^-2/3 for Neo-Hookean), I1 = F:F,
+        the first Piola stress P = c (F - I1/3 H) + p J H at all quadrature points (p = K (J - 1)
+        for "p2") and, for a non-Neo-Hookean law, d = 4 Psi'' J^-4/3.
 
         Tensors are (3, 3, E, Q) and scalars (E, Q), contiguous: every component is one
         contiguous array, so the pointwise algebra runs at memory speed."""
@@ -149,9 +158,27 @@ class Solid:
         H /= J
         p = self.pressure_field(x) if self.mixed else self.bulk * (J - 1.0)
         I1 = np.einsum("ijeq,ijeq->eq", F, F)
-        c = self.mu * J ** (-2.0 / 3.0)
+        if not self._nonlinear:
+            c = self.mu * J ** (-2.0 / 3.0)
+            P = c * (F - (I1 / 3.0) * H) + (p * J) * H
+            return Stress(F, J, H, p, c, I1, P)
+        c, d = self._law_coefficients(J, I1)
         P = c * (F - (I1 / 3.0) * H) + (p * J) * H
-        return Stress(F, J, H, p, c, I1, P)
+        return Stress(F, J, H, p, c, I1, P, d)
+
+    def _law_coefficients(self, J, I1):
+        """c = 2 Psi' J^-2/3 and d = 4 Psi'' J^-4/3 (E, Q) for a body with a non-Neo-Hookean law."""
+        j23 = J ** (-2.0 / 3.0)
+        psi1 = np.broadcast_to(0.5 * self.mu, J.shape).copy()  # Neo-Hookean elements
+        psi2 = np.zeros_like(J)
+        x = j23 * I1 - 3.0
+        for elements, law in self._nonlinear:
+            try:
+                law.check_state(x[elements])
+            except ValueError as exc:
+                raise InvertedElement(str(exc)) from None
+            psi1[elements], psi2[elements] = law.psi_derivatives(x[elements])
+        return 2.0 * psi1 * j23, 4.0 * psi2 * j23 * j23
 
     def element_residual(self, stress: Stress) -> np.ndarray:
         """Element residuals (E, n_local) in the local order of `element_dofs`:
@@ -180,18 +207,24 @@ class Solid:
         A = stress.F * ((-2.0 / 3.0) * c * dx) + stress.H * (0.5 * w1 * dx)
         A = np.ascontiguousarray(A.transpose(2, 3, 0, 1))
         weights = np.stack([w2 * dx, c * dx, J * dx])
+        D = None
+        if stress.d is not None:  # D = F - I1/3 H and its weight d dx, for the d D (x) D term
+            D = np.ascontiguousarray((stress.F - (I1 / 3.0) * stress.H).transpose(2, 3, 0, 1))
+            weights = np.concatenate([weights, (stress.d * dx)[None]])
         for_chunks(
-            lambda s: self._tangent_chunk(s, A[s], H[s], weights[:, s], blocks),
+            lambda s: self._tangent_chunk(s, A[s], H[s], weights[:, s], blocks, None if D is None else D[s]),
             self.space.dx.shape[0],
             _CHUNK,
         )
 
-    def _tangent_chunk(self, s, A, H, weights, blocks):
+    def _tangent_chunk(self, s, A, H, weights, blocks, D=None):
         r"""Element matrices of the elements `s` (a slice) into blocks[k][s]; A and H are
-        (n, Q, 3, 3) (A as below, dx included) and weights (3, n, Q) = (w2 dx, c dx, J dx).
+        (n, Q, 3, 3) (A as below, dx included) and weights (3, n, Q) = (w2 dx, c dx, J dx), plus
+        d dx as a fourth row when `D` = F - I1/3 H (n, Q, 3, 3) is given (non-Neo-Hookean laws:
+        the term d (D g_a)_i (D g_b)_k is added to K_fh).
 
         Local dofs: u component i of node a is 10 i + a, then the pressure dofs c. With
-        g_a = grad N_a, f_ai = F_iJ g_aJ, h_ai = H_iJ g_aJ and c = mu J^-2/3, the Neo-Hookean +
+        g_a = grad N_a, f_ai = F_iJ g_aJ, h_ai = H_iJ g_aJ and c = 2 Psi' J^-2/3, the Neo-Hookean +
         pressure tangent (`fem.neohooke.mixed_tangent`) contracted with g_a and g_b is, per
         quadrature point (weight dx),
 
@@ -211,7 +244,7 @@ class Solid:
         """
         gt = self.space.g_qJa[s]  # gt[e, q, J, a] = dN_a/dX_J
         n, Q = H.shape[:2]
-        w_sw, w_g, w_p = weights[:, :, :, None]
+        w_sw, w_g, w_p = weights[:3, :, :, None]
         Vh = np.empty((n, 3 * Q, 3, 10))  # rows [V; h; V]
         np.matmul(A, gt, out=Vh[:, :Q])  # V[e, q, i, a] = (A g_a)_i dx
         np.matmul(H, gt, out=Vh[:, Q : 2 * Q])  # h[e, q, i, a]
@@ -221,6 +254,11 @@ class Solid:
         terms = np.empty((n, 1800))  # [K_fh | M]
         np.matmul(Vh[:, : 2 * Q].transpose(0, 2, 1), Vh[:, Q:], out=_view(terms[:, :900], (n, 30, 30)))
         np.matmul((h * w_sw).transpose(0, 2, 1), h, out=_view(terms[:, 900:], (n, 30, 30)))
+        if D is not None:  # + sum_q d dx (D g_a)_i (D g_b)_k, symmetric, into the K_fh part
+            Dg = np.matmul(D, gt).reshape(n, Q, 30)
+            _view(terms[:, :900], (n, 30, 30))[...] += np.matmul(
+                (Dg * weights[3][:, :, None]).transpose(0, 2, 1), Dg
+            )
         picked = np.take(terms, _UU_GATHER, axis=1)  # (n, 465 + 465)
         Kuu = blocks[0][s]
         np.add(picked[:, :465], picked[:, 465:], out=Kuu)
@@ -232,18 +270,27 @@ class Solid:
 
 
 def _material_arrays(mesh, materials, n_elem):
-    if isinstance(materials, NeoHookean):
-        return np.full((n_elem, 1), materials.mu), np.full((n_elem, 1), materials.bulk)
+    """(mu, K) arrays (E, 1) and the non-Neo-Hookean laws as [(element indices, law)]."""
+    if isinstance(materials, IsochoricI1Law):
+        nonlinear = [] if materials.LINEAR_IN_I1 else [(np.arange(n_elem), materials)]
+        return np.full((n_elem, 1), materials.mu), np.full((n_elem, 1), materials.bulk), nonlinear
     if not isinstance(materials, Mapping):
-        raise SolverInputError("materials", "give a NeoHookean or a mapping subdomain -> NeoHookean")
+        raise SolverInputError(
+            "materials", "give a law (NeoHookean, Yeoh, Gent) or a mapping subdomain -> law"
+        )
     subdomains = mesh.subdomains or {}
     mu = np.full((n_elem, 1), np.nan)
     bulk = np.full((n_elem, 1), np.nan)
+    nonlinear = []
     for name, mat in materials.items():
         if name not in subdomains:
             raise SolverInputError("materials", f"unknown subdomain {name!r}; known: {sorted(subdomains)}")
+        if not isinstance(mat, IsochoricI1Law):
+            raise SolverInputError("materials", f"subdomain {name!r}: {mat!r} is not a solver law")
         mu[subdomains[name]] = mat.mu
         bulk[subdomains[name]] = mat.bulk
+        if not mat.LINEAR_IN_I1:
+            nonlinear.append((np.asarray(subdomains[name]), mat))
     if np.isnan(mu).any():
         raise SolverInputError("materials", "some elements have no material")
-    return mu, bulk
+    return mu, bulk, nonlinear

@@ -27,32 +27,23 @@ Cases
   reported limit pressure against the analytic maximum.
 - newton: residual ratios of the last Newton iterations of a follower-pressure step (quadratic
   convergence: r_{k+1} <= C r_k^2).
+- yeoh-tube, gent-tube, yeoh-closed-tube, gent-closed-tube: the strain-stiffening laws against
+  the thick-tube theory for any W(I1), plane strain and closed ends through the limit point
+  (`fem.law_verification`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from fem import analytic
+from fem.case_result import CaseResult
+from fem.law_verification import CASES as LAW_CASES
 from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.path import NewtonOptions, load_path, volume_path
 from fem.reference_models import MU, mean_radius, sphere_inner_stretch, sphere_model, tube_model
 from fem.structured import box
-
-
-@dataclass(frozen=True)
-class CaseResult:
-    name: str
-    error: float  # worst relative error against the analytic solution
-    tolerance: float
-    details: dict = field(default_factory=dict)
-
-    @property
-    def passed(self) -> bool:
-        return bool(np.isfinite(self.error) and self.error <= self.tolerance)
 
 
 def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
@@ -332,6 +323,7 @@ CASES = {
     "sphere-volume": sphere_volume_test,
     "sphere-limit": sphere_limit_test,
     "newton": newton_test,
+    **LAW_CASES,  # Yeoh and Gent against the thick-tube theory for any W(I1) (fem.law_verification)
 }
 
 

@@ -1,8 +1,16 @@
 """Least-squares fits of incompressible hyperelastic laws to a uniaxial tensile test.
 
 Both Neo-Hookean and Yeoh nominal stresses are linear in their constants (`materials.material`),
-so `fit_neo_hookean` and `fit_yeoh` are linear least squares on the nominal stress (absolute
-residuals, in MPa). See `select_fit_points` for the data handling and `DEFAULT_MAX_STRAIN` for the
+so `fit_neo_hookean` and `fit_yeoh` are linear least squares on the nominal stress. Gent is
+linear in mu for a fixed Jm, so `fit_gent` is a one-dimensional search over Jm (> the largest
+I1 - 3 of the data) around a linear least squares.
+
+Residuals are absolute (MPa, `weighting="absolute"`, the default for the 0-100 % fits) or
+relative to the measured stress (`weighting="relative"`): over the full pull-to-failure curve the
+stress spans three decades (0.005-1 MPa), so an absolute fit is decided by the last points and
+ignores the actuator's range (stretch < 3), while a relative fit weighs every decade alike. The
+full-range presets (`materials.presets`) use the relative residuals and state both errors.
+See `select_fit_points` for the data handling and `DEFAULT_MAX_STRAIN` for the
 default strain range.
 """
 
@@ -19,6 +27,7 @@ from materials.material import (
     Material,
     MaterialError,
     finite_number,
+    gent_uniaxial,
     neo_hookean_uniaxial,
     yeoh_design_matrix,
     yeoh_is_stable,
@@ -26,7 +35,10 @@ from materials.material import (
 )
 from materials.tensile import TensileData
 
-FIT_MODELS = ("neo-hookean", "yeoh")
+FIT_MODELS = ("neo-hookean", "yeoh", "gent")
+WEIGHTINGS = ("absolute", "relative")
+#: Full range of the shipped pull-to-failure tests (engineering strain; Ecoflex 00-50 ends at 16.4).
+FULL_RANGE_STRAIN = 100.0
 
 
 #: Default upper engineering strain of the fits (stretch 2). The ePSA's silicone works at
@@ -58,6 +70,9 @@ class FitResult:
     relative_rms_error: float
     r_squared: float
     notes: tuple[str, ...] = ()
+    weighting: str = "absolute"
+    #: RMS of (model - measured) / measured over the points: the error a relative fit minimises.
+    rms_pointwise_relative_error: float = float("nan")
 
     @property
     def params(self) -> dict[str, float]:
@@ -65,13 +80,15 @@ class FitResult:
 
     @property
     def initial_shear_modulus(self) -> float:
-        """mu for Neo-Hookean, 2 C10 for Yeoh [MPa]."""
-        return self.values[0] if self.model == "neo-hookean" else 2.0 * self.values[0]
+        """mu for Neo-Hookean and Gent, 2 C10 for Yeoh [MPa]."""
+        return 2.0 * self.values[0] if self.model == "yeoh" else self.values[0]
 
     def predict(self, stretch: ArrayLike) -> np.ndarray:
         """Model nominal stress [MPa] at `stretch`."""
         if self.model == "neo-hookean":
             return neo_hookean_uniaxial(stretch, self.values[0])
+        if self.model == "gent":
+            return gent_uniaxial(stretch, *self.values)
         return yeoh_uniaxial(stretch, self.values)
 
     def to_material(
@@ -81,6 +98,16 @@ class FitResult:
         if self.model == "neo-hookean":
             return Material(
                 name=name, model="neo-hookean", mu=mu, bulk=k_over_mu * mu, density=density, source=source
+            )
+        if self.model == "gent":
+            return Material(
+                name=name,
+                model="gent",
+                mu=mu,
+                gent_jm=self.values[1],
+                bulk=k_over_mu * mu,
+                density=density,
+                source=source,
             )
         return Material(
             name=name,
@@ -102,6 +129,8 @@ class FitResult:
             "rms_error_mpa": self.rms_error,
             "relative_rms_error": self.relative_rms_error,
             "r_squared": self.r_squared,
+            "weighting": self.weighting,
+            "rms_pointwise_relative_error": self.rms_pointwise_relative_error,
             "notes": list(self.notes),
         }
 
@@ -130,7 +159,10 @@ def select_fit_points(
 
 
 def fit_neo_hookean(
-    stretch: ArrayLike, nominal_stress: ArrayLike, max_strain: float = DEFAULT_MAX_STRAIN
+    stretch: ArrayLike,
+    nominal_stress: ArrayLike,
+    max_strain: float = DEFAULT_MAX_STRAIN,
+    weighting: str = "absolute",
 ) -> FitResult:
     """Fit mu of P = mu (lam - lam^-2) by linear least squares: mu = sum(g P) / sum(g^2).
 
@@ -140,14 +172,19 @@ def fit_neo_hookean(
     """
     lam, stress = _points_for_fit(stretch, nominal_stress, max_strain, n_params=1)
     g = lam - lam**-2
-    mu = float(g @ stress / (g @ g))
+    w = _weights(stress, weighting)
+    mu = float((w * g) @ (w * stress) / ((w * g) @ (w * g)))
     if mu <= 0.0:
         raise MaterialError("nominal_stress", f"fitted mu = {mu:g} MPa is not positive")
-    return _fit_result("neo-hookean", ("mu",), (mu,), lam, stress, mu * g, max_strain, ())
+    return _fit_result("neo-hookean", ("mu",), (mu,), lam, stress, mu * g, max_strain, (), weighting)
 
 
 def fit_yeoh(
-    stretch: ArrayLike, nominal_stress: ArrayLike, max_strain: float = DEFAULT_MAX_STRAIN, stable: bool = True
+    stretch: ArrayLike,
+    nominal_stress: ArrayLike,
+    max_strain: float = DEFAULT_MAX_STRAIN,
+    stable: bool = True,
+    weighting: str = "absolute",
 ) -> FitResult:
     """Fit (C10, C20, C30) of the incompressible uniaxial Yeoh law by linear least squares.
 
@@ -162,35 +199,92 @@ def fit_yeoh(
     which may not be usable as a `Material` (on the shipped Ecoflex data C30 comes out < 0).
     """
     lam, stress = _points_for_fit(stretch, nominal_stress, max_strain, n_params=3)
-    design = yeoh_design_matrix(lam)
-    coefficients = np.linalg.lstsq(design, stress, rcond=None)[0]
+    w = _weights(stress, weighting)[:, None]
+    full_design = yeoh_design_matrix(lam)
+    design, stress_w = full_design * w, stress * w[:, 0]
+    coefficients = np.linalg.lstsq(design, stress_w, rcond=None)[0]
     notes: list[str] = []
     if stable and not yeoh_is_stable(coefficients):
         notes.append(
             f"unconstrained fit (C10, C20, C30) = ({', '.join(f'{c:.4g}' for c in coefficients)})"
             " is unstable at large strain; refitted with C10 > 0, C30 >= 0"
         )
-        coefficients = _bounded_lstsq(design, stress, c20_min=-np.inf)
+        coefficients = _bounded_lstsq(design, stress_w, c20_min=-np.inf)
         if not yeoh_is_stable(coefficients):
             notes.append(f"C20 = {coefficients[1]:.4g} < 0 with C20^2 >= 3 C10 C30; refitted with C20 >= 0")
-            coefficients = _bounded_lstsq(design, stress, c20_min=0.0)
+            coefficients = _bounded_lstsq(design, stress_w, c20_min=0.0)
     values = tuple(float(c) for c in coefficients)
     if values[0] <= 0.0:
         raise MaterialError("nominal_stress", f"fitted C10 = {values[0]:g} MPa is not positive")
     return _fit_result(
-        "yeoh", ("C10", "C20", "C30"), values, lam, stress, design @ coefficients, max_strain, tuple(notes)
+        "yeoh",
+        ("C10", "C20", "C30"),
+        values,
+        lam,
+        stress,
+        full_design @ coefficients,
+        max_strain,
+        tuple(notes),
+        weighting,
     )
 
 
-def fit_tensile(
-    data: TensileData, model: str = "neo-hookean", max_strain: float = DEFAULT_MAX_STRAIN
+def fit_gent(
+    stretch: ArrayLike,
+    nominal_stress: ArrayLike,
+    max_strain: float = DEFAULT_MAX_STRAIN,
+    weighting: str = "absolute",
 ) -> FitResult:
-    """Fit `model` ('neo-hookean' or 'yeoh') to a loaded tensile test."""
+    """Fit (mu, Jm) of P = mu (lam - lam^-2) / (1 - x/Jm), x = lam^2 + 2/lam - 3.
+
+    For each Jm the best mu is a linear least squares; Jm is searched (bounded scalar search on
+    log Jm) between 1.0001 x_max (the data's largest x: Gent is undefined past Jm) and 1e6 (where
+    Gent is Neo-Hookean to within x_max/1e6)."""
+    from scipy.optimize import minimize_scalar
+
+    lam, stress = _points_for_fit(stretch, nominal_stress, max_strain, n_params=2)
+    w = _weights(stress, weighting)
+    x = lam**2 + 2.0 / lam - 3.0
+    g = lam - lam**-2
+
+    def best_mu(jm: float) -> tuple[float, float]:
+        a = w * g / (1.0 - x / jm)
+        mu = float(a @ (w * stress) / (a @ a))
+        return mu, float(np.sum((mu * a - w * stress) ** 2))
+
+    lo, hi = np.log(1.0001 * x.max()), np.log(1e6)
+    found = minimize_scalar(lambda t: best_mu(np.exp(t))[1], bounds=(lo, hi), method="bounded")
+    jm = float(np.exp(found.x))
+    mu = best_mu(jm)[0]
+    if mu <= 0.0:
+        raise MaterialError("nominal_stress", f"fitted mu = {mu:g} MPa is not positive")
+    predicted = mu * g / (1.0 - x / jm)
+    return _fit_result("gent", ("mu", "Jm"), (mu, jm), lam, stress, predicted, max_strain, (), weighting)
+
+
+def fit_tensile(
+    data: TensileData,
+    model: str = "neo-hookean",
+    max_strain: float = DEFAULT_MAX_STRAIN,
+    weighting: str = "absolute",
+) -> FitResult:
+    """Fit `model` ('neo-hookean', 'yeoh' or 'gent') to a loaded tensile test."""
     if model == "neo-hookean":
-        return fit_neo_hookean(data.stretch, data.nominal_stress, max_strain)
+        return fit_neo_hookean(data.stretch, data.nominal_stress, max_strain, weighting)
     if model == "yeoh":
-        return fit_yeoh(data.stretch, data.nominal_stress, max_strain)
+        return fit_yeoh(data.stretch, data.nominal_stress, max_strain, weighting=weighting)
+    if model == "gent":
+        return fit_gent(data.stretch, data.nominal_stress, max_strain, weighting)
     raise MaterialError("model", f"unknown fit model {model!r}; valid: {', '.join(FIT_MODELS)}")
+
+
+def _weights(stress: np.ndarray, weighting: str) -> np.ndarray:
+    """1 (absolute residuals) or 1/stress (relative residuals; the stresses are > 0 here)."""
+    if weighting == "absolute":
+        return np.ones_like(stress)
+    if weighting == "relative":
+        return 1.0 / stress
+    raise MaterialError("weighting", f"unknown weighting {weighting!r}; valid: {', '.join(WEIGHTINGS)}")
 
 
 def _bounded_lstsq(design: np.ndarray, stress: np.ndarray, c20_min: float) -> np.ndarray:
@@ -237,9 +331,11 @@ def _fit_result(
     predicted: np.ndarray,
     max_strain: float,
     notes: tuple[str, ...],
+    weighting: str,
 ) -> FitResult:
     residual = stress - predicted
     rms = float(np.sqrt(np.mean(residual**2)))
+    rms_rel = float(np.sqrt(np.mean((residual / stress) ** 2)))
     ss_tot = float(np.sum((stress - stress.mean()) ** 2))
     return FitResult(
         model=model,
@@ -252,4 +348,6 @@ def _fit_result(
         relative_rms_error=rms / float(np.sqrt(np.mean(stress**2))),
         r_squared=1.0 - float(np.sum(residual**2)) / ss_tot if ss_tot > 0.0 else float("nan"),
         notes=notes,
+        weighting=weighting,
+        rms_pointwise_relative_error=rms_rel,
     )

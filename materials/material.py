@@ -13,7 +13,11 @@ Constitutive models
 
     W = C10 (I1_bar - 3) + C20 (I1_bar - 3)^2 + C30 (I1_bar - 3)^3 + K/2 (J - 1)^2
 
-with initial shear modulus mu = 2 C10. ``linear-elastic`` (ABS rings, Kevlar fiber trusses) is given
+with initial shear modulus mu = 2 C10. ``gent`` (initial shear modulus mu, locking parameter Jm)::
+
+    W = -mu Jm / 2 ln(1 - (I1_bar - 3) / Jm) + K/2 (J - 1)^2
+
+``linear-elastic`` (ABS rings, Kevlar fiber trusses) is given
 by Young's modulus E and Poisson's ratio nu; mu and K follow from
 
     mu = E / (2 (1 + nu)),   K = E / (3 (1 - 2 nu)).
@@ -33,6 +37,7 @@ I1 = lam^2 + 2/lam, the nominal (engineering) stress P = force / undeformed area
 
     Neo-Hookean:  P = mu (lam - lam^-2)
     Yeoh:         P = 2 (lam - lam^-2) (C10 + 2 C20 (I1 - 3) + 3 C30 (I1 - 3)^2)
+    Gent:         P = mu (lam - lam^-2) / (1 - (I1 - 3) / Jm)
 """
 
 from __future__ import annotations
@@ -48,8 +53,8 @@ from numpy.typing import ArrayLike
 from softcrawl.checks import brief
 from softcrawl.errors import InputError
 
-MODELS = ("neo-hookean", "yeoh", "linear-elastic")
-HYPERELASTIC_MODELS = ("neo-hookean", "yeoh")
+MODELS = ("neo-hookean", "yeoh", "gent", "linear-elastic")
+HYPERELASTIC_MODELS = ("neo-hookean", "yeoh", "gent")
 
 #: Default bulk-to-shear modulus ratio of the nearly incompressible solids (nu = 0.4995).
 DEFAULT_K_OVER_MU = 1000.0
@@ -111,6 +116,7 @@ class Material:
 
     Give ``mu`` (and optionally ``bulk``, default ``DEFAULT_K_OVER_MU * mu``) for
     ``neo-hookean``; ``yeoh_c = (C10, C20, C30)`` for ``yeoh`` (``mu`` is then 2 C10);
+    ``mu`` and ``gent_jm`` for ``gent``;
     ``youngs`` and ``poisson`` for ``linear-elastic`` (``mu`` and ``bulk`` are derived). After
     construction ``mu`` and ``bulk`` are always set. Moduli in MPa, density in t/mm^3.
     """
@@ -121,6 +127,7 @@ class Material:
     mu: float | None = None
     bulk: float | None = None
     yeoh_c: tuple[float, float, float] | None = None
+    gent_jm: float | None = None
     youngs: float | None = None
     poisson: float | None = None
     source: str = ""
@@ -151,6 +158,8 @@ class Material:
     def _linear_elastic_moduli(self) -> tuple[float, float]:
         if self.yeoh_c is not None:
             raise MaterialError("yeoh_c", "only for model 'yeoh'")
+        if self.gent_jm is not None:
+            raise MaterialError("gent_jm", "only for model 'gent'")
         if self.youngs is None:
             raise MaterialError("youngs", "required for model 'linear-elastic'")
         if self.poisson is None:
@@ -182,6 +191,13 @@ class Material:
         else:
             if self.yeoh_c is not None:
                 raise MaterialError("yeoh_c", "only for model 'yeoh'")
+            if self.model == "gent":
+                jm = finite_number(self.gent_jm, "gent_jm") if self.gent_jm is not None else None
+                if jm is None or jm <= 0.0:
+                    raise MaterialError("gent_jm", f"model 'gent' needs a locking parameter Jm > 0, got {jm}")
+                object.__setattr__(self, "gent_jm", jm)
+            elif self.gent_jm is not None:
+                raise MaterialError("gent_jm", "only for model 'gent'")
             if self.mu is None:
                 raise MaterialError("mu", f"required for model {self.model!r}")
             mu = modulus(self.mu, "mu")
@@ -226,6 +242,18 @@ class Material:
     def is_hyperelastic(self) -> bool:
         return self.model in HYPERELASTIC_MODELS
 
+    @property
+    def law_label(self) -> str:
+        """The constitutive law and its constants in one line (every study and row names it)."""
+        if self.model == "yeoh":
+            c = ", ".join(f"{v:.4g}" for v in self.yeoh_c)
+            return f"Yeoh (C10, C20, C30) = ({c}) MPa"
+        if self.model == "gent":
+            return f"Gent mu = {self.mu:.4g} MPa, Jm = {self.gent_jm:.4g}"
+        if self.model == "neo-hookean":
+            return f"Neo-Hookean mu = {self.mu:.4g} MPa"
+        return f"linear elastic E = {self.youngs:.4g} MPa, nu = {self.poisson:.3g}"
+
     def with_mu(self, mu: float) -> Material:
         """A copy with shear modulus `mu` [MPa] and everything else scaled along.
 
@@ -254,6 +282,8 @@ class Material:
             return neo_hookean_uniaxial(stretch, self.mu)
         if self.model == "yeoh":
             return yeoh_uniaxial(stretch, self.yeoh_c)
+        if self.model == "gent":
+            return gent_uniaxial(stretch, self.mu, self.gent_jm)
         raise MaterialError("model", "uniaxial_nominal_stress is for hyperelastic models")
 
     def to_dict(self) -> dict:
@@ -355,6 +385,12 @@ def yeoh_uniaxial(stretch: ArrayLike, yeoh_c: Sequence[float]) -> np.ndarray:
     """Nominal stress P = 2 (lam - lam^-2)(C10 + 2 C20 x + 3 C30 x^2), x = lam^2 + 2/lam - 3."""
     lam = np.asarray(stretch, dtype=float)
     return yeoh_design_matrix(lam) @ np.asarray(yeoh_c, dtype=float)
+
+
+def gent_uniaxial(stretch: ArrayLike, mu: float, jm: float) -> np.ndarray:
+    """Nominal stress P = mu (lam - lam^-2) / (1 - x/Jm), x = lam^2 + 2/lam - 3 (x < Jm)."""
+    lam = np.asarray(stretch, dtype=float)
+    return mu * (lam - lam**-2) / (1.0 - (lam**2 + 2.0 / lam - 3.0) / jm)
 
 
 def yeoh_design_matrix(lam: np.ndarray) -> np.ndarray:

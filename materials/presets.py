@@ -7,7 +7,9 @@ import math
 from collections.abc import Callable
 from dataclasses import replace
 
-from materials.fitting import DEFAULT_MAX_STRAIN, fit_tensile
+import numpy as np
+
+from materials.fitting import DEFAULT_MAX_STRAIN, FULL_RANGE_STRAIN, fit_tensile
 from materials.material import Material, MaterialError, shear_modulus_nearly_incompressible, shore_a_to_youngs
 from materials.tensile import DATA_ATTRIBUTION, DATA_LICENSE, TENSILE_FILES, load_tensile
 from softcrawl.checks import brief
@@ -113,9 +115,36 @@ def _fitted(data_name: str) -> Material:
     return fit.to_material(name=f"{data_name}-fit", density=_SILICONE_DENSITY[data_name], source=source)
 
 
+@functools.cache
+def _fitted_full_range(data_name: str, model: str) -> Material:
+    """Yeoh or Gent fit over the whole pull-to-failure curve with relative residuals
+    (`materials.fitting` says why), computed at first use and cached."""
+    data = load_tensile(data_name)
+    fit = fit_tensile(data, model, FULL_RANGE_STRAIN, weighting="relative")
+    working = fit_tensile(data, "neo-hookean", DEFAULT_MAX_STRAIN)
+    lam = data.stretch[(data.stretch > 1.0) & (data.stretch <= 1.0 + DEFAULT_MAX_STRAIN)]
+    measured = data.nominal_stress[(data.stretch > 1.0) & (data.stretch <= 1.0 + DEFAULT_MAX_STRAIN)]
+    keep = measured > 0.0
+    low = float(np.sqrt(np.mean(((fit.predict(lam[keep]) - measured[keep]) / measured[keep]) ** 2)))
+    constants = ", ".join(f"{k} = {v:.4g}" for k, v in fit.params.items())
+    source = (
+        f"{model.capitalize()} least-squares fit (relative residuals) to SRMD uniaxial tensile data "
+        f"({TENSILE_FILES[data_name]}) over its full range, engineering strain "
+        f"{fit.strain_range[0]:.3f}-{fit.strain_range[1]:.2f}, {fit.n_points} points: {constants} "
+        f"(MPa); RMS relative error {100 * fit.rms_pointwise_relative_error:.1f} % over the range, "
+        f"{100 * low:.1f} % over strain 0-{DEFAULT_MAX_STRAIN:g} (where the Neo-Hookean fit "
+        f"mu = {working.values[0]:.4g} MPa has {100 * working.relative_rms_error:.1f} % of RMS "
+        f"stress). {DATA_ATTRIBUTION} {DATA_LICENSE}"
+    )
+    suffix = {"yeoh": "yeoh", "gent": "gent"}[model]
+    return fit.to_material(name=f"{data_name}-{suffix}", density=_SILICONE_DENSITY[data_name], source=source)
+
+
 PRESETS: dict[str, Callable[[], Material]] = {
     "ecoflex-00-50": _ecoflex_00_50,
     "ecoflex-00-50-fit": functools.partial(_fitted, "ecoflex-00-50"),
+    "ecoflex-00-50-yeoh": functools.partial(_fitted_full_range, "ecoflex-00-50", "yeoh"),
+    "ecoflex-00-50-gent": functools.partial(_fitted_full_range, "ecoflex-00-50", "gent"),
     "ecoflex-00-30": _ecoflex_00_30,
     "ecoflex-00-30-fit": functools.partial(_fitted, "ecoflex-00-30"),
     "dragon-skin-30": _dragon_skin_30,

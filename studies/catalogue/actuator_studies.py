@@ -97,11 +97,22 @@ def run_sweep_study(
     return write_sweep_outputs(name, spec, rows, folder)
 
 
+def _law_label(material) -> str:
+    """The material's law and constants (every results row names its law); "" if unknown."""
+    try:
+        from materials import get_material
+
+        return get_material(str(material)).law_label
+    except Exception:  # noqa: BLE001 - a fake material in tests
+        return ""
+
+
 def summary_rows(rows, param: str) -> list[dict]:
     """One row per design: status, limit pressure, the response at 100 kPa and the rule inputs."""
-    from studies.review import rules
+    from studies.review import linearity, rules
 
     summary = []
+    law = _law_label(rows[0].get("material")) if rows else ""
     for value, c in sorted(rules.design_curves(rows, param).items()):
         top = c.at(rules.TARGET_PRESSURE_KPA)
         fluct, how = rules.fluctuation(c) if c.pressures else (False, "no data")
@@ -117,7 +128,10 @@ def summary_rows(rows, param: str) -> list[dict]:
                 "radial_expansion_100kpa_mm": "" if top is None else top[1] - c.radius0,
                 "fluctuating": fluct,
                 "fluctuation": how,
-                "linearity_r2": round(rules.linearity_r2(c), 6) if c.pressures else "",
+                "nonlinearity": ""
+                if linearity.nonlinearity(c) is None
+                else round(linearity.nonlinearity(c), 6),
+                "material_law": law,
             }
         )
     return summary

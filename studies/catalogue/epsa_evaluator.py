@@ -37,6 +37,7 @@ def curve_to_attrs(curve) -> dict[str, Any]:
         "wall_s": _jsonable(getattr(curve, "wall_s", None)),
         "n_dofs": getattr(curve, "n_dofs", None),
         "material": getattr(curve, "material", None),
+        "material_law": getattr(curve, "material_law", None),
     }
 
 
@@ -60,11 +61,11 @@ def response_at(
 
 
 def _packed(attrs: dict[str, Any]) -> dict[str, Any]:
-    """Few user attributes (each is one database commit): rows, design, metrics (scalars)."""
-    return {
-        "rows": attrs["rows"],
-        "design": attrs["design"],
-        "metrics": {k: v for k, v in attrs.items() if k not in ("rows", "design")},
+    """Few user attributes (each is one database commit): rows, design, metrics (scalars) and,
+    for a constrained optimisation, the constraints (optuna's constraints_func reads them)."""
+    top = ("rows", "design", "constraints")
+    return {k: attrs[k] for k in top if k in attrs} | {
+        "metrics": {k: v for k, v in attrs.items() if k not in top}
     }
 
 
@@ -76,7 +77,8 @@ def evaluate_epsa(
     pressures_kpa, quick, mesh_size,
     simulate ("module:function", default ``studies.parts.epsa_response:simulate_epsa``), objectives
     ("sweep": extension at the highest computed pressure; "pareto": extension and radial
-    expansion at the highest requested pressure, plus the fiber length of both helices).
+    expansion at the highest requested pressure, plus the fiber length of both helices; the
+    optimiser's constrained objective wraps this, `studies.catalogue.constrained_objective`).
 
     A curve with ``converged = False`` fails the trial (its rows are kept). In "pareto" mode a
     design that does not reach the highest pressure fails too: it does not meet the requirement.

@@ -175,6 +175,10 @@ def run(args) -> int:
         if curve.limit_pressure_kpa is not None
         else None
     )
+    if curve.volumetric_error:
+        summary["volumetric_error_last_state"] = dict(
+            zip(("pressure_kpa", "max", "volume_average"), curve.volumetric_error[-1])
+        )
     jsonio.write(out / "summary.json", summary)
     if not args.no_vtu:
         from fem.vtu import write_path
@@ -194,6 +198,10 @@ def run(args) -> int:
         f"{curve.message}; {curve.n_dofs} DOFs, {curve.wall_s:.1f} s "
         f"-> {out} (curve.csv, summary.json, epsa.png)"
     )
+    print(f"material law: {curve.material_law}")
+    if curve.volumetric_error:
+        p_kpa, vmax, vmean = curve.volumetric_error[-1]
+        print(f"volumetric constraint |J - 1 - p/K| at {p_kpa:.4g} kPa: max {vmax:.3g}, mean {vmean:.3g}")
     if curve.limit_pressure_kpa is not None:
         print(f"limit point at P ~ {curve.limit_pressure_kpa:.4g} kPa")
     if not curve.converged:

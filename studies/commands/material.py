@@ -2,7 +2,8 @@
 
     softcrawl material list [--json]
     softcrawl material show NAME [--json]
-    softcrawl material fit [--data NAME|PATH] [--model neo-hookean|yeoh] [--max-strain X]
+    softcrawl material fit [--data NAME|PATH] [--model neo-hookean|yeoh|gent] [--max-strain X]
+                           [--weighting absolute|relative]
                            [--out DIR] [--json]
     softcrawl material fit-table [--max-strain X] [--json]
 
@@ -34,7 +35,16 @@ def register(subparsers) -> None:
     fit = sub.add_parser("fit", help="fit Neo-Hookean or Yeoh constants to uniaxial tensile data")
     fit.add_argument("--data", default="ecoflex-00-50", help=f"{DATA_CHOICES_HELP} (default ecoflex-00-50)")
     fit.add_argument(
-        "--model", default="neo-hookean", choices=("neo-hookean", "yeoh"), help="law (default neo-hookean)"
+        "--model",
+        default="neo-hookean",
+        choices=("neo-hookean", "yeoh", "gent"),
+        help="law (default neo-hookean)",
+    )
+    fit.add_argument(
+        "--weighting",
+        default="absolute",
+        choices=("absolute", "relative"),
+        help="least-squares residuals in MPa (default) or relative to the measured stress (full-range fits)",
     )
     _max_strain_option(fit, "upper engineering strain of the fit (1.0: stretch 2, the actuator's range)")
     fit.add_argument("--out", default=None, help="folder for fit.json and fit.png (created if needed)")
@@ -149,7 +159,7 @@ def _run_fit(args: argparse.Namespace) -> int:
         output_folder(args.out)  # before the fit: a bad folder is reported first
 
     data = materials.load_tensile(args.data)
-    fit = materials.fit_tensile(data, args.model, _max_strain(args))
+    fit = materials.fit_tensile(data, args.model, _max_strain(args), args.weighting)
     record = _fit_record(data, fit)
     if args.out is not None:
         out = make_folder(args.out)

@@ -5,17 +5,23 @@
     softcrawl study identify          [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study optimise-actuator [--quick] [--material M] [--storage URL] [--workers N]
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
+    softcrawl study paper-material    --out DIR
+    softcrawl study kp-mismatch       --out DIR
+
+paper-material: which material (Neo-Hookean, Yeoh, Gent; every shape and shear modulus) reproduces
+the paper's own FE observations of Figs. 8-9; no FE (studies/catalogue/paper_material.py).
+kp-mismatch: the identify studies under DIR against the confined and unconfined tube stiffness
+(studies/catalogue/kp_mismatch.py), DIR/identify/kp-mismatch.md.
 
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm, N =
 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1 ePSA under
 weights W = 0, 0.5, 1 N on its guided top at 10-100 kPa; k_p(P) and f_p(P) fitted as the paper does
-and compared with eqs. 19-24 (studies/catalogue/fe_identification.py). optimise-actuator: NSGA-II
-(or TPE) over r in [2, 6] mm and N in 0..50 for three objectives at 100 kPa: maximise extension,
-minimise the radius change |dR| (the radius should stay at its design value: fibered designs shrink
-slightly, and a plain "minimise dR" would reward shrinking), minimise the Kevlar thread length of
-the double helix (the fabrication cost: winding is done by hand, turn by turn, so thread length ~
-winding work; the body mass depends on r only and is reported as ``mass_g``). The Table 1 design (r
-= 3, N = 20) is evaluated first and marked.
+and compared with eqs. 19-24 (studies/catalogue/fe_identification.py).
+optimise-actuator: the paper's selection as a
+constrained problem (optuna TPE or NSGA-II with trial constraints): the least Kevlar thread over r in
+{2..6} mm and N in 0..50 that withstands 100 kPa, keeps |dR| within 5 % of R0 and extends within the N
+rule's tolerance of the N = 50 design of its radius (studies/catalogue/optimise_actuator.py). The
+Table 1 design (r = 3, N = 20) is evaluated first and marked.
 
 Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick, -hSIZE with --mesh-size): curves.csv
 (every grid point and pressure, with trial and row status and the failure reason), summary.csv (one
@@ -34,7 +40,9 @@ from studies.catalogue.actuator_studies import DEFAULT_MATERIAL, GRIDS
 from studies.catalogue.optimise_actuator import DEFAULT_TRIALS, QUICK_TRIALS
 from studies.catalogue.optimise_actuator import NAME as OPTIMISER
 
-STUDIES = (*GRIDS, OPTIMISER)
+PAPER_MATERIAL = "paper-material"
+KP_MISMATCH = "kp-mismatch"
+STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH)
 
 
 #: Most worker processes: each is a process with its own solver (0.3-1 GB on the default mesh);
@@ -194,6 +202,18 @@ def run(args: argparse.Namespace) -> int:
     from studies.sweeps.engine import SweepInterrupted
 
     _check(args)
+    if args.name == KP_MISMATCH:  # reads the identify studies under --out (studies.catalogue.kp_mismatch)
+        from studies.catalogue.kp_mismatch import write_report
+
+        print("wrote " + ", ".join(map(str, write_report(args.out))))
+        return 0
+    if args.name == PAPER_MATERIAL:  # no FE: the closed-end tube theory (studies.catalogue.paper_material)
+        from studies.catalogue.paper_material import run_paper_material
+
+        lines, written = run_paper_material(args.out)
+        print("\n".join(lines))
+        print("wrote " + ", ".join(map(str, written)))
+        return 0
     settings = study_settings(
         args.name, args.material, args.quick, args.mesh_size, args.fibers, args.simulator
     )

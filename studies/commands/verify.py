@@ -42,7 +42,8 @@ def run(args) -> int:
         output_file(args.json, "json")  # checked before the cases run
     names = args.case or list(CASES)
     rows = []
-    print(f"{'case':<15}{'error':>12}{'tolerance':>12}  result   time")
+    width = max(len(n) for n in names) + 2
+    print(f"{'case':<{width}}{'error':>12}{'tolerance':>12}  result   time")
     for name in names:
         t0 = time.perf_counter()
         result = CASES[name]()
@@ -58,7 +59,7 @@ def run(args) -> int:
             }
         )
         print(
-            f"{name:<15}{result.error:>12.3e}{result.tolerance:>12.1e}  "
+            f"{name:<{width}}{result.error:>12.3e}{result.tolerance:>12.1e}  "
             f"{'pass' if result.passed else 'FAIL':<6} {dt:6.1f} s",
             flush=True,
         )

@@ -74,6 +74,9 @@ class ActuatorCurve:
     mesh: dict = field(default_factory=dict)
     events: tuple[str, ...] = ()
     fibers: str = ""  # the winding model (FIBER_MODELS), "" when not recorded
+    material_law: str = ""  # the constitutive law and its constants (Material.law_label)
+    #: |J - 1 - p/K| per computed state: [pressure_kpa, max, volume average] (fem.post)
+    volumetric_error: tuple[tuple[float, float, float], ...] = ()
 
     def to_dict(self) -> dict:
         out = asdict(self)
@@ -176,6 +179,7 @@ def simulate_epsa(
         ]
     limit = None if result.limit_pressure is None else result.limit_pressure * 1e3
     events = tuple(result.events) + _sway_events(rows)
+    volumetric = tuple(row.volumetric)
     curve = ActuatorCurve(
         tuple(rows),
         bool(result.converged),
@@ -189,6 +193,8 @@ def simulate_epsa(
         asdict(settings),
         events,
         fibers,
+        mat.law_label,
+        volumetric,
     )
     return Solved(curve, model, result) if keep_model else curve
 
@@ -214,12 +220,13 @@ def _sway_events(rows) -> tuple[str, ...]:
 
 def _row_builder(model, design: EPSADesign, blocked: bool):
     """row(step, status) -> CurveRow of a computed state of `model`."""
-    from fem.post import actuator_length, max_principal_stretch, outer_radius_at
+    from fem.post import actuator_length, max_principal_stretch, outer_radius_at, volumetric_error
 
     top_nodes = model.boundary_nodes("end_top")
 
     def row(step, status):
         x = step.x
+        row.volumetric.append((step.pressure * 1e3, *volumetric_error(model, x)))
         tension = model.fiber_tension(x)
         force = -model.reaction(x, "seal_top", step.pressure)[2] if blocked else float("nan")
         sway = float(np.hypot(*model.displacement(x)[:2, top_nodes].mean(axis=1)))
@@ -235,4 +242,5 @@ def _row_builder(model, design: EPSADesign, blocked: bool):
             sway,
         )
 
+    row.volumetric = []
     return row

@@ -70,6 +70,29 @@ def _limits_row(results: Path, folder: Path) -> dict:
     return row
 
 
+def _fmt(value, spec: str = ".3g") -> str:
+    return "n/a" if value is None else format(value, spec)
+
+
+def _plain_limit(row: dict) -> str:
+    """What the unreinforced chamber does, in words (it may have no limit point below 100 kPa)."""
+    limit = row["no winding (N = 0): limit point (kPa)"]
+    if limit is None:
+        return "without the winding the chamber meets no limit point in the studied range."
+    return f"without the winding the chamber balloons at a limit point at {limit:.3g} kPa."
+
+
+def _wound_limit(row: dict, stretch, margin: str) -> str:
+    reached = row["N = 20: highest pressure reached (kPa)"]
+    limit = row["N = 20: limit point (kPa)"]
+    where = "with no limit point" if limit == "none" else f"with a limit point at {_fmt(limit)} kPa"
+    return (
+        f"With 20 turns the ramp reaches {_fmt(reached)} kPa {where}; the silicone's largest principal "
+        f"stretch there is {_fmt(stretch)}{margin}, the largest fiber force "
+        f"{_fmt(row['largest fiber force (N)'])} N."
+    )
+
+
 def answer(results: Path) -> str:
     folders = _materials(results, "fiber-turns")
     if not folders:
@@ -88,11 +111,7 @@ def answer(results: Path) -> str:
             else ""
         )
         lines.append(
-            f"<li><b>{esc(r['material'])}</b>: without the winding the chamber balloons at a limit point at "
-            f"{r['no winding (N = 0): limit point (kPa)']:.3g} kPa. With 20 turns the ramp reaches "
-            f"{r['N = 20: highest pressure reached (kPa)']:.3g} kPa with no limit point; the silicone's "
-            f"largest principal stretch there is {stretch:.3g}{margin}, the largest fiber force "
-            f"{r['largest fiber force (N)']:.3g} N.</li>"
+            f"<li><b>{esc(r['material'])}</b>: {_plain_limit(r)} {_wound_limit(r, stretch, margin)}</li>"
         )
     parts.append(
         "<div class='answer'><p><b>What limits it, and at what pressure.</b></p><ul>" + "".join(lines)

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from studies.review import rules
+from studies.review.linearity import linearity_claim
 
 #: The paper's Table 1 (docs/DESIGN.md section 4): parameter key -> (label, value, unit).
 PAPER_TABLE1 = {
@@ -102,7 +103,9 @@ def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
         elif param == "chamber_radius":
             out[param] = select(read_csv(src), mu=_mu(run.material))
         else:
-            out[param] = select(read_csv(src))
+            rows = read_csv(src)
+            out[param] = select(rows)
+            out["linearity"] = linearity_claim(rows)
     for param, why in PENDING.items():
         out[param] = rules.pending(param, why)
     return out
@@ -123,10 +126,12 @@ def agreement(param: str, sel: rules.Selection) -> tuple[str, str]:
         return "undetermined", sel.reason
     if abs(sel.value - paper) < 1e-9:
         return "agree", sel.reason
+    from studies.review.table1_summary import paper_note
+
     return (
         "disagree",
         f"{sel.reason}; the paper's {paper:g} is excluded or not preferred by "
-        f"the rule: {_why_not(sel, paper)}",
+        f"the rule: {_why_not(sel, paper)}{paper_note(param, sel)}",
     )
 
 
@@ -139,20 +144,23 @@ def _why_not(sel: rules.Selection, paper: float) -> str:
 
 
 def _mu(material: str) -> float | None:
+    """mu of a Neo-Hookean material (its limit pressures scale with mu at fixed K/mu), else None:
+    for Yeoh and Gent the scaling with the initial modulus alone does not hold."""
     try:
         from materials import get_material
 
-        return float(get_material(material).mu)
+        m = get_material(material)
+        return float(m.mu) if m.model == "neo-hookean" else None
     except Exception:  # noqa: BLE001 - a material unknown to materials
         return None
 
 
 def _material_label(material: str) -> str:
+    """The material's name and its law with constants (every row names its material law)."""
     try:
         from materials import get_material
 
-        m = get_material(material)
-        return f"{material} (mu = {m.mu:.4g} MPa)"
+        return f"{material} ({get_material(material).law_label})"
     except Exception:  # noqa: BLE001 - unknown (e.g. a calibrated material file)
         return material
 
@@ -170,8 +178,8 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
         f"`{results}` with the rules of `studies/review/rules.py` (thresholds: target pressure "
         f"{rules.TARGET_PRESSURE_KPA:g} kPa, fluctuation tolerance "
         f"{rules.FLUCTUATION_REL_TOL:.0%} / {rules.FLUCTUATION_SIGN_CHANGES} trend changes, "
-        f"similar extension {rules.SIMILAR_EXTENSION_REL:.0%}, linearity R^2 >= "
-        f"{rules.LINEARITY_R2}). The paper's values are those of its Table 1.",
+        f"similar extension {rules.SIMILAR_EXTENSION_REL:.0%}). The paper's values are those of its Table 1. "
+        "Studies on the default mesh (h = 5 mm) unless marked (quick mesh).",
         "",
     ]
     if not materials:
@@ -209,6 +217,12 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             lines += [f"Evidence, {PAPER_TABLE1[param][0]} (`{src if src is not None else 'no data'}`):", ""]
             lines += [f"- {e}" for e in sel[param].evidence] or ["- (none)"]
             lines += [""]
+    if materials:
+        from studies.review.table1_summary import closing, summary_table
+
+        quick = {m for m in materials if any(material_run(results, m).quick(p) for p in STUDY_DIRS)}
+        lines[4:4] = summary_table(results, materials, selections, quick)
+        lines += closing(results, materials, selections)
     if len(materials) > 1:
         lines += ["## Dependence on the material", ""]
         for param in STUDY_DIRS:

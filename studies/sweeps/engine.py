@@ -777,6 +777,10 @@ class SearchSpec:
     initial: tuple[Mapping[str, Any], ...] = ()
     heartbeat_interval: int = DEFAULT_HEARTBEAT_S
     grace_period: int = DEFAULT_GRACE_S
+    #: Constrained optimisation: the evaluator puts "constraints" (floats, <= 0 feasible) in its
+    #: attrs; each becomes an optuna trial constraint (`Trial.set_constraint`, which TPE and
+    #: NSGA-II use to prefer feasible trials).
+    constrained: bool = False
 
     def __post_init__(self):
         if self.sampler not in SAMPLERS:
@@ -889,6 +893,9 @@ def search_worker(spec: SearchSpec, *, progress: bool = False, worker: int = 0) 
                 )
         for key, value in result.attrs.items():
             trial.set_user_attr(key, _jsonable(value))
+        if spec.constrained:
+            for i, value in enumerate(result.attrs.get("constraints", ())):
+                trial.set_constraint(f"c{i}", float(value))
         values = [float(v) for v in result.values]
         if result.ok and len(values) == len(spec.directions) and all(map(math.isfinite, values)):
             return values
@@ -980,6 +987,8 @@ def collect_search(study, spec: SearchSpec) -> list[dict[str, Any]]:
             "copied_from",
         ):
             row[key] = _blank(attrs.get(key))
+        if spec.constrained:
+            row["constraints"] = json.dumps(attrs.get("constraints", []))
         row["pareto"] = t.number in pareto
         rows.append(row)
     return rows

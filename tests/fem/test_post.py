@@ -66,3 +66,37 @@ def test_vtu_series_has_displacement_and_stress(stretched_box, tmp_path):
     assert np.abs(u[:, 2]).max() == pytest.approx(1.2, rel=1e-10)
     assert m.cell_data["von_mises_MPa"][0].shape == (model.mesh.t.shape[1],)
     assert m.cell_data["cauchy_stress_MPa"][0].shape == (model.mesh.t.shape[1], 6)
+
+
+def test_volumetric_error_is_zero_for_a_homogeneous_state_and_for_p2():
+    """|J - 1 - p/K| (fem.post.volumetric_error): a homogeneous stretch is represented exactly by
+    the P1 pressure, so the error is round-off; a bending-type state is not, so it is positive;
+    the displacement-only formulation has p = K (J - 1) by construction."""
+
+    from fem.model import Dirichlet, SolidModel
+    from fem.neohooke import NeoHookean
+    from fem.path import load_path
+    from fem.post import volumetric_error
+    from fem.structured import box
+
+    def model(formulation, load):
+        bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2)]
+        bcs += [load]
+        return SolidModel(
+            box((2.0, 2.0, 4.0), (2, 2, 3)),
+            NeoHookean(mu=0.03, bulk=3.0),
+            dirichlet=bcs,
+            formulation=formulation,
+        )
+
+    m = model("p2p1", Dirichlet.prescribed("z1", 2, 2.0))
+    x = load_path(m, [(0.0, 1.0)], control="displacement").steps[-1].x
+    vmax, vmean = volumetric_error(m, x)
+    assert vmax < 1e-8 and vmean < 1e-8  # the Newton tolerance, 4.5e-10 observed
+    m = model("p2p1", Dirichlet("z1", (0, 2), (0.8, 0.5)))  # shear and stretch of the top: not homogeneous
+    x = load_path(m, [(0.0, 1.0)], control="displacement").steps[-1].x
+    vmax, vmean = volumetric_error(m, x)
+    assert vmax > 1e-4 and 0 < vmean < vmax
+    m = model("p2", Dirichlet("z1", (0, 2), (0.2, 0.2)))
+    x = load_path(m, [(0.0, 0.5), (0.0, 1.0)], control="displacement").steps[-1].x
+    assert volumetric_error(m, x)[0] < 1e-12

@@ -67,6 +67,12 @@ def test_table1_follows_the_study_data(tmp_path, capsys):
     assert chamber_other[2] == "2 mm" and chamber_other[5] == "disagree"
     assert _row(other, "fiber winding turns N")[5] == "undetermined"
     assert "**depends on the material**" in md
+    # the summary names each assumption and its law; the closing section follows the data
+    summary = _row(md, "tensile Neo-Hookean fit (strain 0-100 %)")
+    assert "Neo-Hookean mu = 0.02242 MPa" in summary[1] and summary[2] == "3 (agree)"
+    assert _row(md, "literature Neo-Hookean")[2] == "2 (disagree)"
+    closing = md.split("## Which conclusions of the paper survive")[1]
+    assert "r0 = 3 mm is selected by the paper's own reasons with: `ecoflex-00-50-fit`" in closing
 
     # edit the study data: r = 2 no longer fluctuates -> the rule now selects 2 mm
     path = tmp_path / "chamber-radius" / "ecoflex-00-50-fit-quick" / "curves.csv"
