@@ -46,31 +46,37 @@ def run_optimiser(
     progress: bool = True,
 ) -> StudyOutcome:
     """Run (or resume) the optimiser and write trials.csv, pareto.csv and pareto.png."""
-    from studies.sweeps import engine
+    from studies.catalogue.epsa_evaluator import EPSA_EVALUATOR, SEARCH_METRICS
+    from studies.sweeps.search import run_search
+    from studies.sweeps.spec import SearchSpec
+    from studies.sweeps.tables import write_csv
 
     material, quick = settings["material"], settings.get("quick", False)
     folder = study_folder(out, NAME, material, quick, settings.get("mesh_size"))
     folder.mkdir(parents=True, exist_ok=True)
-    settings = settings | {"objectives": "pareto", "objective_names": list(OBJECTIVES)}
+    settings = settings | {"objectives": "pareto"}
     trials = trials or (QUICK_TRIALS if quick else DEFAULT_TRIALS)
     tag = run_tag(material, quick, settings.get("mesh_size"))
-    spec = engine.SearchSpec(
+    spec = SearchSpec(
         name=f"{NAME}-{tag}",
         space=SPACE,
         out_dir=str(folder),
         n_trials=trials,
         directions=DIRECTIONS,
+        evaluator=EPSA_EVALUATOR,
         sampler=sampler,
         seed=seed,
         fixed={},
         settings=settings,
         storage=storage,
         initial=(TABLE1_DESIGN,),
+        objective_names=OBJECTIVES,
+        metric_columns=SEARCH_METRICS,
     )
     jsonio.write(folder / "spec.json", spec.to_dict())
-    rows = engine.run_search(spec, workers=workers, progress=progress)
-    engine.write_csv(rows, folder / "trials.csv")
-    engine.write_csv([r for r in rows if r["pareto"]], folder / "pareto.csv")
+    rows = run_search(spec, workers=workers, progress=progress)
+    write_csv(rows, folder / "trials.csv")
+    write_csv([r for r in rows if r["pareto"]], folder / "pareto.csv")
     draw_pareto(settings, rows, folder)
     n_ok = sum(r["trial_status"] == "completed" for r in rows)
     n_pareto = sum(bool(r["pareto"]) for r in rows)
