@@ -20,6 +20,7 @@ import contextlib
 import errno
 import signal
 import sqlite3
+import sys
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -103,11 +104,21 @@ class SignalGuard:
         if threading.current_thread() is threading.main_thread():
             for sig in (signal.SIGINT, signal.SIGTERM):
                 self._previous[sig] = signal.signal(sig, self._handler)
+            # a signal that lands in a finalizer (a weakref callback) cannot interrupt: Python
+            # prints it as "Exception ignored"; the flag is set anyway, so keep the terminal quiet
+            self._unraisable = sys.unraisablehook
+            sys.unraisablehook = self._quiet_unraisable
         return self
+
+    def _quiet_unraisable(self, args: object) -> None:
+        if not isinstance(getattr(args, "exc_value", None), Interrupted):
+            self._unraisable(args)
 
     def __exit__(self, *exc: object) -> None:
         for sig, previous in self._previous.items():
             signal.signal(sig, previous)
+        if self._previous:
+            sys.unraisablehook = self._unraisable
         self._previous.clear()
 
     @contextlib.contextmanager

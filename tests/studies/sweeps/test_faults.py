@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import errno
 import os
+import re
 import signal
 import time
 from collections import Counter
@@ -84,9 +85,12 @@ def test_ctrl_c_stops_two_workers_without_tracebacks(tmp_path, monkeypatch):
     os.killpg(proc.pid, signal.SIGINT)  # what a terminal sends on Ctrl-C: the whole group
     out, err = proc.communicate(timeout=COMMAND_LIMIT_S)
     assert proc.returncode == 128 + signal.SIGINT
-    assert err.splitlines() == [
-        "softcrawl study chamber-radius: interrupted: 2 points handed back; run the same command to resume"
-    ]
+    lines = err.splitlines()  # 2 points, or 1 if a signal landed where it cannot interrupt
+    assert len(lines) == 1 and re.fullmatch(
+        r"softcrawl study chamber-radius: interrupted: [12] points? handed back; "
+        r"run the same command to resume",
+        lines[0],
+    ), err
     assert "RUNNING" not in _states(spec)
     _resume(tmp_path, monkeypatch)
     assert completed_once(spec)
