@@ -41,8 +41,7 @@ def dumps(value: Any, **kwargs) -> str:
 
 
 def write(path, value: Any, indent: int = 2) -> Path:
-    """Write strict JSON (with a final newline) to `path`, creating its folder."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(dumps(value, indent=indent) + "\n")
-    return path
+    """Write strict JSON (with a final newline) to `path`, creating its folder, atomically."""
+    from softcrawl.files import write_text_atomic
+
+    return write_text_atomic(path, dumps(value, indent=indent) + "\n")

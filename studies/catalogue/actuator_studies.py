@@ -64,12 +64,19 @@ def study_settings(
 
 
 def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
-    from studies.sweeps.engine import SweepSpec
+    from studies.catalogue.epsa_evaluator import EPSA_EVALUATOR
+    from studies.sweeps.spec import SweepSpec
 
     grid, fixed = GRIDS[name]
     tag = run_tag(settings.get("material", ""), settings.get("quick", False), settings.get("mesh_size"))
     return SweepSpec(
-        name=f"{name}-{tag}", grid=grid, fixed=fixed, out_dir=str(out_dir), settings=settings, storage=storage
+        name=f"{name}-{tag}",
+        grid=grid,
+        fixed=fixed,
+        out_dir=str(out_dir),
+        evaluator=EPSA_EVALUATOR,
+        settings=settings,
+        storage=storage,
     )
 
 
@@ -84,8 +91,9 @@ def run_sweep_study(
     retry: bool = False,
 ) -> StudyOutcome:
     """Run (or resume) the sweep `name` and write its outputs. Raises
-    `studies.sweeps.engine.SweepInterrupted` when workers did not finish."""
-    from studies.sweeps import engine
+    `studies.sweeps.faults.SweepStopped` when the run stopped early (a signal, a full disk)."""
+    from studies.catalogue.epsa_evaluator import EPSA_TABLE
+    from studies.sweeps.sweep import run_sweep
 
     folder = study_folder(
         out, name, settings["material"], settings.get("quick", False), settings.get("mesh_size")
@@ -93,7 +101,7 @@ def run_sweep_study(
     folder.mkdir(parents=True, exist_ok=True)
     spec = sweep_spec(name, folder, settings | {"vtu_dir": str(folder / "vtu")}, storage)
     jsonio.write(folder / "spec.json", spec.to_dict())
-    rows = engine.run_sweep(spec, workers=workers, progress=progress, retry=retry)
+    rows = run_sweep(spec, layout=EPSA_TABLE, workers=workers, progress=progress, retry=retry)
     return write_sweep_outputs(name, spec, rows, folder)
 
 
@@ -150,7 +158,7 @@ def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, 
 def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
     """curves.csv, summary.csv and the PNG of a finished (or partial) sweep."""
     from studies.catalogue import fe_identification
-    from studies.sweeps.engine import write_csv
+    from studies.sweeps.tables import write_csv
 
     if name == "identify":
         return fe_identification.write_outputs(spec, rows, folder)

@@ -25,7 +25,7 @@ def evaluate_constrained(params: Mapping[str, Any], fixed: Mapping[str, Any], se
     docstring. A diverged solve stays a failed trial (numerical, not physical)."""
     from studies.catalogue.epsa_evaluator import evaluate_epsa, response_at
     from studies.review.rules import SIMILAR_EXTENSION_REL, TARGET_PRESSURE_KPA
-    from studies.sweeps.engine import Evaluation
+    from studies.sweeps.spec import Evaluation
 
     result = evaluate_epsa(params, fixed, dict(settings) | {"objectives": "sweep"})
     attrs = dict(result.attrs)

@@ -5,6 +5,9 @@ simulator (``settings["simulate"]``, default `studies.parts.epsa_response.simula
 fast fakes), and returns an `Evaluation` whose attributes are the curve rows, the design and scalar
 metrics (extension, radial expansion, fiber length, mass). A diverged curve is a failed evaluation
 with its reason; it never raises into the sweep.
+
+`EPSA_TABLE` and `SEARCH_METRICS` say how the sweep engine lays out the tables of these
+evaluations (the engine itself knows nothing of actuators).
 """
 
 from __future__ import annotations
@@ -14,8 +17,44 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from studies.sweeps.engine import CURVE_COLUMNS, Evaluation, _jsonable, load_callable
+from studies.sweeps.spec import Evaluation, TableLayout, load_callable
+from studies.sweeps.spec import jsonable as _jsonable
 
+#: The evaluator, as the sweep engine imports it in its worker processes.
+EPSA_EVALUATOR = "studies.catalogue.epsa_evaluator:evaluate_epsa"
+#: Columns of an ActuatorCurve row, in CSV order.
+CURVE_COLUMNS = (
+    "pressure_kpa",
+    "length_mm",
+    "outer_radius_mm",
+    "chamber_volume_mm3",
+    "max_principal_stretch",
+    "max_fiber_tension_n",
+    "status",
+    "tip_lateral_mm",
+)
+#: The sweep table (curves.csv): one row per design and curve row; the undeformed length and
+#: radius of the design; the scalar metrics an evaluation stores.
+EPSA_TABLE = TableLayout(
+    settings_columns=("material",),
+    reference="design",
+    reference_columns=("length", "outer_radius"),
+    point_columns=("converged", "limit_pressure_kpa"),
+    rows="rows",
+    row_columns=CURVE_COLUMNS,
+    renamed={"status": "row_status"},
+    scalar_columns=("wall_s", "n_dofs", "message", "worker_pid", "vtu"),
+)
+#: Evaluation attributes in the optimiser's trials.csv, after the objectives.
+SEARCH_METRICS = (
+    "extension_mm",
+    "radial_expansion_mm",
+    "top_pressure_kpa",
+    "limit_pressure_kpa",
+    "fiber_length_mm",
+    "mass_g",
+    "wall_s",
+)
 #: Default simulator.
 EPSA_SIMULATOR = "studies.parts.epsa_response:simulate_epsa"
 #: Grid or fixed parameters that go to the simulator as keywords instead of into the design.
@@ -88,7 +127,7 @@ def evaluate_epsa(
     merged = {**fixed, **params}
     load = {k: merged.pop(k) for k in SIMULATOR_PARAMS if k in merged}
     design = EPSADesign(**merged)
-    simulate = load_callable(settings.get("simulate", EPSA_SIMULATOR))
+    simulate = load_callable(settings.get("simulate", EPSA_SIMULATOR), parameter="simulator")
     pressures = tuple(float(p) for p in settings.get("pressures_kpa", PAPER_PRESSURES_KPA))
     kwargs = {
         "material": settings.get("material", "ecoflex-00-50"),
@@ -168,8 +207,13 @@ def _write_shape(solved, path: Path) -> str:
     """VTU of the last computed state of a ``Solved`` (curve, model, path), with its pressure and
     load factor as field data, and of its winding beside it (``NAME.winding.vtu``); "" if
     unavailable. The path is returned relative to the study folder (``vtu/NAME.vtu``), so that
-    the tables hold no path of the machine that made them. A shape that cannot be written never
-    fails the evaluation."""
+    the tables hold no path of the machine that made them. Both files are written atomically (no
+    partial file). A shape that cannot be written never fails the evaluation, except for a fault
+    of the machine (a full disk, an unwritable folder), which the sweep engine turns into a
+    handed-back point."""
+    from softcrawl.files import atomic_path
+    from studies.sweeps.faults import machine_fault
+
     try:
         steps = solved.path.steps
         if not steps:
@@ -178,11 +222,14 @@ def _write_shape(solved, path: Path) -> str:
 
         last = steps[-1]
         load = {"pressure_mpa": last.pressure, "factor": last.factor}
-        path.parent.mkdir(parents=True, exist_ok=True)
-        write_state(path, solved.model, last.x, **load)
-        write_winding(path.with_suffix(".winding.vtu"), solved.model, last.x, **load)
+        with atomic_path(path) as temp:
+            write_state(temp, solved.model, last.x, **load)
+        with atomic_path(path.with_suffix(".winding.vtu")) as temp:
+            write_winding(temp, solved.model, last.x, **load)
         return f"{path.parent.name}/{path.name}"
-    except Exception as exc:  # noqa: BLE001
+    except Exception as exc:  # a shape that cannot be written is noted in the table
+        if machine_fault(exc) is not None:
+            raise
         return f"not written: {type(exc).__name__}: {exc}"
 
 

@@ -210,7 +210,7 @@ def write_outputs(spec, rows, folder) -> StudyOutcome:
     """curves.csv, identify.png (length per weight), identification.csv/.json and
     identification.png (k_p, f_p against eqs. 19-24)."""
     from softcrawl import jsonio
-    from studies.sweeps.engine import write_csv
+    from studies.sweeps.tables import write_csv
 
     write_csv(rows, folder / "curves.csv")
     material = spec.settings.get("material")

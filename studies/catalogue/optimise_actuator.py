@@ -64,7 +64,10 @@ def run_optimiser(
     progress: bool = True,
 ) -> StudyOutcome:
     """Run (or resume) the optimiser and write trials.csv, optimum.json and pareto.png."""
-    from studies.sweeps import engine
+    from studies.catalogue.epsa_evaluator import SEARCH_METRICS
+    from studies.sweeps.search import run_search
+    from studies.sweeps.spec import SearchSpec
+    from studies.sweeps.tables import write_csv
 
     material, quick = settings["material"], settings.get("quick", False)
     folder = study_folder(out, NAME, material, quick, settings.get("mesh_size"))
@@ -72,7 +75,7 @@ def run_optimiser(
     settings = settings | {"objective_names": list(OBJECTIVES)}
     trials = trials or (QUICK_TRIALS if quick else DEFAULT_TRIALS)
     tag = run_tag(material, quick, settings.get("mesh_size"))
-    spec = engine.SearchSpec(
+    spec = SearchSpec(
         name=f"{NAME}-{tag}",
         space=SPACE,
         out_dir=str(folder),
@@ -84,12 +87,13 @@ def run_optimiser(
         settings=settings,
         storage=storage,
         initial=(TABLE1_DESIGN,),
-        constrained=True,
         evaluator=CONSTRAINED_EVALUATOR,
+        objective_names=OBJECTIVES,
+        metric_columns=SEARCH_METRICS,
     )
     jsonio.write(folder / "spec.json", spec.to_dict())
-    rows = mark_optimum(engine.run_search(spec, workers=workers, progress=progress))
-    engine.write_csv(rows, folder / "trials.csv")
+    rows = mark_optimum(run_search(spec, workers=workers, progress=progress))
+    write_csv(rows, folder / "trials.csv")
     best = [r for r in rows if r["pareto"]]
     jsonio.write(folder / "optimum.json", optimum_record(best, material))
     draw_pareto(settings, rows, folder)

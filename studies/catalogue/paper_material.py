@@ -146,7 +146,7 @@ def length_curve(unit_law, mu: float, radius: float, pressures_kpa=(20, 40, 60, 
 def fiber_observation(results: Path, material: str) -> dict | None:
     """N = 20, 25 vs N = 50 at 100 kPa from RESULTS/fiber-turns/MATERIAL/curves.csv, if present."""
     from studies.review import rules
-    from studies.sweeps.engine import read_csv
+    from studies.sweeps.tables import read_csv
 
     path = Path(results) / "fiber-turns" / material / "curves.csv"
     if not path.exists():
@@ -188,7 +188,7 @@ def run_paper_material(out, results=None) -> tuple[list[str], list[Path]]:
     """Scan, write windows.csv, paper-material.json and .md; returns (lines, written)."""
     from fem.neohooke import NeoHookean
     from studies.review import rules
-    from studies.sweeps.engine import write_csv
+    from studies.sweeps.tables import write_csv
 
     folder = Path(out) / NAME
     folder.mkdir(parents=True, exist_ok=True)

@@ -129,7 +129,7 @@ def run(args) -> int:
     from studies.parts.epsa_model import DEFAULT_FIBERS, check_end_conditions, resolve_mesh
     from studies.parts.epsa_response import simulate_epsa
     from studies.plots.epsa_run import plot_epsa
-    from studies.sweeps.engine import write_csv
+    from studies.sweeps.tables import write_csv
 
     # every input is checked before the output folder is made and any mesh is built
     design = design_from_args(args)
@@ -212,7 +212,7 @@ def run(args) -> int:
 def run_convergence(args, design, pressures, sizes, out) -> int:
     from studies.commands.options import make_folder
     from studies.parts.epsa_convergence import convergence_table, mesh_convergence
-    from studies.sweeps.engine import write_csv
+    from studies.sweeps.tables import write_csv
 
     rows = mesh_convergence(
         design,

@@ -79,7 +79,8 @@ def register(subparsers) -> None:
     parser.add_argument(
         "--storage",
         default=None,
-        help="optuna RDB URL shared by all workers (default: SQLite in the output folder)",
+        help="optuna RDB URL shared by all workers (default: SQLite in the output folder; for several "
+        "machines postgresql://USER:PASSWORD@HOST/DB, with pip install -e '.[postgres]')",
     )
     _add_run_options(parser)
     parser.add_argument(
@@ -160,7 +161,7 @@ def _check(args) -> None:
     from geometry.design import EPSADesign
     from studies.commands.options import body_material, output_folder
     from studies.parts.epsa_model import resolve_mesh
-    from studies.sweeps.engine import StudyError
+    from studies.sweeps.spec import StudyError
 
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
@@ -184,22 +185,24 @@ def _check(args) -> None:
 def _check_simulator(ref: str) -> None:
     """MODULE:FUNCTION must import and name a callable (the evaluator would fail every point)."""
     from softcrawl.checks import brief
-    from studies.sweeps.engine import StudyError, load_callable
+    from studies.sweeps.spec import StudyError, load_callable
 
     if ":" not in ref:
         raise StudyError("simulator", f"expected MODULE:FUNCTION, got {brief(ref)}")
     try:
-        target = load_callable(ref)
-    except (ImportError, AttributeError, ValueError) as exc:
-        raise StudyError("simulator", f"cannot load {brief(ref)}: {type(exc).__name__}: {exc}") from None
-    if not callable(target):
-        raise StudyError("simulator", f"{brief(ref)} is not a function")
+        load_callable(ref, parameter="simulator")
+    except StudyError as exc:
+        if "is not callable" in exc.detail:
+            raise StudyError("simulator", f"{brief(ref)} is not a function") from None
+        cause = exc.__cause__
+        why = f"{type(cause).__name__}: {cause}" if cause is not None else exc.detail
+        raise StudyError("simulator", f"cannot load {brief(ref)}: {why}") from None
 
 
 def run(args: argparse.Namespace) -> int:
     from studies.catalogue.actuator_studies import run_sweep_study, study_settings
     from studies.catalogue.optimise_actuator import run_optimiser
-    from studies.sweeps.engine import SweepInterrupted
+    from studies.sweeps.faults import SweepStopped, machine_fault
 
     _check(args)
     if args.name == KP_MISMATCH:  # reads the identify studies under --out (studies.catalogue.kp_mismatch)
@@ -240,8 +243,17 @@ def run(args: argparse.Namespace) -> int:
                 progress=progress,
                 retry=args.retry_failed,
             )
-    except SweepInterrupted as exc:
-        print(f"softcrawl study {args.name}: interrupted: {exc}", file=sys.stderr)
+    except SweepStopped as exc:  # a signal, a full disk, a lost database: one line, then resume
+        print(f"softcrawl study {args.name}: {exc.line}", file=sys.stderr)
+        return exc.exit_code
+    except OSError as exc:  # writing the tables: the results are safe in the study's database
+        line = machine_fault(exc)
+        if line is None:
+            raise
+        print(
+            f"softcrawl study {args.name}: error: {line}; run the same command to write the tables",
+            file=sys.stderr,
+        )
         return 1
     for line in outcome.lines:
         print(line)

@@ -1,8 +1,8 @@
 """The shared style of every figure: the Agg backend, the figure size and resolution, saving.
 
 All PNGs of the project go through `pyplot()` (the non-interactive Agg backend, so no display is
-needed) and `save()` (tight layout, the folder created, the figure closed). One resolution and one
-font size keep the figures of a design review alike.
+needed) and `save()` (tight layout, the folder created, written atomically, the figure closed).
+One resolution and one font size keep the figures of a design review alike.
 """
 
 from __future__ import annotations
@@ -30,10 +30,14 @@ def save(fig, path, *, rect=None, tight: bool = True, outside: bool = False) -> 
     plt = pyplot()
     if tight:
         fig.tight_layout(rect=rect)
+    from softcrawl.files import atomic_path
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI, bbox_inches="tight" if outside else None)
-    plt.close(fig)
+    try:
+        with atomic_path(path) as temp:  # a full disk leaves the old PNG, never half a new one
+            fig.savefig(temp, dpi=DPI, bbox_inches="tight" if outside else None)
+    finally:
+        plt.close(fig)
     return path
 
 

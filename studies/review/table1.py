@@ -76,7 +76,7 @@ def material_run(results: str | Path, material: str) -> MaterialRun:
 
 def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
     """Apply every rule of one material's study data."""
-    from studies.sweeps.engine import read_csv
+    from studies.sweeps.tables import read_csv
 
     out = {
         "length": rules.input_parameter(

@@ -4,11 +4,14 @@ processes see it too."""
 
 from __future__ import annotations
 
+import errno
 import os
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 from geometry.design import DesignError
+from softcrawl.files import atomic_path
 from studies.parts.epsa_response import CurveRow
 
 
@@ -34,6 +37,26 @@ def _log(design):
     if path:
         with open(path, "a") as handle:
             handle.write(f"{design.chamber_radius:g},{design.fiber_turns},{os.getpid()}\n")
+
+
+def _write_output(design):
+    """Like the VTU of the real evaluator: a file per design in SOFTCRAWL_FAKE_OUTPUT (bytes:
+    SOFTCRAWL_FAKE_OUTPUT_BYTES), written atomically. While the file named by
+    SOFTCRAWL_FAKE_FULL_DISK exists, the write fails half-way with ENOSPC, as on a full disk (the
+    injected fault; a real full disk does the same on a tiny filesystem)."""
+    folder = os.environ.get("SOFTCRAWL_FAKE_OUTPUT")
+    if not folder:
+        return
+    size = int(os.environ.get("SOFTCRAWL_FAKE_OUTPUT_BYTES", "65536"))
+    full = os.environ.get("SOFTCRAWL_FAKE_FULL_DISK")
+    with atomic_path(Path(folder) / f"r{design.chamber_radius:g}-n{design.fiber_turns}.bin") as temp:
+        with open(temp, "wb") as handle:
+            handle.write(b"\0" * (size // 2))
+            if full and os.path.exists(full):
+                raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(temp))
+            handle.write(b"\0" * (size - size // 2))
+            handle.flush()
+            os.fsync(handle.fileno())
 
 
 def analytic_curve(design, pressures_kpa, *, material="fake", limit_kpa=None, wobble=0.0, stiff=1.0):
@@ -76,6 +99,7 @@ def fake_simulate(
     """Instant; sleeps SOFTCRAWL_FAKE_SLEEP s; chamber radius 5 "diverges"; 6 has a limit at 80."""
     _log(design)
     time.sleep(float(os.environ.get("SOFTCRAWL_FAKE_SLEEP", "0")))
+    _write_output(design)
     if design.chamber_radius == 5.0 and os.environ.get("SOFTCRAWL_FAKE_DIVERGE"):
         good = analytic_curve(design, [p for p in pressures_kpa if p <= 40], material=material)
         return ActuatorCurve(
@@ -200,3 +224,8 @@ def limited_simulate(
     """Like fake_simulate, but chamber radii above 4 mm meet a limit point at 60 kPa."""
     limit = 60.0 if design.chamber_radius > 4.0 else None
     return analytic_curve(design, pressures_kpa, material=material, limit_kpa=limit)
+
+
+def invalid_simulate(design, **kwargs):
+    """Every design is invalid (an input error of the evaluation, for every point)."""
+    raise DesignError("chamber_radius", "made-up invalid design for the test")

@@ -5,7 +5,7 @@ import json
 import pytest
 
 from studies.cli import main
-from studies.sweeps import engine as runner
+from studies.sweeps import tables as runner
 from tests.studies.fakes import fake_f_p, fake_k_p
 
 FAKE = "tests.studies.fakes:loaded_simulate"

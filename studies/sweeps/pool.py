@@ -1,0 +1,84 @@
+"""Worker processes on this machine: start them, stop them on a signal, gather their reports.
+
+Workers are spawned (a fresh interpreter each: safe with threads, and the same on every OS); the
+target is a module-level function ``target(spec_dict, index, poll_s) -> WorkerReport`` that the
+child imports by name. A child prints nothing: its report, or the one line of an exception it
+did not expect, goes to the parent through a queue.
+
+Ctrl-C reaches every process of the terminal's process group: the workers start with SIGINT
+ignored (a disposition that survives ``exec``) until their own handler is installed, so none dies
+with a KeyboardInterrupt traceback while it imports. After a signal the parent sends SIGTERM (the
+workers hand their points back at once) and waits at most `STOP_WAIT_S`, then kills the rest
+(their points are failed at once by the next run on this machine, which sees their processes
+gone).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import signal
+import time
+from collections.abc import Callable
+from typing import Any
+
+from studies.sweeps.faults import SignalGuard, WorkerReport
+
+#: Longest wait (s) for the workers to stop after a signal.
+STOP_WAIT_S = 30
+
+
+def _child(
+    target: Callable[..., WorkerReport], spec_dict: dict, index: int, poll_s: float, reports: Any
+) -> None:
+    try:
+        report = target(spec_dict, index, poll_s)
+    except BaseException as exc:  # noqa: BLE001 - the parent prints the one line
+        report = WorkerReport(stop=f"{type(exc).__name__}: {exc}")
+    reports.put(dataclasses.asdict(report))
+
+
+def run_pool(
+    target: Callable[..., WorkerReport],
+    spec_dict: dict[str, Any],
+    workers: int,
+    poll_s: float,
+    on_tick: Callable[[], None] | None = None,
+) -> tuple[WorkerReport, list[int]]:
+    """Run ``workers`` processes of ``target``; returns their summed report and the exit codes of
+    the workers that did not exit cleanly. ``on_tick`` runs every 0.2 s (a progress bar)."""
+    import multiprocessing as mp
+
+    ctx = mp.get_context("spawn")
+    reports = ctx.Queue()
+    procs = [ctx.Process(target=_child, args=(target, spec_dict, i, poll_s, reports)) for i in range(workers)]
+    total = WorkerReport()
+    with SignalGuard() as guard:
+        handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            for p in procs:
+                p.start()
+        finally:
+            signal.signal(signal.SIGINT, handler)
+        deadline = None
+        while any(p.is_alive() for p in procs):
+            if guard.signum and deadline is None:
+                deadline = time.monotonic() + STOP_WAIT_S
+                for p in procs:
+                    if p.is_alive():
+                        p.terminate()
+            if deadline is not None and time.monotonic() > deadline:
+                for p in procs:
+                    if p.is_alive():
+                        p.kill()
+            time.sleep(0.2)
+            if on_tick is not None:
+                on_tick()
+        for p in procs:
+            p.join()
+        total.signum = guard.signum
+    for _ in procs:
+        try:
+            total.add(WorkerReport(**reports.get(timeout=5)))
+        except Exception:  # noqa: BLE001 - a killed worker sends no report
+            break
+    return total, [p.exitcode for p in procs if p.exitcode]
