@@ -9,14 +9,15 @@ staged insertion of a foot into a pipe is three stages: shrink the wall friction
 friction on, drag by prescribed displacement.
 
 Each sub-step is a Newton solve (`fem.newton`) from the last converged state. A diverged
-sub-step is halved (up to `max_cutbacks` times), with the contact history restored; an easy
-one (<= 6 iterations) lets the next grow. After a converged sub-step, the augmented-Lagrangian
-(Uzawa) loop updates the multipliers lambda <- p_N and solves again at the same load until the
-largest penetration is below `penetration_tol` (mm) or `max_augment` updates were made; then
-the friction history is committed once (`SolidModel.commit`). The history never changes inside a
-Newton iteration. Within a stage, each sub-step starts from the secant prediction of the last
-two converged states (linear in the pseudo-time), which puts a drag increment near its slip
-solution.
+sub-step is halved (up to `max_cutbacks` times in a row), with the contact history restored; an
+easy one (<= 6 iterations) lets the next grow back, up to the stage's own step 1 / `steps` (so
+that a drag records at least `steps` points of its curve). After a converged sub-step, the
+augmented-Lagrangian (Uzawa) loop updates the multipliers lambda <- p_N and solves again at the
+same load until the largest penetration is below `penetration_tol` (mm) or `max_augment`
+updates were made; then the friction history is committed once (`SolidModel.commit`). The
+history never changes inside a Newton iteration. Within a stage, each sub-step starts from the
+secant prediction of the last two converged states (linear in the pseudo-time), which puts a
+drag increment near its slip solution.
 
 Nothing raises on divergence: the result says `converged = False` and names the last converged
 stage and pseudo-time.
@@ -165,12 +166,12 @@ def run_stages(
                     return result(False, f"stage {stage.name!r} diverged ({exc}); last converged: {last}")
                 continue
             prev = (t, x)
-            x, t, P, f = x_new, s, Ps, fs
+            x, t, P, f, cuts = x_new, s, Ps, fs, 0
             step = StagedStep(stage.name, s, P.copy(), f, x.copy(), its, tuple(rs), pen)
             out.append(step)
             last = f"stage {stage.name!r} at s = {s:.4g}"
             if on_step is not None:
                 on_step(step)
             if its[0] <= 6:
-                h *= 2.0
+                h = min(2.0 * h, 1.0 / stage.steps)  # never past the stage's own step (curves)
     return result(True, "all stages reached")
