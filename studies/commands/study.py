@@ -5,6 +5,8 @@
     softcrawl study identify          [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study optimise-actuator [--quick] [--material M] [--storage URL] [--workers N]
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
+    softcrawl study groove            [--quick] [--material M] [--storage URL] [--workers N] --out DIR
+    softcrawl study foot              [--quick] [--material M] [--storage URL] [--workers N] --out DIR
 
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm, N =
 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1 ePSA under
@@ -16,6 +18,9 @@ slightly, and a plain "minimise dR" would reward shrinking), minimise the Kevlar
 the double helix (the fabrication cost: winding is done by hand, turn by turn, so thread length ~
 winding work; the body mass depends on r only and is reported as ``mass_g``). The Table 1 design (r
 = 3, N = 20) is evaluated first and marked.
+
+groove (Fig. 10(a)) and foot (Fig. 10(b)): contact with the pipe wall, Coulomb friction; see
+studies/catalogue/contact_studies.py for the grids and the stated friction coefficients.
 
 Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick, -hSIZE with --mesh-size): curves.csv
 (every grid point and pressure, with trial and row status and the failure reason), summary.csv (one
@@ -34,7 +39,8 @@ from studies.catalogue.actuator_studies import DEFAULT_MATERIAL, GRIDS
 from studies.catalogue.optimise_actuator import DEFAULT_TRIALS, QUICK_TRIALS
 from studies.catalogue.optimise_actuator import NAME as OPTIMISER
 
-STUDIES = (*GRIDS, OPTIMISER)
+CONTACT_STUDIES = ("groove", "foot")  # studies.catalogue.contact_studies
+STUDIES = (*GRIDS, OPTIMISER, *CONTACT_STUDIES)
 
 
 def register(subparsers) -> None:
@@ -56,8 +62,9 @@ def register(subparsers) -> None:
     )
     parser.add_argument(
         "--material",
-        default=DEFAULT_MATERIAL,
-        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}; see `softcrawl material list`)",
+        default=None,
+        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}), or the foot's rubber for groove "
+        "and foot (default rubber-70a); see `softcrawl material list`",
     )
     parser.add_argument(
         "--storage",
@@ -106,6 +113,8 @@ def _check(args) -> None:
     from materials import get_material
     from studies.sweeps.engine import StudyError
 
+    if args.material is None:
+        args.material = "rubber-70a" if args.name in CONTACT_STUDIES else DEFAULT_MATERIAL
     get_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
@@ -129,6 +138,8 @@ def run(args: argparse.Namespace) -> int:
     from studies.sweeps.engine import SweepInterrupted
 
     _check(args)
+    if args.name in CONTACT_STUDIES:
+        return _run_contact(args)
     settings = study_settings(
         args.name, args.material, args.quick, args.mesh_size, args.fibers, args.simulator
     )
@@ -155,6 +166,32 @@ def run(args: argparse.Namespace) -> int:
                 progress=progress,
                 retry=args.retry_failed,
             )
+    except SweepInterrupted as exc:
+        print(f"softcrawl study {args.name}: interrupted: {exc}", file=sys.stderr)
+        return 1
+    for line in outcome.lines:
+        print(line)
+    for line in outcome.problems:
+        print(line, file=sys.stderr)
+    print("wrote " + ", ".join(map(str, outcome.written)))
+    return 0 if outcome.ok else 1
+
+
+def _run_contact(args) -> int:
+    from studies.catalogue.contact_runs import run_contact_study
+    from studies.sweeps.engine import SweepInterrupted
+
+    try:
+        outcome = run_contact_study(
+            args.name,
+            args.out,
+            material=args.material,
+            quick=args.quick,
+            storage=args.storage,
+            workers=args.workers,
+            progress=not args.no_progress,
+            retry=args.retry_failed,
+        )
     except SweepInterrupted as exc:
         print(f"softcrawl study {args.name}: interrupted: {exc}", file=sys.stderr)
         return 1
