@@ -72,13 +72,27 @@ def _write_json(path: Path, data: dict) -> None:
 
 
 def _vtu_writer(settings, stem):
+    """on_state(label, model, x, time=None): one VTU per state; states with a time (the drag in
+    mm) also go into the series STEM-LABEL.pvd (label without its step number)."""
     vtu_dir = settings.get("vtu_dir")
     if not vtu_dir:
         return None
+    from xml.sax.saxutils import quoteattr
+
     from fem.vtu import write_state
 
-    def on_state(label, model, x):
-        write_state(Path(vtu_dir) / f"{stem}-{label}.vtu", model, x)
+    series: dict[str, list] = {}
+
+    def on_state(label, model, x, time=None):
+        path = write_state(Path(vtu_dir) / f"{stem}-{label}.vtu", model, x)
+        if time is None:
+            return
+        name = label.rstrip("0123456789_")
+        series.setdefault(name, []).append((time, path.name))
+        lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
+        lines += [f'<DataSet timestep="{t:.6g}" file={quoteattr(f)}/>' for t, f in series[name]]
+        lines += ["</Collection>", "</VTKFile>"]
+        (Path(vtu_dir) / f"{stem}-{name}.pvd").write_text("\n".join(lines) + "\n")
 
     return on_state
 

@@ -105,7 +105,7 @@ def _insert_stages(model, design, pipe_radius, mu_smooth, mu_grooved, steps):
     ]
 
 
-def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes):
+def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes, on_state=None):
     for term, (lam, stick, surface) in zip(model.contacts, snapshot):
         term.multiplier, term.stick, term.surface = lam.copy(), stick.copy(), surface
     sign = 1.0 if direction == "forward" else -1.0
@@ -125,6 +125,8 @@ def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes)
                 reps[1].normal_force / normal if normal > 0 else 0.0,
             )
         )
+        if on_state is not None:
+            on_state(f"{direction}_{len(rows):03d}", model, step.x, abs(step.factor) * distance)
 
     stage = Stage(direction, factor=sign, steps=steps)
     res = run_stages(model, [stage], x0=x0, options=CONTACT_NEWTON, on_step=record, **AUGMENT)
@@ -174,12 +176,10 @@ def run_foot(
     hub = model.boundary_nodes("hub_top")
     curves, wall = {}, res.wall_s
     for direction in ("forward", "backward"):
-        curve, r = _drag(model, x0, snapshot, direction, drag, drag_steps, tip, hub)
+        curve, r = _drag(model, x0, snapshot, direction, drag, drag_steps, tip, hub, on_state)
         curves[direction] = curve
         its[direction] = [s.iterations[0] for s in r.steps]
         wall += r.wall_s
-        if on_state is not None and r.steps:
-            on_state(direction, model, r.x)
     normal = sum(r.normal_force for r in reps)
     area = sum(r.area_current for r in reps)
     metrics = face_metrics(model, x0, "front", "hub_top") | face_metrics(model, x0, "back", "hub_top")

@@ -170,8 +170,8 @@ def run_groove(
     penalty=None,
     on_state=None,
 ) -> GrooveResult:
-    """Press, switch friction on, drag (module docstring). `on_state(label, model, x)` sees the
-    pressed and the final state (VTU output)."""
+    """Press, switch friction on, drag (module docstring). `on_state(label, model, x, time=None)`
+    sees the pressed state and every drag increment (time: the drag in mm; VTU output)."""
     model = groove_model(seg, material, drag, penalty)
     term = model.contacts[0]
     rec = {k: [] for k in ("drag", "friction", "normal", "contact", "slip")}
@@ -186,6 +186,8 @@ def run_groove(
         rec["normal"].append(rep.normal_force)
         rec["contact"].append(rep.area_reference / seg.area)
         rec["slip"].append(rep.slip_fraction)
+        if on_state is not None:
+            on_state(f"drag_{len(rec['drag']):03d}", model, step.x, step.factor * drag)
 
     stages = [
         Stage("press", pressure=pressure, steps=2),
@@ -197,8 +199,6 @@ def run_groove(
     press = [s for s in res.steps if s.stage == "press"]
     if on_state is not None and press:
         on_state("pressed", model, press[-1].x)
-    if on_state is not None and res.steps:
-        on_state("dragged", model, res.x)
     pA = pressure * seg.area
     friction = np.array(rec["friction"])
     half = np.array(rec["drag"]) >= 0.5 * drag
