@@ -3,7 +3,8 @@ r"""Running the foot studies (`studies.catalogue.contact_studies`) and writing t
 A run writes to DIR/NAME/MATERIAL[-quick]/: spec.json, points/*.json (one full result per grid
 point, written by the evaluator), summary.csv (one row per grid point: the sweep's status and
 failure reason, then the result's scalars), curves.csv (every increment of every drag), NAME.png,
-vtu/ (the pressed/inserted and dragged states), and the SQLite study.db without --storage. Running
+groove-rule.md (the Table 1 groove-height decision, `studies.review.groove_rule`), vtu/ (the
+pressed/inserted state and a .pvd series of every drag), and the SQLite study.db without --storage. Running
 the same command again resumes: only missing points are computed.
 """
 
@@ -122,6 +123,15 @@ def write_contact_outputs(name: str, spec, rows, folder: Path) -> StudyOutcome:
     plot = plot_groove if name == GROOVE else plot_foot
     written.append(plot(points, folder / f"{name}.png", spec.settings))
     lines = _report_lines(name, summary)
+    if name == GROOVE:
+        from studies.review import groove_rule
+
+        decision = groove_rule.decide(summary)
+        rule_md = folder / "groove-rule.md"
+        text = groove_rule.markdown(decision, Path(folder.name) / "summary.csv")
+        rule_md.write_text("\n".join(text) + "\n")
+        written.append(rule_md)
+        lines.append(f"Table 1 groove height: {decision.value} mm ({decision.status}): {decision.reason}")
     failed = [s for s in summary if s["trial_status"] != "completed"]
     problems = tuple(f"{name}: {s} not completed: {s.get('reason') or s.get('message', '')}" for s in failed)
     return StudyOutcome(tuple(lines), tuple(written), not failed, problems)
