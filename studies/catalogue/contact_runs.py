@@ -44,6 +44,8 @@ def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=No
         settings |= dict(FOOT_FRICTION) | {"angle": 120.0, "mesh_cache": mesh_cache or str(folder / "mesh")}
     if quick and name == GROOVE:
         settings["drag_steps"] = 10
+    if quick and name == FOOT:
+        settings |= {"drag_mm": 5.0, "drag_steps": 5}
     grid = (QUICK_GRIDS if quick else GRIDS)[name]
     tag = material + ("-quick" if quick else "")
     return SweepSpec(
