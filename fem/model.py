@@ -92,6 +92,8 @@ class SolidModel:
     dead_loads: mapping boundary tag -> total force (Fx, Fy, Fz) in N.
     contacts: `fem.contact.ContactSpec`s, each a set of boundary tags against a rigid surface
         with its own friction coefficient (`model.contacts` holds the terms).
+    extra_terms: other term specifications with `build(space) -> term` (e.g.
+        `fem.equal_displacement.EqualDisplacement`, a rigid plate's common translation).
     """
 
     def __init__(
@@ -107,6 +109,7 @@ class SolidModel:
         fiber_sheets: Sequence = (),
         dead_loads=None,
         contacts: Sequence = (),
+        extra_terms: Sequence = (),
     ) -> None:
         self.space = Discretisation(mesh, formulation, intorder)
         self.solid = Solid(self.space, materials)
@@ -122,6 +125,7 @@ class SolidModel:
             self.terms.append(_SheetTerm(self.sheets, self.space.n_u))
         self.contacts = [ContactTerm(self.space, spec) for spec in contacts]
         self.terms += self.contacts
+        self.terms += [spec.build(self.space) for spec in extra_terms]
         self.dead_load = dead_load_vector(self.space, dead_loads)
         groups = self.solid.groups + [c.u_dofs for c in self.chambers] + [t.dofs for t in self.terms]
         self.pattern = Pattern(self.constraints.free_index, groups)

@@ -10,9 +10,12 @@ lets the free end tooth, half as wide, tip over its leading corner (h = 2 mm, mu
 folds after 1.9 mm of drag), an artefact of the cut, not of the foot. The wall is
 the rigid plane z = 0 (the pipe radius, 27.5-37.5 mm, is ten times the strip's size). The top
 face is glued to a rigid backing (the rest of the foot): it moves in x by the drag and stays at
-y = 0; a follower pressure p acts on it. Because the top keeps its footprint (x and y
-prescribed), the pressure's total normal force is p A exactly (A = length x width): the normal
-contact force must equal it at equilibrium (`normal_error`).
+y = 0, and its nodes share one z displacement (`fem.equal_displacement`, a penalty: the face
+stays plane and level); a follower pressure p acts on it. Because the top keeps its footprint
+and orientation, the pressure's total normal force is p A exactly (A = length x width): the
+normal contact force must equal it at equilibrium (`normal_error`). Without the level
+constraint the strip tilts under the friction moment mu N H and lifts its trailing lands (at
+mu = 0.5 after ~0.6 mm of drag), a rotation the foot's backing does not allow.
 
 Stages (`fem.contact_stages`): press to p frictionless; switch friction mu on; drag the top by
 `drag` in `drag_steps` increments (cut-back on divergence). Every increment records the friction
@@ -33,6 +36,7 @@ import skfem
 
 from fem.contact import ContactSpec
 from fem.contact_stages import Stage, run_stages
+from fem.equal_displacement import EqualDisplacement
 from fem.model import ChamberSpec, Dirichlet, SolidModel
 from fem.newton import NewtonOptions
 from fem.rigid_surfaces import Plane
@@ -149,8 +153,14 @@ def groove_model(seg: GrooveSegment, material, drag: float, penalty: float | Non
     eps = penalty if penalty is not None else youngs / seg.cell
     spec = ContactSpec(("contact",), Plane(), penalty=eps, name="grooved face")
     bcs = [Dirichlet("top", (0, 1), (drag, 0.0)), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("y1", 1)]
+    plate = EqualDisplacement("top", 2, 1e3 * youngs * seg.cell)  # the top stays plane and level
     return SolidModel(
-        groove_mesh(seg), material, dirichlet=bcs, chambers=ChamberSpec(("top",)), contacts=[spec]
+        groove_mesh(seg),
+        material,
+        dirichlet=bcs,
+        chambers=ChamberSpec(("top",)),
+        contacts=[spec],
+        extra_terms=[plate],
     )
 
 

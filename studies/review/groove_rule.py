@@ -17,7 +17,9 @@ As a rule with named, stated inputs (`GrooveRuleInputs`):
      strain that limits service life grows with h. The rule takes the largest candidate
      h >= `min_height` (the paper's "too small cannot change direction flexibly", for which the
      FE has no criterion: a stated input) whose 99th-percentile max principal strain after the
-     drag stays at or below `strain_limit` for every friction coefficient. None qualifies: the
+     drag stays at or below `strain_limit` for every friction coefficient. A candidate whose drag
+     did not complete at some mu (its lands rolled over their leading corners, or the solve
+     diverged) is not allowed: the foot "cannot withstand" that load. None qualifies: the
      smallest candidate >= min_height, flagged.
 
 `strain_limit` is an assumption (the printed Shore 70A rubber has no fatigue data here); the

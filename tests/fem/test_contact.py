@@ -86,3 +86,21 @@ def test_hertz_line_contact():
     # the contact half width is resolved by the quadrature points only: a looser check
     d = result.details
     assert abs(d["half_width_fe"] / d["half_width_hertz"] - 1) < 0.1
+
+
+def test_equal_displacement_term_is_a_consistent_penalty():
+    """Residual k (u - mean u) and its tangent on a face; a rigid translation costs nothing."""
+    from fem.equal_displacement import EqualDisplacement
+
+    mesh = box((1.0, 1.0, 1.0), (2, 2, 1))
+    model = SolidModel(mesh, cv.MATERIAL, extra_terms=[EqualDisplacement("z1", 2, 10.0)])
+    term = model.terms[-1]
+    rng = np.random.default_rng(1)
+    x = rng.normal(size=model.n_dofs) * 1e-2
+    r, K = term.arrays(x)
+    u = x[term.dofs[:, 0]]
+    assert np.allclose(r[:, 0], 10.0 * (u - u.mean()))
+    x2 = x.copy()
+    x2[term.dofs[:, 0]] += 0.3
+    assert np.allclose(term.arrays(x2)[0], r)
+    assert np.allclose(K[0] @ (u - u.mean()), r[:, 0])

@@ -35,8 +35,14 @@ def test_bad_groove_inputs_name_the_parameter():
 def test_groove_drag_normal_force_and_plateau():
     """N = p A (the backing keeps its footprint) and the sliding plateau is mu N (full slip)."""
     seg = GrooveSegment(groove_height=1.0, cell=0.4)
-    r = run_groove(seg, RUBBER, 0.3, pressure=0.1, drag=1.0, drag_steps=4)
+    states = {}
+    r = run_groove(
+        seg, RUBBER, 0.5, pressure=0.1, drag=1.0, drag_steps=4, on_state=lambda *a: states.update(last=a[1:3])
+    )
     assert r.converged, r.message
+    model, x = states["last"]
+    uz = model.displacement(x)[2, model.boundary_nodes("top")]
+    assert np.ptp(uz) < 1e-3 * np.abs(uz).max()  # the backing stays level (fem.equal_displacement)
     assert r.normal_error < 5e-3
     assert abs(r.plateau_over_mu_n - 1.0) < 5e-3
     assert r.slip_fraction[-1] == pytest.approx(1.0)
