@@ -39,7 +39,7 @@ def groove_case() -> None:
     seg = gm.GrooveSegment(groove_height=1.0)
     keep = {}
     t0 = time.perf_counter()
-    r = gm.run_groove(seg, mat, 0.3, on_state=lambda label, model, x: keep.update(model=model, x=x))
+    r = gm.run_groove(seg, mat, 0.3, on_state=lambda label, model, x, *t: keep.update(model=model, x=x))
     wall = time.perf_counter() - t0
     full, contact = contact_share(keep["model"], keep["x"])
     print(f"groove h = 1 mm, mu = 0.3: {wall:.1f} s (target 60 s), {r.n_dofs} dofs, converged {r.converged}")
