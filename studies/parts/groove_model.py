@@ -18,7 +18,8 @@ constraint the strip tilts under the friction moment mu N H and lifts its traili
 mu = 0.5 after ~0.6 mm of drag), a rotation the foot's backing does not allow.
 
 Stages (`fem.contact_stages`): press to p frictionless; switch friction mu on; drag the top by
-`drag` in `drag_steps` increments (cut-back on divergence). Every increment records the friction
+`drag`, the first 10 % in ten fine steps (the stick-to-slip transition), the rest in about
+`drag_steps` increments (cut-back on divergence). Every increment records the friction
 force, normal force, contact and slip fractions: the friction-displacement curve, whose
 plateau (mean over the last half of the drag) is compared with mu N.
 
@@ -190,6 +191,9 @@ def run_groove(
         rep = term.report(step.x)
         if step.stage == "press":
             rec["press"] = rep.normal_force
+            if step.s == 1.0:  # the curve starts at the pressed state
+                for key, v in zip(rec, (0.0, 0.0, rep.normal_force, rep.area_reference / seg.area, 0.0)):
+                    rec[key].append(v)
             return
         rec["drag"].append(step.factor * drag)
         rec["friction"].append(-rep.friction_force[0])
@@ -199,9 +203,11 @@ def run_groove(
         if on_state is not None:
             on_state(f"drag_{len(rec['drag']):03d}", model, step.x, step.factor * drag)
 
+    onset = 0.1  # the first 10 % of the drag in fine steps: the stick-to-slip transition
     stages = [
         Stage("press", pressure=pressure, steps=2),
-        Stage("drag", factor=1.0, friction={0: mu}, steps=drag_steps),
+        Stage("onset", factor=onset, friction={0: mu}, steps=10),
+        Stage("drag", factor=1.0, steps=max(1, round(drag_steps * (1 - onset)))),
     ]
     res = run_stages(
         model, stages, penetration_tol=1e-3, max_augment=3, options=CONTACT_NEWTON, on_step=record
@@ -231,7 +237,7 @@ def run_groove(
         plateau=plateau,
         plateau_over_mu_n=plateau / (mu * n_end) if mu > 0 else float("nan"),
         metrics=solid_metrics(model, res.x, backing="top") if res.steps else {},
-        iterations=tuple(s.iterations[0] for s in res.steps if s.stage == "drag"),
+        iterations=tuple(s.iterations[0] for s in res.steps if s.stage != "press"),
         n_dofs=int(model.n_dofs),
         wall_s=res.wall_s,
     )
