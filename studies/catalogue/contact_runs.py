@@ -76,6 +76,10 @@ def run_contact_study(
     folder.mkdir(parents=True, exist_ok=True)
     spec = contact_spec(name, folder, material, quick, storage)
     (folder / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2) + "\n")
+    if name == FOOT:  # mesh once into the cache: pytetwild differs between calls, workers must not
+        from studies.catalogue.contact_studies import _foot_mesh
+
+        _foot_mesh(spec.settings)
     rows = engine.run_sweep(spec, workers=workers, progress=progress, retry=retry)
     return write_contact_outputs(name, spec, rows, folder)
 
