@@ -104,3 +104,15 @@ def test_equal_displacement_term_is_a_consistent_penalty():
     x2[term.dofs[:, 0]] += 0.3
     assert np.allclose(term.arrays(x2)[0], r)
     assert np.allclose(K[0] @ (u - u.mean()), r[:, 0])
+
+
+def test_contact_blocks_reuse_the_body_pattern():
+    """The facet blocks sit on element dofs: the sparsity pattern gains no entry."""
+    mesh = box((1.0, 1.0, 1.0), (2, 2, 2))
+    bare = SolidModel(mesh, cv.MATERIAL)
+    specs = [
+        ContactSpec(("z0",), Plane(), penalty=1.0, mu=0.3),
+        ContactSpec(("x1",), CylinderWall(3.0), penalty=1.0),
+    ]
+    with_contact = SolidModel(mesh, cv.MATERIAL, contacts=specs)
+    assert with_contact.pattern.nnz == bare.pattern.nnz
