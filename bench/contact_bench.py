@@ -69,7 +69,7 @@ def foot_case(pipe: float, mesh_cache) -> None:
     model = fm.foot_model(mesh, mat, design, pipe / 2, 10.0)
     stages = fm._insert_stages(model, design, pipe / 2, 0.5, 0.5, 8)
     t0 = time.perf_counter()
-    res = fm.run_stages(model, stages, options=fm.CONTACT_NEWTON, **fm.AUGMENT)
+    res = fm.run_stages(model, stages, options=fm.FOOT_NEWTON, max_cutbacks=fm.MAX_CUTBACKS, **fm.AUGMENT)
     snap = [(c.multiplier.copy(), c.stick.copy(), c.surface) for c in model.contacts]
     curve, drag = fm._drag(
         model, res.x, snap, "forward", 10.0, 10, model.boundary_nodes("rim"), model.boundary_nodes("hub_top")

@@ -33,7 +33,12 @@ from fem.contact_stages import Stage, run_stages
 from fem.model import Dirichlet, SolidModel
 from fem.rigid_surfaces import CylinderWall
 from studies.parts.contact_outputs import face_metrics
-from studies.parts.groove_model import CONTACT_NEWTON
+from fem.newton import NewtonOptions
+
+#: Newton settings of the foot: a failing sub-step (the skirt snapping towards its flip) is cut
+#: back after at most 25 iterations (each costs a ~50k-unknown solve), at most 4 times in a row.
+FOOT_NEWTON = NewtonOptions(tol=1e-8, max_iter=25, stall_iter=12)
+MAX_CUTBACKS = 4
 
 FACES = {"smooth": ("front", "rim"), "grooved": ("back",)}
 #: Uzawa loop of the foot runs: 10 um of penetration (1/300 of the skirt) is far below the
@@ -129,7 +134,9 @@ def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes,
             on_state(f"{direction}_{len(rows):03d}", model, step.x, abs(step.factor) * distance)
 
     stage = Stage(direction, factor=sign, steps=steps)
-    res = run_stages(model, [stage], x0=x0, options=CONTACT_NEWTON, on_step=record, **AUGMENT)
+    res = run_stages(
+        model, [stage], x0=x0, options=FOOT_NEWTON, max_cutbacks=MAX_CUTBACKS, on_step=record, **AUGMENT
+    )
     arr = np.array(rows).reshape(-1, 4)
     ahead = arr[:, 2]
     flipped = np.nonzero(ahead > 0)[0]
@@ -162,7 +169,7 @@ def run_foot(
     radius = pipe_diameter / 2.0
     model = foot_model(mesh, material, design, radius, drag)
     stages = _insert_stages(model, design, radius, mu_smooth, mu_grooved, insert_steps)
-    res = run_stages(model, stages, options=CONTACT_NEWTON, **AUGMENT)
+    res = run_stages(model, stages, options=FOOT_NEWTON, max_cutbacks=MAX_CUTBACKS, **AUGMENT)
     its = {"insert": [s.iterations[0] for s in res.steps]}
     empty = FootResult(pipe_diameter, False, res.message, *([float("nan")] * 4), {}, {}, None, None, 0.0, 0)
     if not res.converged:
