@@ -31,9 +31,9 @@ import numpy as np
 from fem.contact import ContactSpec
 from fem.contact_stages import Stage, run_stages
 from fem.model import Dirichlet, SolidModel
+from fem.newton import NewtonOptions
 from fem.rigid_surfaces import CylinderWall
 from studies.parts.contact_outputs import face_metrics
-from fem.newton import NewtonOptions
 
 #: Newton settings of the foot: a failing sub-step (the skirt snapping towards its flip) is cut
 #: back after at most 25 iterations (each costs a ~50k-unknown solve), at most 4 times in a row.
