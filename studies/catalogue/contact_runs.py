@@ -105,6 +105,11 @@ def load_points(spec, rows) -> list[dict]:
         status, reason = _status(rows, params)
         path = point_file(spec.out_dir, spec.name.split("-")[0], params)
         data = json.loads(path.read_text()) if path.exists() else {}
+        if status == "missing" and data:  # a stored result the sweep has not reported (yet)
+            done = data.get("summary", {}).get("converged")
+            status, reason = (
+                ("completed", "") if done else ("failed", data.get("summary", {}).get("message", ""))
+            )
         out.append({"params": params, "status": status, "reason": reason} | data)
     return out
 
