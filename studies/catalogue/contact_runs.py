@@ -144,7 +144,11 @@ def write_contact_outputs(name: str, spec, rows, folder: Path) -> StudyOutcome:
         written.append(rule_md)
         lines.append(f"Table 1 groove height: {decision.value} mm ({decision.status}): {decision.reason}")
     failed = [s for s in summary if s["trial_status"] != "completed"]
-    problems = tuple(f"{name}: {s} not completed: {s.get('reason') or s.get('message', '')}" for s in failed)
+    problems = tuple(
+        f"{name} {', '.join(f'{k} = {s[k]:g}' for k in spec.grid)}: {s['trial_status']}: "
+        f"{s.get('reason') or s.get('message', '')}"
+        for s in failed
+    )
     return StudyOutcome(tuple(lines), tuple(written), not failed, problems)
 
 
@@ -175,3 +179,15 @@ def _report_lines(name: str, summary) -> list[str]:
                 f"{_fmt(s, 'flipped_bwd_at_mm')} mm"
             )
     return lines
+
+
+def rebuild_outputs(name: str, folder) -> StudyOutcome:
+    """Tables and plot of a run from its spec.json and stored point results alone (a run that
+    was stopped: the points it finished count by their own converged flag)."""
+    from studies.sweeps.engine import SweepSpec
+
+    folder = Path(folder)
+    data = json.loads((folder / "spec.json").read_text())
+    data["grid"] = {k: tuple(v) for k, v in data["grid"].items()}
+    data["directions"] = tuple(data.get("directions", ("maximize",)))
+    return write_contact_outputs(name, SweepSpec(**data), [], folder)
