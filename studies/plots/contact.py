@@ -55,12 +55,15 @@ def plot_foot(points, path, settings):
             axes[0].plot(c["drag_mm"], c["resistance_n"], ls, label=f"D = {D:g} mm, {direction}")
         s = p.get("summary") or {}
         if s.get("ratio_bwd_fwd") is not None and np.isfinite(s.get("ratio_bwd_fwd", np.nan)):
-            ratios.append((D, s["ratio_bwd_fwd"]))
+            ratios.append((D, s["ratio_bwd_fwd"], p["status"] == "completed"))
     axes[0].set(xlabel="hub displacement (mm)", ylabel="resistance (N)", title="drag resistance")
     axes[0].legend(fontsize=7)
-    if ratios:
-        r = np.array(sorted(ratios))
-        axes[1].plot(r[:, 0], r[:, 1], "o-")
+    done = np.array(sorted((d, r) for d, r, ok in ratios if ok)).reshape(-1, 2)
+    partial = np.array(sorted((d, r) for d, r, ok in ratios if not ok)).reshape(-1, 2)
+    axes[1].plot(done[:, 0], done[:, 1], "o-", label="both drags complete")
+    if partial.size:  # a drag that stopped early: its peak so far, a lower bound of the ratio
+        axes[1].plot(partial[:, 0], partial[:, 1], "^", mfc="none", label="drag stopped early (lower bound)")
+    axes[1].legend(fontsize=7)
     axes[1].axhline(1.0, color="0.6", lw=0.8, ls="--")
     axes[1].set(xlabel="pipe diameter (mm)", ylabel="F_bwd / F_fwd", title="anchoring (Fig. 4 needs > 1)")
     fig.suptitle(
