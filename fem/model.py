@@ -14,7 +14,7 @@ for all; load factor f of the prescribed displacements and dead loads),
 
     R(x) = f_int(x) + sum_terms r_t(x, P) - f f_dead,      K = dR/dx on the free dofs.
 
-A term (fibers, sheets, and later contact) is an object with `dofs` (n_local, n_items) and
+A term (fibers, sheets, contact: `fem.contact`) is an object with `dofs` (n_local, n_items) and
 `arrays(x, pressures, with_tangent)` returning its item residuals (n_local, n_items) and item
 tangents (n_items, n_local, n_local) (None without the tangent); a term with a history (contact)
 also has `commit(x)`, which the path calls once a state has converged. The chambers' follower
@@ -32,6 +32,7 @@ import numpy as np
 
 from fem import sheets
 from fem.chamber import Chamber, ChamberSpec
+from fem.contact import ContactTerm
 from fem.dead_load import dead_load_vector
 from fem.dirichlet import Constraints, Dirichlet
 from fem.discretisation import FORMULATIONS, Discretisation
@@ -89,6 +90,10 @@ class SolidModel:
     fiber_sheets: `fem.sheets.FiberSheet` families smeared over boundary surfaces (the homogenised
         winding, which converges under mesh refinement).
     dead_loads: mapping boundary tag -> total force (Fx, Fy, Fz) in N.
+    contacts: `fem.contact.ContactSpec`s, each a set of boundary tags against a rigid surface
+        with its own friction coefficient (`model.contacts` holds the terms).
+    extra_terms: other term specifications with `build(space) -> term` (e.g.
+        `fem.equal_displacement.EqualDisplacement`, a rigid plate's common translation).
     """
 
     def __init__(
@@ -103,6 +108,8 @@ class SolidModel:
         fibers: FiberLines | None = None,
         fiber_sheets: Sequence = (),
         dead_loads=None,
+        contacts: Sequence = (),
+        extra_terms: Sequence = (),
     ) -> None:
         self.space = Discretisation(mesh, formulation, intorder)
         self.solid = Solid(self.space, materials)
@@ -116,6 +123,9 @@ class SolidModel:
             self.terms.append(_LineFiberTerm(self.fibers, self.space.n_u))
         if self.sheets is not None:
             self.terms.append(_SheetTerm(self.sheets, self.space.n_u))
+        self.contacts = [ContactTerm(self.space, spec) for spec in contacts]
+        self.terms += self.contacts
+        self.terms += [spec.build(self.space) for spec in extra_terms]
         self.dead_load = dead_load_vector(self.space, dead_loads)
         groups = self.solid.groups + [c.u_dofs for c in self.chambers] + [t.dofs for t in self.terms]
         self.pattern = Pattern(self.constraints.free_index, groups)

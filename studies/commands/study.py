@@ -5,6 +5,8 @@
     softcrawl study identify          [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study optimise-actuator [--quick] [--material M] [--storage URL] [--workers N]
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
+    softcrawl study groove            [--quick] [--material M] [--storage URL] [--workers N] --out DIR
+    softcrawl study foot              [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study paper-material    --out DIR
     softcrawl study kp-mismatch       --out DIR
 
@@ -22,6 +24,9 @@ constrained problem (optuna TPE or NSGA-II with trial constraints): the least Ke
 {2..6} mm and N in 0..50 that withstands 100 kPa, keeps |dR| within 5 % of R0 and extends within the N
 rule's tolerance of the N = 50 design of its radius (studies/catalogue/optimise_actuator.py). The
 Table 1 design (r = 3, N = 20) is evaluated first and marked.
+
+groove (Fig. 10(a)) and foot (Fig. 10(b)): contact with the pipe wall, Coulomb friction; see
+studies/catalogue/contact_studies.py for the grids and the stated friction coefficients.
 
 Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick, -hSIZE with --mesh-size): curves.csv
 (every grid point and pressure, with trial and row status and the failure reason), summary.csv (one
@@ -42,7 +47,8 @@ from studies.catalogue.optimise_actuator import NAME as OPTIMISER
 
 PAPER_MATERIAL = "paper-material"
 KP_MISMATCH = "kp-mismatch"
-STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH)
+CONTACT_STUDIES = ("groove", "foot")  # studies.catalogue.contact_studies
+STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH, *CONTACT_STUDIES)
 
 
 #: Most worker processes: each is a process with its own solver (0.3-1 GB on the default mesh);
@@ -73,8 +79,9 @@ def register(subparsers) -> None:
     )
     parser.add_argument(
         "--material",
-        default=DEFAULT_MATERIAL,
-        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}; see `softcrawl material list`)",
+        default=None,
+        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}), or the foot's rubber for groove "
+        "and foot (default rubber-70a); see `softcrawl material list`",
     )
     parser.add_argument(
         "--storage",
@@ -163,6 +170,8 @@ def _check(args) -> None:
     from studies.parts.epsa_model import resolve_mesh
     from studies.sweeps.spec import StudyError
 
+    if args.material is None:
+        args.material = "rubber-70a" if args.name in CONTACT_STUDIES else DEFAULT_MATERIAL
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
@@ -200,8 +209,6 @@ def _check_simulator(ref: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studies.catalogue.actuator_studies import run_sweep_study, study_settings
-    from studies.catalogue.optimise_actuator import run_optimiser
     from studies.sweeps.faults import SweepStopped, machine_fault
 
     _check(args)
@@ -217,32 +224,8 @@ def run(args: argparse.Namespace) -> int:
         print("\n".join(lines))
         print("wrote " + ", ".join(map(str, written)))
         return 0
-    settings = study_settings(
-        args.name, args.material, args.quick, args.mesh_size, args.fibers, args.simulator
-    )
-    progress = not args.no_progress
     try:
-        if args.name == OPTIMISER:
-            outcome = run_optimiser(
-                args.out,
-                settings,
-                trials=args.trials,
-                sampler=args.sampler,
-                seed=args.seed,
-                storage=args.storage,
-                workers=args.workers,
-                progress=progress,
-            )
-        else:
-            outcome = run_sweep_study(
-                args.name,
-                args.out,
-                settings,
-                storage=args.storage,
-                workers=args.workers,
-                progress=progress,
-                retry=args.retry_failed,
-            )
+        outcome = _run_study(args)
     except SweepStopped as exc:  # a signal, a full disk, a lost database: one line, then resume
         print(f"softcrawl study {args.name}: {exc.line}", file=sys.stderr)
         return exc.exit_code
@@ -261,3 +244,47 @@ def run(args: argparse.Namespace) -> int:
         print(line, file=sys.stderr)
     print("wrote " + ", ".join(map(str, outcome.written)))
     return 0 if outcome.ok else 1
+
+
+def _run_study(args):
+    """The study's outcome (`studies.catalogue.outcome.StudyOutcome`)."""
+    from studies.catalogue.actuator_studies import run_sweep_study, study_settings
+    from studies.catalogue.optimise_actuator import run_optimiser
+
+    progress = not args.no_progress
+    if args.name in CONTACT_STUDIES:
+        from studies.catalogue.contact_runs import run_contact_study
+
+        return run_contact_study(
+            args.name,
+            args.out,
+            material=args.material,
+            quick=args.quick,
+            storage=args.storage,
+            workers=args.workers,
+            progress=progress,
+            retry=args.retry_failed,
+        )
+    settings = study_settings(
+        args.name, args.material, args.quick, args.mesh_size, args.fibers, args.simulator
+    )
+    if args.name == OPTIMISER:
+        return run_optimiser(
+            args.out,
+            settings,
+            trials=args.trials,
+            sampler=args.sampler,
+            seed=args.seed,
+            storage=args.storage,
+            workers=args.workers,
+            progress=progress,
+        )
+    return run_sweep_study(
+        args.name,
+        args.out,
+        settings,
+        storage=args.storage,
+        workers=args.workers,
+        progress=progress,
+        retry=args.retry_failed,
+    )

@@ -1,8 +1,8 @@
 """`softcrawl verify [--json FILE] [--case NAME ...]`: the solver against closed-form solutions.
 
-Runs the verification cases of `fem.verification` on coarse meshes (about a minute in all on two
-cores), prints each case's error, tolerance and pass/fail, and writes them as JSON. Exit code 0
-when every case passes, 1 otherwise.
+Runs the verification cases of `fem.verification` and `fem.contact_verification` on coarse
+meshes (about a minute and a half in all on two cores), prints each case's error, tolerance and
+pass/fail, and writes them as JSON. Exit code 0 when every case passes, 1 otherwise.
 """
 
 from __future__ import annotations
@@ -12,9 +12,16 @@ import time
 from pathlib import Path
 
 
-def register(subparsers) -> None:
+def _cases() -> dict:
+    """The solver cases (`fem.verification`) and the contact cases (`fem.contact_verification`)."""
+    from fem.contact_verification import CASES as CONTACT
     from fem.verification import CASES
 
+    return {**CASES, **CONTACT}
+
+
+def register(subparsers) -> None:
+    CASES = _cases()
     p = subparsers.add_parser(
         "verify", help="run the solver verification cases", description=__doc__.splitlines()[0]
     )
@@ -35,11 +42,11 @@ def _plain(value):
 
 
 def run(args) -> int:
-    from fem.verification import CASES
     from studies.commands.options import make_folder, output_file
 
     if args.json:
         output_file(args.json, "json")  # checked before the cases run
+    CASES = _cases()
     names = args.case or list(CASES)
     rows = []
     width = max(len(n) for n in names) + 2

@@ -1,0 +1,177 @@
+r"""Staged loading of a model with contact terms, with an augmented-Lagrangian loop and cut-back.
+
+A stage moves, over a pseudo-time s in [0, 1], the chamber pressures P and the load factor f
+(prescribed displacements, dead loads) linearly from where the last stage ended to its own end
+values, and may move the rigid surfaces (`surfaces`: contact index -> callable s -> surface,
+e.g. a pipe wall shrinking from clear of an oversized foot to its radius) and set the friction
+coefficients at its start (`friction`: contact index -> mu; stick points restart there). The
+staged insertion of a foot into a pipe is three stages: shrink the wall frictionless, switch
+friction on, drag by prescribed displacement.
+
+Each sub-step is a Newton solve (`fem.newton`) from the last converged state. A diverged
+sub-step is halved (up to `max_cutbacks` times in a row), with the contact history restored; an
+easy one (<= 6 iterations) lets the next grow back, up to the stage's own step 1 / `steps` (so
+that a drag records at least `steps` points of its curve). After a converged sub-step, the
+augmented-Lagrangian (Uzawa) loop updates the multipliers lambda <- p_N and solves again at the
+same load until the largest penetration is below `penetration_tol` (mm) or `max_augment`
+updates were made; then the friction history is committed once (`SolidModel.commit`). The
+history never changes inside a Newton iteration. Within a stage, each sub-step starts from the
+secant prediction of the last two converged states (linear in the pseudo-time), which puts a
+drag increment near its slip solution.
+
+Nothing raises on divergence: the result says `converged = False` and names the last converged
+stage and pseudo-time.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fem.errors import SolverInputError
+from fem.newton import Diverged, NewtonOptions, NewtonSolver
+
+
+@dataclass(frozen=True)
+class Stage:
+    name: str
+    pressure: object = None  # end pressure(s), MPa; None keeps the last
+    factor: float | None = None  # end load factor; None keeps the last
+    surfaces: Mapping[int, Callable] = field(default_factory=dict)
+    friction: Mapping[int, float] = field(default_factory=dict)
+    steps: int = 1  # initial number of sub-steps
+
+    def __post_init__(self):
+        if int(self.steps) < 1:
+            raise SolverInputError("stage.steps", f"{self.name}: needs at least one sub-step")
+
+
+@dataclass(frozen=True)
+class StagedStep:
+    stage: str
+    s: float  # pseudo-time in the stage
+    pressure: np.ndarray
+    factor: float
+    x: np.ndarray = field(repr=False)
+    iterations: tuple[int, ...]  # Newton iterations of each solve (first, then AL re-solves)
+    residuals: tuple[float, ...]  # relative residuals of the first solve (convergence order)
+    penetration: float  # largest penetration after the last solve (mm)
+
+
+@dataclass(frozen=True)
+class StagedResult:
+    steps: tuple[StagedStep, ...]
+    converged: bool
+    message: str
+    wall_s: float
+    newton_iterations: int
+    assembly_s: float
+    solve_s: float
+
+    @property
+    def x(self) -> np.ndarray:
+        return self.steps[-1].x
+
+
+def _snapshot(model):
+    return [(c.multiplier.copy(), c.stick.copy(), c.surface) for c in model.contacts]
+
+
+def _restore(model, snap) -> None:
+    for c, (lam, stick, surface) in zip(model.contacts, snap):
+        c.multiplier, c.stick, c.surface = lam, stick, surface
+
+
+def _solve_augmented(solver, model, x, P, f, tol, max_augment):
+    """Newton at (P, f), then Uzawa updates until the penetration is below tol; returns
+    (x, iterations per solve, residuals of the first solve, last penetration). Raises Diverged."""
+    iterations, residuals = [], None
+    for k in range(max_augment + 1):
+        x, record = solver.load_step(x, P, f)
+        iterations.append(record.iterations)
+        residuals = residuals or record.residuals
+        penetration = max((c.augment(x) for c in model.contacts), default=0.0)
+        if penetration <= tol or k == max_augment:
+            model.commit(x)
+            return x, tuple(iterations), residuals, penetration
+    raise AssertionError("unreachable")
+
+
+def run_stages(
+    model,
+    stages,
+    *,
+    x0: np.ndarray | None = None,
+    options: NewtonOptions | None = None,
+    penetration_tol: float = 1e-3,
+    max_augment: int = 4,
+    max_cutbacks: int = 6,
+    on_step: Callable[[StagedStep], None] | None = None,
+) -> StagedResult:
+    """Follow `stages` from x0 (default: undeformed) at zero pressure and factor 0."""
+    if penetration_tol <= 0:
+        raise SolverInputError("penetration_tol", "must be positive (mm)")
+    opt = options or NewtonOptions()
+    solver = NewtonSolver(model, opt)
+    t0 = time.perf_counter()
+    x = model.initial_state() if x0 is None else x0.copy()
+    P = np.zeros(max(len(model.chambers), 1))
+    f = 0.0
+    out: list[StagedStep] = []
+
+    def result(ok, message):
+        return StagedResult(
+            tuple(out),
+            ok,
+            message,
+            time.perf_counter() - t0,
+            solver.iterations,
+            solver.assembly_s,
+            solver.solve_s,
+        )
+
+    last = "the start"
+    for stage in stages:
+        P0, f0 = P.copy(), f
+        P1 = (
+            P0
+            if stage.pressure is None
+            else np.broadcast_to(np.asarray(stage.pressure, float), P0.shape).copy()
+        )
+        f1 = f0 if stage.factor is None else float(stage.factor)
+        for i, mu in stage.friction.items():
+            model.contacts[i].set_friction(mu, x)
+        t, h, cuts = 0.0, 1.0 / stage.steps, 0
+        prev = None  # (t, x) of the converged state before the last one in this stage
+        while t < 1.0 - 1e-12:
+            h = min(h, 1.0 - t)
+            s = t + h
+            snap = _snapshot(model)
+            for i, surface_at in stage.surfaces.items():
+                model.contacts[i].set_surface(surface_at(s))
+            Ps, fs = P0 + s * (P1 - P0), f0 + s * (f1 - f0)
+            guess = x if prev is None else x + (x - prev[1]) * (h / (t - prev[0]))
+            try:
+                x_new, its, rs, pen = _solve_augmented(
+                    solver, model, guess, Ps, fs, penetration_tol, max_augment
+                )
+            except Diverged as exc:
+                _restore(model, snap)
+                h *= 0.5
+                cuts += 1
+                if cuts > max_cutbacks:
+                    return result(False, f"stage {stage.name!r} diverged ({exc}); last converged: {last}")
+                continue
+            prev = (t, x)
+            x, t, P, f, cuts = x_new, s, Ps, fs, 0
+            step = StagedStep(stage.name, s, P.copy(), f, x.copy(), its, tuple(rs), pen)
+            out.append(step)
+            last = f"stage {stage.name!r} at s = {s:.4g}"
+            if on_step is not None:
+                on_step(step)
+            if its[0] <= 6:
+                h = min(2.0 * h, 1.0 / stage.steps)  # never past the stage's own step (curves)
+    return result(True, "all stages reached")
