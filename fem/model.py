@@ -108,6 +108,9 @@ class SolidModel:
         self.space = Discretisation(mesh, formulation, intorder)
         self.solid = Solid(self.space, materials)
         self.constraints = Constraints(self.space, dirichlet)
+        touched = np.zeros(self.space.n_dofs, dtype=bool)
+        touched[self.space.element_dofs.reshape(-1)] = True
+        self.constraints.pin(np.flatnonzero(~touched))  # unknowns of no element (orphan vertices)
         self.chambers = [Chamber(self.space, spec) for spec in _chamber_specs(chambers)]
         has_lines = fibers is not None and len(fibers.polylines or ()) > 0
         self.fibers = embed(self.space.basis, fibers) if has_lines else None

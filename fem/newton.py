@@ -61,7 +61,7 @@ class NewtonOptions:
     max_cutbacks: int = 4  # consecutive halvings of a load (or volume) step before giving up
     min_step_fraction: float = 1e-3  # smallest sub-step, as a fraction of a load segment
     max_substeps: int = 100  # sub-steps of one load segment
-    max_volume_steps: int = 100  # volume-control steps of one continuation (or volume target)
+    max_volume_steps: int = 50  # volume steps of one continuation or volume target (tests: <= 12)
     post_limit_steps: int = 6
     predictor: str = "tangent"  # "tangent" (Euler, Hermite with the last state), "secant", "none"
     reuse_factor: bool = True  # GMRES on the tangent with the last factorisation when cheaper
