@@ -4,9 +4,24 @@ Load. A target is (P, f): the chamber pressure P (MPa) - a scalar applies to eve
 sequence gives one pressure per chamber (the robot's three ePSAs) - and the factor f that scales
 the prescribed Dirichlet values and the dead loads. Internally a load is the vector L = (P..., f).
 Between two targets the load moves on a straight line in L (proportional loading; a sequential
-path, e.g. P2 and P3 first and then P1, is two targets), in sub-steps; each sub-step starts from
-the secant predictor (linear extrapolation of the last two converged states along L), a sub-step
-whose Newton iteration diverges (`fem.newton`) is halved, and an easy one lets the next grow.
+path, e.g. P2 and P3 first and then P1, is two targets), in sub-steps. The targets are landing
+points, not the step size.
+
+Predictor (`NewtonOptions.predictor`). "tangent", the default: the Euler step along the tangent
+dx/ds = -K^{-1} dR/ds of the last converged state (`NewtonSolver.load_tangent`; s is the arc
+length in L along the segment), bent into the quadratic x(s) = x + s v + s^2 w through the
+previous converged state when that lies on the same load line (`History.hermite`); "secant":
+linear extrapolation of the last two states; "none": the last state. A prediction that inverts
+an element is drawn back towards the last state (`NewtonSolver.load_step`).
+
+Step size. A sub-step whose Newton iteration diverges is halved; after a converged one the next
+grows or shrinks with the Newton iterations it took (`_growth`: the iteration count measures how
+far the predictor was off), and the next target along the same load direction starts with the
+last step length (`StepMemory`). docs/DESIGN.md section 7.1 has the measurements.
+
+Guards. A segment ends in a divergence after `max_cutbacks` halvings in a row, after
+`max_substeps` sub-steps, or when the step shrinks below `min_step_fraction` of the segment;
+each says which in the path's message.
 
 Limit points. When pressure control cannot advance (`max_cutbacks` halvings fail) on a segment
 that raises a chamber pressure, the path goes on under volume control from the last converged
