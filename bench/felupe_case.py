@@ -220,6 +220,73 @@ class _TimedSolver:
 
 
 # ------------------------------------------------------------------------ API
+def _felupe_model(mesh, cells_loaded, mu, k_over_mu, length, outer):
+    """FElupe fields, solid, follower pressure and the symmetry/plane-strain partition."""
+    tol_r = 1e-6 * outer  # geometric tolerances (relative to the model size)
+    tol_z = 1e-6 * max(length, outer)
+    region = fem.RegionQuadraticTetra(mesh)  # default tetra quadrature (order 2)
+    field = fem.FieldsMixed(region, n=3)  # u (P2), p (P1), J-bar (P1)
+    umat = fem.NearlyIncompressible(fem.NeoHooke(mu=mu), bulk=k_over_mu * mu)
+    solid = fem.SolidBody(umat, field)
+    region_p = _face_region(mesh, cells_loaded)
+    pressure = fem.SolidBodyPressure(fem.FieldContainer([fem.Field(region_p, dim=3)]), pressure=0.0)
+    x, y, z = mesh.points.T
+    u = field[0]
+    boundaries = {
+        "sym-x": fem.Boundary(u, mask=np.abs(x) < tol_r, skip=(0, 1, 1)),
+        "sym-y": fem.Boundary(u, mask=np.abs(y) < tol_r, skip=(1, 0, 1)),
+        "sym-z": fem.Boundary(u, mask=np.abs(z) < tol_z, skip=(1, 1, 0)),
+        "plane-strain": fem.Boundary(u, mask=np.abs(z - length) < tol_z, skip=(1, 1, 0)),
+    }
+    dof0, dof1 = fem.dof.partition(field, boundaries)
+    ext0 = fem.dof.apply(field, boundaries, dof0)  # all zero
+    return field, solid, pressure, (dof0, dof1, ext0)
+
+
+def _ramp(field, solid, pressure, partition, pressures):
+    """One FElupe Newton solve per pressure; returns (field, iterations per step, converged,
+    failure message, assembly timer, linear-solver timer)."""
+    dof0, dof1, ext0 = partition
+    timer = _Timer()
+    solver = _TimedSolver(_linear_solver)
+    iterations, converged, failure = [], True, ""
+    for p in pressures:
+        pressure.update(p)
+        try:
+            res = fem.newtonraphson(
+                items=[solid, pressure],
+                x0=field,
+                dof1=dof1,
+                dof0=dof0,
+                ext0=ext0,
+                solver=solver,
+                verbose=0,
+                plugins=[timer],
+            )
+        except fem.NewtonConvergenceError as err:
+            converged, failure = False, f"step p={p}: {err}".strip()
+            break
+        iterations.append(res.iterations)
+        converged = converged and bool(res.success)
+        field = res.x
+    return field, iterations, converged, failure, timer, solver
+
+
+def _notes(mesh, points, n_projected, cells_loaded, inner, outer, n_steps, inner_vertices, failure):
+    notes = (
+        f"FElupe {fem.__version__}: tetra10 P2/P1/P1 FieldsMixed + "
+        f"NearlyIncompressible(NeoHooke), {len(mesh.points)} P2 nodes "
+        f"({len(points)} vertices), {n_projected} mid-edge nodes projected onto "
+        f"r={inner:g}/{outer:g}; follower pressure = SolidBodyPressure on "
+        f"{len(cells_loaded)} re-ordered boundary tets (face quadrature "
+        f"TriangleQuadrature(order=5)); linear solver {_SOLVER_NAME}; "
+        f"{n_steps} load steps, Newton tol sqrt(eps) (FElupe default, "
+        f"relative residual), inner radius = mean over {inner_vertices.sum()} "
+        f"inner-surface vertices."
+    )
+    return notes + (" NOT CONVERGED: " + failure if failure else "")
+
+
 def solve_tube_felupe(
     points,
     cells,
@@ -257,86 +324,29 @@ def solve_tube_felupe(
     """
     points = np.asarray(points, dtype=float)
     cells = np.asarray(cells, dtype=np.int64)
-    tol_r = 1e-6 * outer  # geometric tolerances (relative to the model size)
-    tol_z = 1e-6 * max(length, outer)
 
-    # --- quadratic mesh (not timed as solve time) ---------------------------
-    t0 = time.perf_counter()
+    t0 = time.perf_counter()  # the quadratic mesh is not timed as solve time
     mesh, cells_loaded, inner_vertices, n_projected = _build_quadratic_mesh(
-        points, cells, inner, outer, tol_r
+        points, cells, inner, outer, 1e-6 * outer
     )
     mesh_s = time.perf_counter() - t0
 
-    # --- FElupe model ---------------------------------------------------------
     t_setup = time.perf_counter()
-    region = fem.RegionQuadraticTetra(mesh)  # default tetra quadrature (order 2)
-    field = fem.FieldsMixed(region, n=3)  # u (P2), p (P1), J-bar (P1)
-    umat = fem.NearlyIncompressible(fem.NeoHooke(mu=mu), bulk=k_over_mu * mu)
-    solid = fem.SolidBody(umat, field)
-
-    region_p = _face_region(mesh, cells_loaded)
-    field_p = fem.FieldContainer([fem.Field(region_p, dim=3)])
-    pressure = fem.SolidBodyPressure(field_p, pressure=0.0)
-
-    x, y, z = mesh.points.T
-    u = field[0]
-    boundaries = {
-        "sym-x": fem.Boundary(u, mask=np.abs(x) < tol_r, skip=(0, 1, 1)),
-        "sym-y": fem.Boundary(u, mask=np.abs(y) < tol_r, skip=(1, 0, 1)),
-        "sym-z": fem.Boundary(u, mask=np.abs(z) < tol_z, skip=(1, 1, 0)),
-        "plane-strain": fem.Boundary(u, mask=np.abs(z - length) < tol_z, skip=(1, 1, 0)),
-    }
-    dof0, dof1 = fem.dof.partition(field, boundaries)
-    ext0 = fem.dof.apply(field, boundaries, dof0)  # all zero
+    field, solid, pressure, partition = _felupe_model(mesh, cells_loaded, mu, k_over_mu, length, outer)
     setup_s = time.perf_counter() - t_setup
 
-    # --- load steps -------------------------------------------------------------
-    timer = _Timer()
-    solver = _TimedSolver(_linear_solver)
-    iterations, converged, failure = [], True, ""
     t_newton = time.perf_counter()
-    for p in pressures:
-        pressure.update(p)
-        try:
-            res = fem.newtonraphson(
-                items=[solid, pressure],
-                x0=field,
-                dof1=dof1,
-                dof0=dof0,
-                ext0=ext0,
-                solver=solver,
-                verbose=0,
-                plugins=[timer],
-            )
-        except fem.NewtonConvergenceError as err:
-            converged, failure = False, f"step p={p}: {err}".strip()
-            break
-        iterations.append(res.iterations)
-        converged = converged and bool(res.success)
-        field = res.x
+    field, iterations, converged, failure, timer, solver = _ramp(field, solid, pressure, partition, pressures)
     newton_s = time.perf_counter() - t_newton
 
-    # --- result -------------------------------------------------------------------
     xv = mesh.points[: len(points)] + field[0].values[: len(points)]
     radius = np.hypot(xv[inner_vertices, 0], xv[inner_vertices, 1])
-
-    notes = (
-        f"FElupe {fem.__version__}: tetra10 P2/P1/P1 FieldsMixed + "
-        f"NearlyIncompressible(NeoHooke), {len(mesh.points)} P2 nodes "
-        f"({len(points)} vertices), {n_projected} mid-edge nodes projected onto "
-        f"r={inner:g}/{outer:g}; follower pressure = SolidBodyPressure on "
-        f"{len(cells_loaded)} re-ordered boundary tets (face quadrature "
-        f"TriangleQuadrature(order=5)); linear solver {_SOLVER_NAME}; "
-        f"{len(pressures)} load steps, Newton tol sqrt(eps) (FElupe default, "
-        f"relative residual), inner radius = mean over {inner_vertices.sum()} "
-        f"inner-surface vertices."
+    notes = _notes(
+        mesh, points, n_projected, cells_loaded, inner, outer, len(pressures), inner_vertices, failure
     )
-    if failure:
-        notes += " NOT CONVERGED: " + failure
-
     return {
         "dofs": int(np.sum(field.fieldsizes)),
-        "dofs_active": int(len(dof1)),
+        "dofs_active": int(len(partition[1])),
         "newton_iterations": int(sum(iterations)),
         "iterations_per_step": iterations,
         "wall_s": setup_s + newton_s,
@@ -344,6 +354,7 @@ def solve_tube_felupe(
         "newton_s": newton_s,
         "assembly_s": timer.assembly,
         "solve_s": solver.seconds,
+        "factorizations": solver.calls,
         "mesh_s": mesh_s,
         "inner_radius_mm": float(radius.mean()),
         "converged": bool(converged and len(iterations) == len(pressures)),

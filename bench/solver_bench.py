@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import multiprocessing as mp
+import os
 import resource
 import sys
 import time
@@ -101,6 +102,8 @@ def run_softcrawl(points, tets, queue):
             "code": "softcrawl P2-P1",
             "dofs": model.n_dofs,
             "iterations": s.iterations,
+            "factorizations": s.factorizations,
+            "krylov": s.krylov_iterations,
             "wall_s": s.wall_s,
             "assembly_s": s.assembly_s,
             "solve_s": s.solve_s,
@@ -122,6 +125,8 @@ def run_felupe(points, tets, queue):
         "code": "FElupe",
         "dofs": out["dofs"],
         "iterations": out["newton_iterations"],
+        "factorizations": out["factorizations"],
+        "krylov": 0,
         "wall_s": out["wall_s"],
         "assembly_s": out.get("assembly_s", np.nan),
         "solve_s": out.get("solve_s", np.nan),
@@ -156,7 +161,7 @@ def main(argv=None):
     exact = analytic_inner_radius()
     print(f"analytic inner radius at {PRESSURES[-1] * 1e3:.0f} kPa: {exact:.6f} mm")
     header = (
-        f"{'mesh':<10}{'code':<17}{'DOFs':>8}{'iters':>6}{'s/iter':>8}{'asm %':>7}"
+        f"{'mesh':<10}{'code':<17}{'DOFs':>8}{'iters':>6}{'fact':>5}{'gmres':>6}{'s/iter':>8}{'asm %':>7}"
         f"{'solve %':>8}{'wall s':>8}{'RSS MB':>8}{'err a %':>9}"
     )
     rows = []
@@ -177,7 +182,8 @@ def main(argv=None):
         it = max(r["iterations"], 1)
         err = (r["inner_radius_mm"] - exact) / (exact - A) * 100
         print(
-            f"{r['mesh']:<10}{r['code']:<17}{r['dofs']:>8}{r['iterations']:>6}{r['wall_s'] / it:>8.2f}"
+            f"{r['mesh']:<10}{r['code']:<17}{r['dofs']:>8}{r['iterations']:>6}{r['factorizations']:>5}"
+            f"{r['krylov']:>6}{r['wall_s'] / it:>8.2f}"
             f"{100 * r['assembly_s'] / r['wall_s']:>7.0f}{100 * r['solve_s'] / r['wall_s']:>8.0f}"
             f"{r['wall_s']:>8.1f}{r['peak_rss_mb']:>8.0f}{err:>9.3f}"
         )
@@ -192,6 +198,10 @@ def main(argv=None):
                 f"total wall = {p['wall_s'] / o['wall_s']:.2f}x"
             )
     print("err a %: error of the inner-radius displacement a - A against the analytic one")
+    print(
+        f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores "
+        "(the figures are those of an idle machine only when it is about 0)"
+    )
 
 
 if __name__ == "__main__":

@@ -125,6 +125,11 @@ class ContactReport:
 class ContactTerm:
     """A `ContactSpec` on a body discretised by `space`: a term of `fem.model.SolidModel`."""
 
+    #: The tangent is not symmetric with friction (the slip direction couples to the normal), and
+    #: friction can be switched on between stages (`set_friction`) after a solver has chosen its
+    #: factorisation from `fem.model.SolidModel.symmetric_tangent`: never declared symmetric.
+    symmetric = False
+
     def __init__(self, space: Discretisation, spec: ContactSpec) -> None:
         self.space, self.spec = space, spec
         self.surface, self.mu = spec.surface, spec.mu

@@ -130,7 +130,7 @@ def run_stages(
             time.perf_counter() - t0,
             solver.iterations,
             solver.assembly_s,
-            solver.solve_s,
+            solver.linear.seconds,
         )
 
     last = "the start"

@@ -12,6 +12,12 @@ peaks and falls, the peak (refined by a parabola through the three samples aroun
 limit point: "limit point at P ~ x kPa"; the path goes on for `post_limit_steps` volume steps and
 ends (targets above the peak are unreachable). Volume control follows one load direction: a
 remaining target off that line is not reached, and the path says so.
+
+Guards. The path ends (converged = False, a message naming the last converged load and the
+guard) after `max_volume_steps` volume steps, after `max_cutbacks` halvings of the volume step in
+a row, or when the step falls below 1e-3 of the first one: a wrong tangent or load (a flipped
+chamber normal, say) makes volume control creep forward in ever smaller steps without ever
+reaching a target or a peak, and without these limits that never ends.
 """
 
 from __future__ import annotations
@@ -44,14 +50,24 @@ def volume_continuation(solver, shape, history: History, remaining, steps, event
         x, P, record = solver.volume_step(vh.predict(volume=volume), vh.load[:-1], volume, f, d, k)
         return x, np.r_[_user_length(P, shape), f], record
 
+    dV_min = 1e-3 * dV  # volume steps below this are a stalled path, not progress
+    n_steps = 0
     while pending:
+        n_steps += 1
+        if n_steps > opt.max_volume_steps:
+            reason = (
+                f"{opt.max_volume_steps} volume steps (max_volume_steps) did not reach "
+                f"{describe_load(pending[0])}; the driving pressure is {vh.load[k] * 1e3:.4g} kPa"
+            )
+            return _end_of_volume_path(solver, vh, steps, events, t0, peak, reason)
         try:
             x_new, L_new, record = solve_at(vh.volume + dV)
         except Diverged as exc:
             dV *= 0.5
             cuts += 1
-            if cuts > opt.max_cutbacks:
-                return _end_of_volume_path(solver, vh, steps, events, t0, peak, str(exc))
+            if cuts > opt.max_cutbacks or dV < dV_min:
+                reason = f"{exc}; the volume step was cut back {cuts} times in a row to {dV:.3g} mm^3"
+                return _end_of_volume_path(solver, vh, steps, events, t0, peak, reason)
             continue
         cuts = 0
         V_new = vh.volume + dV

@@ -60,9 +60,26 @@ class Constraints:
         else:
             self.fixed_dofs = np.zeros(0, dtype=np.int64)
             self.fixed_values = np.zeros(0)
-        self.free_dofs = np.setdiff1d(np.arange(space.n_dofs), self.fixed_dofs)
-        self.free_index = np.full(space.n_dofs, -1, dtype=np.int64)
+        self.n_dofs = space.n_dofs
+        self._number_free()
+
+    def _number_free(self) -> None:
+        self.free_dofs = np.setdiff1d(np.arange(self.n_dofs), self.fixed_dofs)
+        self.free_index = np.full(self.n_dofs, -1, dtype=np.int64)
         self.free_index[self.free_dofs] = np.arange(self.free_dofs.size)
+
+    def pin(self, dofs: np.ndarray) -> None:
+        """Fix `dofs` at 0: dofs that no element touches (a mesh vertex of no tetrahedron), which
+        nothing determines. Left free they are empty rows of the tangent, which PARDISO's pivot
+        perturbation papers over at the price of iterative refinement in every solve."""
+        dofs = np.setdiff1d(dofs, self.fixed_dofs)
+        if dofs.size == 0:
+            return
+        fixed = np.concatenate([self.fixed_dofs, dofs])
+        order = np.argsort(fixed)
+        self.fixed_dofs = fixed[order]
+        self.fixed_values = np.concatenate([self.fixed_values, np.zeros(dofs.size)])[order]
+        self._number_free()
 
     def apply(self, x: np.ndarray, factor: float) -> np.ndarray:
         """A copy of x with the constrained dofs at `factor` times their values."""

@@ -10,19 +10,39 @@ The sparsity pattern of a model never changes (`fem.pattern`), so `LinearSolver`
 symbolic analysis (ordering, ~40 % of a factorisation) once per pattern and only the numeric
 factorisation per Newton step. Solves take one or several right-hand sides (volume control needs
 two per step).
+
+Symmetry is known from the load types (`fem.model.SolidModel.symmetric_tangent`), so no matrix
+is tested for it per Newton step. `StepSolver` is what Newton uses: it factorises the current
+tangent, or, when it measures that to be cheaper, runs GMRES on it preconditioned by the last
+factorisation (`fem.krylov`): the factorisation costs ~7-9x a substitution on the default ePSA
+mesh, so a few Krylov iterations on an older factorisation save wall time when they are enough.
+The number of Krylov iterations allowed is half the cost ratio of a factorisation to an
+iteration (`LinearSolver.cost_ratio`, from PARDISO's flop count); when GMRES does not reach the
+asked accuracy within them, the current tangent is factorised (the Krylov time is lost: the rule
+bounds the loss to half a factorisation).
 """
 
 from __future__ import annotations
 
 import functools
 import os
+import time
 import zlib
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from fem.krylov import gmres
+
 SOLVERS = ("pardiso", "superlu")
+
+#: PARDISO reports the flops of a factorisation and the nonzeros of its factors; their ratio
+#: divided by this is the measured wall-time ratio of a factorisation to a substitution (with
+#: the matrix product of a Krylov iteration): 640 / 90 ~ 7 on the default ePSA mesh (22k DOFs,
+#: one and two threads, measured 7-9). A ratio from counts, not from timings, keeps a solve
+#: reproducible: the same run takes the same iterations on an idle and on a loaded machine.
+FLOPS_PER_RATIO = 90.0
 
 
 def pardiso_available() -> bool:
@@ -56,6 +76,8 @@ def _pardiso_handle(mtype: int):
     ps = pypardiso.PyPardisoSolver(mtype=mtype)
     ps.set_iparm(1, 1)  # user-set iparm
     ps.set_iparm(2, 2)  # METIS nested-dissection ordering
+    ps.set_iparm(18, -1)  # report the nonzeros of the factors
+    ps.set_iparm(19, -1)  # and the factorisation's Mflop (`LinearSolver.cost_ratio`)
     if mtype == -2:  # symmetric indefinite (mixed u-p saddle point)
         ps.set_iparm(10, 8)  # pivot perturbation 1e-8
         ps.set_iparm(11, 1)  # scaling and weighted matching: advised for
@@ -73,11 +95,13 @@ class LinearSolver:
         self._A = None
         self._lu = None
         self._analysed_pattern = None
+        self.cost_ratio = None  # time of a factorisation / time of a substitution, if known
 
-    def factor(self, A: sp.csr_matrix) -> None:
-        """Factorise A. A matrix from `fem.pattern.Pattern.assemble` that is symmetric (to
-        `SYMMETRY_TOL`) goes to PARDISO's symmetric indefinite factorisation (about half the
-        work of LU); any other to the non-symmetric one."""
+    def factor(self, A: sp.csr_matrix, symmetric: bool | None = None) -> None:
+        """Factorise A. A symmetric matrix (`symmetric`, or when None a matrix from
+        `fem.pattern.Pattern.assemble` that is symmetric to `SYMMETRY_TOL`) goes to PARDISO's
+        symmetric indefinite factorisation (about half the work of LU); any other to the
+        non-symmetric one."""
         pattern = getattr(A, "pattern", None)
         A = A if sp.isspmatrix_csr(A) else sp.csr_matrix(A)
         if self.name == "superlu":
@@ -88,7 +112,10 @@ class LinearSolver:
                 diag_pivot_thresh=0.01,
             )
             return
-        symmetric = pattern is not None and pattern.asymmetry(A) < SYMMETRY_TOL
+        if symmetric is None:
+            symmetric = pattern is not None and pattern.asymmetry(A) < SYMMETRY_TOL
+        if symmetric and pattern is None:
+            raise ValueError("a symmetric factorisation needs a matrix of a fem.pattern.Pattern")
         mtype = -2 if symmetric else 11
         M = pattern.upper(A) if symmetric else A
         ps = _pardiso_handle(mtype)
@@ -101,6 +128,8 @@ class LinearSolver:
             ps.set_phase(11)  # symbolic analysis, once per pattern
             ps._call_pardiso(M, dummy)
             self._analysed_pattern = key
+            # factorisation / substitution cost, from the flop count (module docstring)
+            self.cost_ratio = float(ps.iparm[18]) * 1e6 / max(float(ps.iparm[17]), 1.0) / FLOPS_PER_RATIO
             _OWNER[mtype] = self
         ps.set_phase(22)  # numeric factorisation
         ps._call_pardiso(M, dummy)
@@ -116,3 +145,62 @@ class LinearSolver:
 
 
 _OWNER: dict = {}  # matrix type -> the LinearSolver whose analysis the handle holds
+
+
+class StepSolver:
+    """The linear solves of Newton's method on one model (module docstring): `solve(K, B, rtol,
+    weights)` returns X with ||W (K X - B)|| <= rtol ||W B|| per column, by a factorisation of K
+    or by GMRES preconditioned with the last factorisation. Counts and times everything."""
+
+    MAX_KRYLOV = 12
+
+    def __init__(self, name: str | None, symmetric: bool, reuse: bool = True) -> None:
+        self.direct = LinearSolver(name)
+        self.symmetric = symmetric
+        self.reuse = reuse
+        self.factorizations = 0
+        self.substitutions = 0
+        self.krylov_iterations = 0
+        self.seconds = 0.0
+
+    def solve(self, K, B, rtol: float, weights=None, min_krylov: int = 2) -> np.ndarray:
+        """X with ||W (K X - B)|| <= rtol ||W B||. The last factorisation is tried first when
+        GMRES may take at least `min_krylov` iterations within half the measured time of a
+        factorisation (0: never)."""
+        t0 = time.perf_counter()
+        try:
+            X = None
+            if self.reuse and min_krylov > 0 and self.factorizations > 0:
+                X = self._reused(K, B, rtol, weights, min_krylov)
+            if X is None:
+                self.direct.factor(K, self.symmetric)
+                self.factorizations += 1
+                X = self.direct.solve(B)
+                self.substitutions += 1
+            return X
+        finally:
+            self.seconds += time.perf_counter() - t0
+
+    def _reused(self, K, B, rtol, weights, min_krylov):
+        """GMRES per column with the last factorisation, within the time of half a
+        factorisation (`LinearSolver.cost_ratio`; 2 iterations when it is unknown); None when
+        that is not enough."""
+        ratio = self.direct.cost_ratio
+        budget = int(min(self.MAX_KRYLOV, 0.5 * ratio)) if ratio else 2
+        if budget < min_krylov:
+            return None
+        columns = B.reshape(B.shape[0], -1)
+        out = np.empty_like(columns)
+        for j in range(columns.shape[1]):
+            res = gmres(
+                lambda v: K @ v, self._substitute, columns[:, j], rtol=rtol, max_iter=budget, weights=weights
+            )
+            self.krylov_iterations += res.iterations
+            if not res.converged:
+                return None
+            out[:, j] = res.x
+        return out.reshape(B.shape)
+
+    def _substitute(self, b):
+        self.substitutions += 1
+        return self.direct.solve(b)

@@ -38,6 +38,7 @@ from fem.dirichlet import Constraints, Dirichlet
 from fem.discretisation import FORMULATIONS, Discretisation
 from fem.errors import SolverInputError
 from fem.fibers import FiberLines, element_arrays, embed, fiber_state, segment_dofs, segment_forces
+from fem.linsolve import SYMMETRY_TOL
 from fem.pattern import Pattern
 from fem.solid import InvertedElement, Solid
 
@@ -114,6 +115,9 @@ class SolidModel:
         self.space = Discretisation(mesh, formulation, intorder)
         self.solid = Solid(self.space, materials)
         self.constraints = Constraints(self.space, dirichlet)
+        touched = np.zeros(self.space.n_dofs, dtype=bool)
+        touched[self.space.element_dofs.reshape(-1)] = True
+        self.constraints.pin(np.flatnonzero(~touched))  # unknowns of no element (orphan vertices)
         self.chambers = [Chamber(self.space, spec) for spec in _chamber_specs(chambers)]
         has_lines = fibers is not None and len(fibers.polylines or ()) > 0
         self.fibers = embed(self.space.basis, fibers) if has_lines else None
@@ -130,6 +134,7 @@ class SolidModel:
         groups = self.solid.groups + [c.u_dofs for c in self.chambers] + [t.dofs for t in self.terms]
         self.pattern = Pattern(self.constraints.free_index, groups)
         self._memo = None  # see `_at`
+        self._symmetric = None  # see `symmetric_tangent`
 
     # ------------------------------------------------------------- the body
     mesh = property(lambda self: self.space.mesh)
@@ -258,6 +263,33 @@ class SolidModel:
             blocks[k][...] = K
             k += 1
         return R, self.pattern.assemble_values(values)
+
+    @property
+    def symmetric_tangent(self) -> bool:
+        """Whether the tangent is symmetric at every state, known from the load types and decided
+        once: the body, the fiber lines and the sheets derive from energies; a term that does not
+        says so with `symmetric = False`; chamber pressures are symmetric when their load is
+        conservative (a closed or symmetrically cut chamber: `_chambers_conservative`)."""
+        if self._symmetric is None:
+            terms = all(getattr(t, "symmetric", True) for t in self.terms)
+            self._symmetric = terms and self._chambers_conservative()
+        return self._symmetric
+
+    def _chambers_conservative(self) -> bool:
+        """The chambers' pressure tangent alone, assembled at a random state on the free dofs, is
+        symmetric to round-off (~1e-16 when the load is conservative, O(1) when it is not)."""
+        if not self.chambers:
+            return True
+        rng = np.random.default_rng(0)
+        x = self.initial_state()
+        x[: self.n_u] = 1e-3 * self.space.size * rng.standard_normal(self.n_u)
+        x = self.apply_dirichlet(x, 0.0)
+        values = np.zeros(self.pattern.size)
+        blocks = self.pattern.views(values)
+        k = len(self.solid.groups)
+        for i, chamber in enumerate(self.chambers):
+            blocks[k + i][...] = chamber.load(x, True)[1]
+        return self.pattern.asymmetry(self.pattern.assemble_values(values)) < SYMMETRY_TOL
 
     def commit(self, x: np.ndarray) -> None:
         """A state has converged: terms with a history (contact) update it from x."""

@@ -7,11 +7,23 @@ Convergence. The force residual on the free displacement dofs relative to the fo
 (the internal force, the pressure and dead loads at the reference state, a floor far below any
 load of interest) is below `tol`, and, for the mixed formulation, the pressure-constraint residual
 is below `tol` x the solid volume; the two are kept apart because they have different units.
+Each iteration evaluates the residual first and assembles the tangent only when the state has
+not converged (the tangent of a converged state is never needed by Newton itself).
 
-Line search. Backtracking is non-monotone: a step is accepted when its force residual is below
-the largest of the last three (nearly incompressible solids overshoot before they converge). Near
-the solution the full step is always taken, so the quadratic convergence of the consistent
-tangent is kept (`NewtonRecord.residuals` shows it).
+Line search, only when the full step fails. The full Newton step is accepted when its residual
+is below the largest of the last three (non-monotone: nearly incompressible solids overshoot
+before they converge) and, near the solution (relative residual below 1e-3), without a check, so
+the quadratic convergence of the consistent tangent is kept (`NewtonRecord.residuals` shows it).
+A rejected full step (an inverted element, a non-finite or a too large residual) is shortened by
+the secant root of the directional derivative s(a) = dx . R(x + a dx) (Crisfield's line search,
+clipped to [0.1, 0.5] of the last trial, so that it shortens at least as fast as bisection: a
+penalty contact whose first full step penetrates the wall decreases only at small steps), or
+halved when the trial has no residual.
+
+Linear solves (`fem.linsolve.StepSolver`): a factorisation of the current tangent, or GMRES on
+it preconditioned by the last factorisation when that is cheaper (the forcing term
+eta = min(1e-2, max(r / 10, tol / (10 r))) keeps the convergence quadratic:
+r_{k+1} <= eta r_k + C r_k^2).
 
 Volume control (passes limit points). The pressures move along a direction d, P = P0 + lambda d
 (d_k = 1 for the driving chamber k, so lambda is the change of its pressure), and the volume of
@@ -25,7 +37,8 @@ dx = a + dlambda b. It stays regular at the pressure maximum where K alone is si
 chamber, d = 1 and lambda is the pressure itself.
 
 A diverged iteration raises `Diverged` (stalling residual, a non-finite residual, an inverted
-element, no convergence in `max_iter`); the path (`fem.path`) cuts the step back.
+element, no convergence in `max_iter`, a line search without decrease), each with a message that
+says which; the path (`fem.path`) cuts the step back, within its own limits (`NewtonOptions`).
 """
 
 from __future__ import annotations
@@ -35,20 +48,32 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.linsolve import LinearSolver
+from fem.linsolve import StepSolver
 from fem.model import InvertedElement, SolidModel
 
 
 @dataclass(frozen=True, kw_only=True)
 class NewtonOptions:
-    tol: float = 1e-8  # relative residual ||R_free|| / ||f_int||
-    max_iter: int = 20
+    """Tolerances and the guards that bound every loop of a solve (none can spin forever)."""
+
+    tol: float = 1e-8  # relative residual ||R_free|| / force scale
+    max_iter: int = 20  # Newton iterations of one load or volume step
     stall_iter: int = 8  # after this many iterations the residual must keep halving
-    max_backtracks: int = 6
-    max_cutbacks: int = 4  # halvings of a load sub-step before giving up
+    max_backtracks: int = 6  # line-search trials after a rejected full step
+    max_cutbacks: int = 4  # consecutive halvings of a load (or volume) step before giving up
     min_step_fraction: float = 1e-3  # smallest sub-step, as a fraction of a load segment
+    max_substeps: int = 100  # sub-steps of one load segment
+    max_volume_steps: int = 50  # volume steps of one continuation or volume target (tests: <= 12)
     post_limit_steps: int = 6
+    predictor: str = "tangent"  # "tangent" (Euler, Hermite with the last state), "secant", "none"
+    reuse_factor: bool = True  # GMRES on the tangent with the last factorisation when cheaper
     solver: str | None = None
+
+
+PREDICTORS = ("tangent", "secant", "none")
+#: Newton iterations try the last factorisation only when GMRES may take this many iterations
+#: within half a factorisation (the predictor's tangent solve, on nearly the same matrix, 2).
+REUSE_MIN_KRYLOV = 6
 
 
 @dataclass(frozen=True)
@@ -63,10 +88,13 @@ class NewtonRecord:
 
 @dataclass(frozen=True)
 class SolveStats:
-    iterations: int
-    assembly_s: float
-    solve_s: float
+    iterations: int  # Newton iterations (linear systems solved)
+    assembly_s: float  # residual and tangent assembly
+    solve_s: float  # linear algebra: factorisations, substitutions, GMRES
     wall_s: float
+    factorizations: int = 0
+    substitutions: int = 0  # forward and back substitutions with a factorisation
+    krylov_iterations: int = 0
 
 
 class Diverged(Exception):
@@ -87,9 +115,8 @@ class NewtonSolver:
         self.opt = options
         self.free = model.free_dofs
         self.assembly_s = 0.0
-        self.solve_s = 0.0
         self.iterations = 0
-        self.linear = LinearSolver(options.solver)
+        self.linear = StepSolver(options.solver, model.symmetric_tangent, options.reuse_factor)
         self.free_u = self.free[self.free < model.n_u]
         self._volume = float(model.dx.sum())
         x0 = model.initial_state()
@@ -97,7 +124,8 @@ class NewtonSolver:
         self._dead_norm = np.linalg.norm(model.dead_load)
         self._floor = force_floor(model)
 
-    def _assemble(self, x, P, f):
+    # ------------------------------------------------------------------ assembly
+    def _tangent(self, x, P, f):
         """Residual and tangent; an inverted element makes the Newton iteration diverge."""
         t = time.perf_counter()
         try:
@@ -114,31 +142,69 @@ class NewtonSolver:
         finally:
             self.assembly_s += time.perf_counter() - t
 
-    def _solve(self, K, b):
-        t = time.perf_counter()
-        self.linear.factor(K)
-        out = self.linear.solve(b)
-        self.solve_s += time.perf_counter() - t
+    def _weights(self, R, scale):
+        """Row weights of the free dofs that put the forces (/ force scale) and the volume
+        constraints (/ solid volume) on the scales of the convergence test."""
+        w = np.full(self.free.size, 1.0 / scale)
+        if self.model.mixed:
+            w[self.free >= self.model.n_u] = 1.0 / self._volume
+        return w
+
+    def _solve(self, K, B, rtol, weights, first: bool):
+        # Reusing the last factorisation in a Newton iteration pays only when GMRES may run long
+        # enough (REUSE_MIN_KRYLOV iterations within half a factorisation), and never at the
+        # first iteration, which starts from a predicted state far from where the last
+        # factorisation was made (measured: docs/DESIGN.md section 7).
+        out = self.linear.solve(K, B, rtol, weights, 0 if first else REUSE_MIN_KRYLOV)
         self.iterations += 1
         return out
 
-    def load_step(self, x, P, factor):
-        """Equilibrium at fixed (P, factor); returns (x, NewtonRecord); raises Diverged."""
-        m, free = self.model, self.free
-        x = m.apply_dirichlet(x, factor)
+    def _forcing(self, merit: float) -> float:
+        """Relative accuracy of the linear solve at relative residual `merit` (module docstring)."""
+        return float(min(1e-2, max(0.1 * merit, 0.1 * self.opt.tol / max(merit, 1e-300))))
+
+    # ---------------------------------------------------------------- load step
+    def load_step(self, x, P, factor, start=None):
+        """Equilibrium at fixed (P, factor) from the predicted state x; returns (x, NewtonRecord);
+        raises Diverged. With `start` (the last converged state), a prediction that inverts an
+        element is drawn back towards `start` (halved up to three times) before Newton begins."""
+        free = self.free
+        x = self._admissible(self.model.apply_dirichlet(x, factor), start, P, factor)
         history = []
-        for _ in range(self.opt.max_iter + 1):
-            R, K = self._assemble(x, P, factor)
-            merit, p_ok = self._merit(R, x, P, factor)
+        for it in range(self.opt.max_iter + 1):
+            R = self._checked_residual(x, P, factor)
+            merit, p_ok, scale = self._merit(R, x, P, factor)
             history.append(merit)
             if not np.isfinite(merit):
                 raise Diverged("non-finite residual")
             if merit <= self.opt.tol and p_ok:
                 return x, NewtonRecord(tuple(history), True)
+            if it == self.opt.max_iter:
+                break
             self._check_progress(history)
-            dx = -self._solve(K, R[free])
-            x = self._line_search(x, dx, P, factor, history)
-        raise Diverged(f"no convergence in {self.opt.max_iter} iterations")
+            R, K = self._tangent(x, P, factor)
+            dx = -self._solve(K, R[free], self._forcing(merit), self._weights(R, scale), it == 0)
+            x = self._line_search(x, dx, R, P, factor, history)
+        raise Diverged(f"no convergence in {self.opt.max_iter} Newton iterations")
+
+    def _checked_residual(self, x, P, f):
+        try:
+            return self._residual(x, P, f)
+        except InvertedElement as exc:
+            raise Diverged(str(exc)) from None
+
+    def _admissible(self, x, start, P, f):
+        """x, or x drawn back towards `start` until no element is inverted."""
+        if start is None:
+            return x
+        start = self.model.apply_dirichlet(start, f)
+        for _ in range(3):
+            try:
+                self._residual(x, P, f)
+                return x
+            except InvertedElement:
+                x = start + 0.5 * (x - start)
+        return x
 
     def _reference_pressure_force(self, P) -> float:
         """||sum_i P_i q_i|| at the reference state: the pressure load's scale."""
@@ -148,8 +214,9 @@ class NewtonSolver:
         return float(np.linalg.norm(sum(p * q for p, q in zip(Ps, self._q0))))
 
     def _merit(self, R, x, P, f):
-        """Relative force residual ||R_u(free)|| / force scale, and whether the mixed-pressure
-        constraint residual is below tol x the solid volume (it has units of volume)."""
+        """Relative force residual ||R_u(free)|| / force scale, whether the mixed-pressure
+        constraint residual is below tol x the solid volume (it has units of volume), and the
+        force scale."""
         m = self.model
         fint = R[: m.n_u] + f * m.dead_load[: m.n_u]
         if m.chambers:
@@ -159,7 +226,7 @@ class NewtonSolver:
         )
         merit = float(np.linalg.norm(R[self.free_u]) / scale)
         p_ok = (not m.mixed) or np.linalg.norm(R[m.n_u :]) <= self.opt.tol * self._volume
-        return merit, p_ok
+        return merit, p_ok, scale
 
     def _check_progress(self, history):
         """Diverged when, after `stall_iter` iterations, the best of the last three merits is not
@@ -168,26 +235,65 @@ class NewtonSolver:
         if len(history) > k and min(history[-3:]) > 0.5 * min(history[:-3]):
             raise Diverged(f"residual stalls at {history[-1]:.2e} after {len(history) - 1} iterations")
 
-    def _line_search(self, x, dx, P, f, history):
-        """Non-monotone backtracking (module docstring); the full step is tried first."""
+    def _trial(self, x, dx, alpha, P, f):
+        """(state, merit, residual) at x + alpha dx; merit inf and residual None if inverted."""
+        trial = x.copy()
+        trial[self.free] += alpha * dx
+        try:
+            R = self._residual(trial, P, f)
+        except InvertedElement:
+            return trial, np.inf, None
+        return trial, self._merit(R, trial, P, f)[0], R
+
+    def _line_search(self, x, dx, R0, P, f, history):
+        """The full step if it is acceptable, else Crisfield's secant line search (module
+        docstring); the residual of the accepted state is remembered by the model for the next
+        iteration, so a full step costs nothing extra."""
         free = self.free
         reference = max(history[-3:])
+        trial = x.copy()
+        trial[free] += dx
+        if history[-1] <= 1e-3:
+            return trial
+        trial, merit, R = self._trial(x, dx, 1.0, P, f)
+        if np.isfinite(merit) and merit < reference:
+            return trial
+        s0 = float(dx @ R0[free])
         alpha = 1.0
-        for k in range(self.opt.max_backtracks + 1):
-            trial = x.copy()
-            trial[free] += alpha * dx
-            if k == 0 and history[-1] <= 1e-3:
-                return trial
-            try:
-                merit, _ = self._merit(self._residual(trial, P, f), trial, P, f)
-            except InvertedElement:
+        for _ in range(self.opt.max_backtracks):
+            if R is None or s0 >= 0:
                 alpha *= 0.5
-                continue
+            else:
+                s1 = float(dx @ R[free])
+                root = alpha * s0 / (s0 - s1) if s1 != s0 else 0.5 * alpha
+                # at least halve: after k trials the step is no longer than plain bisection's
+                # (a penalty contact that first penetrates decreases only at small steps)
+                alpha = float(np.clip(root, 0.1 * alpha, 0.5 * alpha))
+            trial, merit, R = self._trial(x, dx, alpha, P, f)
             if np.isfinite(merit) and merit < reference:
                 return trial
-            alpha *= 0.5
-        raise Diverged("line search found no decrease")
+        raise Diverged(f"line search found no decrease in {self.opt.max_backtracks} trials")
 
+    # ------------------------------------------------------------------ tangent
+    def load_tangent(self, x, L, direction):
+        """dx/ds along the load direction `direction` (a load vector (P..., f) per unit s) at the
+        converged state x at load L: K dx/ds = -dR/ds, with dR/ds by a one-sided difference of
+        the residual (exact for pressures and dead loads, which enter linearly; the Dirichlet
+        values move with f). The Euler predictor of `fem.path`."""
+        m, free = self.model, self.free
+        d = np.asarray(direction, dtype=float)
+        delta = 1e-6
+        x1 = m.apply_dirichlet(x, L[-1] + delta * d[-1])
+        R0, K = self._tangent(x, L[:-1], L[-1])
+        R1 = self._checked_residual(x1, L[:-1] + delta * d[:-1], L[-1] + delta * d[-1])
+        g = (R1 - R0)[free] / delta
+        merit, _, scale = self._merit(R0, x, L[:-1], L[-1])
+        v = np.zeros_like(x)
+        v[free] = -self.linear.solve(K, g, 1e-4, self._weights(R0, scale))
+        v[m.fixed_dofs] = (x1 - x)[m.fixed_dofs] / delta
+        return v
+
+    # ----------------------------------------------------------- volume control
     def volume_step(self, x, P, volume_target, factor, direction=None, chamber: int = 0):
         """Equilibrium with the volume of `chamber` prescribed and the pressures moving along
         `direction` from P (module docstring); returns (x, P, NewtonRecord); raises Diverged.
@@ -198,11 +304,11 @@ class NewtonSolver:
         x = m.apply_dirichlet(x, factor)
         history = []
         for it in range(self.opt.max_iter + 1):
-            R, K = self._assemble(x, P, factor)
+            R, K = self._tangent(x, P, factor)
             q = m.pressure_load(x, chamber)
             q_d = q if len(m.chambers) == 1 else m.pressure_force(x, d)
             g = m.chamber_volume(x, chamber) - volume_target
-            merit, p_ok = self._merit(R, x, P, factor)
+            merit, p_ok, scale = self._merit(R, x, P, factor)
             history.append(merit)
             if not (np.isfinite(merit) and np.isfinite(g)):
                 raise Diverged("non-finite residual")
@@ -210,14 +316,26 @@ class NewtonSolver:
                 return x, P, NewtonRecord(tuple(history), True)
             if it == self.opt.max_iter:
                 break
-            ab = self._solve(K, np.column_stack([-R[free], q_d[free]]))
+            self._check_progress(history)
+            rtol = min(self._forcing(merit), 1e-6)  # dlambda divides by q.b: b needs accuracy
+            B = np.column_stack([-R[free], q_d[free]])
+            ab = self._solve(K, B, rtol, self._weights(R, scale), it == 0)
             a, b = ab[:, 0], ab[:, 1]
             qf = q[free]
             dlam = (-g - qf @ a) / (qf @ b)
             x = x.copy()
             x[free] += a + dlam * b
             P = P + dlam * d
-        raise Diverged(f"no convergence in {self.opt.max_iter} iterations (volume control)")
+        raise Diverged(f"no convergence in {self.opt.max_iter} Newton iterations (volume control)")
 
     def stats(self, t0: float) -> SolveStats:
-        return SolveStats(self.iterations, self.assembly_s, self.solve_s, time.perf_counter() - t0)
+        lin = self.linear
+        return SolveStats(
+            self.iterations,
+            self.assembly_s,
+            lin.seconds,
+            time.perf_counter() - t0,
+            lin.factorizations,
+            lin.substitutions,
+            lin.krylov_iterations,
+        )

@@ -4,9 +4,24 @@ Load. A target is (P, f): the chamber pressure P (MPa) - a scalar applies to eve
 sequence gives one pressure per chamber (the robot's three ePSAs) - and the factor f that scales
 the prescribed Dirichlet values and the dead loads. Internally a load is the vector L = (P..., f).
 Between two targets the load moves on a straight line in L (proportional loading; a sequential
-path, e.g. P2 and P3 first and then P1, is two targets), in sub-steps; each sub-step starts from
-the secant predictor (linear extrapolation of the last two converged states along L), a sub-step
-whose Newton iteration diverges (`fem.newton`) is halved, and an easy one lets the next grow.
+path, e.g. P2 and P3 first and then P1, is two targets), in sub-steps. The targets are landing
+points, not the step size.
+
+Predictor (`NewtonOptions.predictor`). "tangent", the default: the Euler step along the tangent
+dx/ds = -K^{-1} dR/ds of the last converged state (`NewtonSolver.load_tangent`; s is the arc
+length in L along the segment), bent into the quadratic x(s) = x + s v + s^2 w through the
+previous converged state when that lies on the same load line (`History.hermite`); "secant":
+linear extrapolation of the last two states; "none": the last state. A prediction that inverts
+an element is drawn back towards the last state (`NewtonSolver.load_step`).
+
+Step size. A sub-step whose Newton iteration diverges is halved; after a converged one the next
+grows or shrinks with the Newton iterations it took (`_growth`: the iteration count measures how
+far the predictor was off), and the next target along the same load direction starts with the
+last step length (`StepMemory`). docs/DESIGN.md section 7.1 has the measurements.
+
+Guards. A segment ends in a divergence after `max_cutbacks` halvings in a row, after
+`max_substeps` sub-steps, or when the step shrinks below `min_step_fraction` of the segment;
+each says which in the path's message.
 
 Limit points. When pressure control cannot advance (`max_cutbacks` halvings fail) on a segment
 that raises a chamber pressure, the path goes on under volume control from the last converged
@@ -26,7 +41,7 @@ import numpy as np
 from fem.continuation import parabola_peak, volume_continuation
 from fem.errors import SolverInputError
 from fem.model import SolidModel
-from fem.newton import Diverged, NewtonOptions, NewtonRecord, NewtonSolver, SolveStats
+from fem.newton import PREDICTORS, Diverged, NewtonOptions, NewtonRecord, NewtonSolver, SolveStats
 from fem.steps import History, LoadShape, PathResult, ReportingList, Step, describe_load, failed, make_step
 
 __all__ = [
@@ -55,6 +70,8 @@ def load_path(
     ("pressure" or "displacement"). `on_step`, if given, is called with every converged `Step`
     as it is found (progress reports)."""
     opt = options or NewtonOptions()
+    if opt.predictor not in PREDICTORS:
+        raise SolverInputError("predictor", f"{opt.predictor!r} is not one of {PREDICTORS}")
     targets = [(P, float(f)) for P, f in targets]
     if not targets:
         raise SolverInputError("targets", "give at least one load target")
@@ -65,9 +82,10 @@ def load_path(
     history = History(model.initial_state(), np.zeros(shape.n + 1))
     steps = ReportingList(on_step)
     events: list[str] = []
+    memory = StepMemory()
     for i, target in enumerate(loads):
         try:
-            record, n_sub = _advance(solver, history, target, opt)
+            record, n_sub = _advance(solver, history, target, opt, memory)
         except Diverged as exc:
             rising = bool(np.any(target[:-1] > history.load[:-1]))
             if not model.chambers or not rising:
@@ -83,30 +101,87 @@ def load_path(
     return PathResult(tuple(steps), True, "all load targets reached", None, tuple(events), solver.stats(t0))
 
 
-def _advance(solver: NewtonSolver, history: History, end, opt):
-    """From the last converged load to `end` in adaptive sub-steps, each started from the
-    secant prediction; returns (last Newton record, number of sub-steps)."""
+class StepMemory:
+    """The size of the last accepted sub-step (a load-space length) and its load direction: the
+    next segment along the same direction starts with it instead of its full length."""
+
+    def __init__(self) -> None:
+        self.length, self.direction = None, None
+
+    def first_fraction(self, direction, segment_length: float) -> float:
+        if self.length is None or direction is None or segment_length == 0:
+            return 1.0
+        if float(np.dot(direction, self.direction)) < 1.0 - 1e-9:
+            return 1.0
+        return min(1.0, self.length / segment_length)
+
+
+def _growth(iterations: int) -> float:
+    """Factor of the next sub-step after one that took `iterations` Newton iterations: grow when
+    easy, shrink when hard (the predictors make easy steps 2-4 iterations)."""
+    if iterations <= 3:
+        return 2.0
+    if iterations <= 5:
+        return 1.5
+    if iterations <= 8:
+        return 1.0
+    return 0.6
+
+
+def _predict(solver: NewtonSolver, history: History, load, direction, opt) -> np.ndarray:
+    """The starting state of Newton's method at `load` (`NewtonOptions.predictor`)."""
+    if opt.predictor == "none" or direction is None:
+        return history.x
+    if opt.predictor == "secant":
+        return history.predict(load)
+    if history.tangent is None or float(np.dot(history.tangent[0], direction)) < 1.0 - 1e-12:
+        try:
+            slope = solver.load_tangent(history.x, history.load, direction)
+        except Diverged:
+            return history.predict(load)
+        history.tangent = (direction, slope)
+    return history.hermite(load, direction, history.tangent[1])
+
+
+def _advance(solver: NewtonSolver, history: History, end, opt, memory: StepMemory):
+    """From the last converged load to `end` in adaptive sub-steps (grown after easy ones, halved
+    after a divergence), each started from the predictor; returns (last Newton record, number of
+    sub-steps). Raises Diverged after `max_cutbacks` halvings in a row, below
+    `min_step_fraction`, or after `max_substeps` sub-steps, with a message that says which."""
     start = history.load
-    t, h, n_sub, cuts = 0.0, 1.0, 0, 0
+    span = end - start
+    length = float(np.linalg.norm(span))
+    direction = span / length if length > 0 else None
+    t, h = 0.0, memory.first_fraction(direction, length)
+    n_sub, cuts, trials = 0, 0, 0
     record = None
     while t < 1.0 - 1e-14:
+        trials += 1
+        if trials > opt.max_substeps:
+            raise Diverged(f"{opt.max_substeps} sub-steps (max_substeps) did not reach {describe_load(end)}")
         h = min(h, 1.0 - t)
-        s = t + h
-        load = start + s * (end - start)
+        load = start + (t + h) * span
         try:
-            x_new, record = solver.load_step(history.predict(load), load[:-1], load[-1])
-        except Diverged:
+            x_new, record = solver.load_step(
+                _predict(solver, history, load, direction, opt), load[:-1], load[-1], start=history.x
+            )
+        except Diverged as exc:
             h *= 0.5
             cuts += 1
             if cuts > opt.max_cutbacks or h < opt.min_step_fraction:
-                raise
+                raise Diverged(f"{exc} (after {cuts - 1} cut-backs of the load step)") from None
             continue
         history.accept(x_new, load)
         solver.model.commit(x_new)
-        t = s
-        n_sub += 1
-        if record.iterations <= 6:
-            h *= 2.0
+        t += h
+        n_sub, cuts = n_sub + 1, 0
+        h *= _growth(record.iterations)
+        if h < opt.min_step_fraction and t < 1.0 - 1e-14:  # hard steps shrink it: no Zeno path
+            raise Diverged(
+                f"the load step shrank below {opt.min_step_fraction:g} of the segment (min_step_fraction)"
+                f" after {n_sub} sub-steps of {record.iterations}+ Newton iterations"
+            )
+        memory.length, memory.direction = h * length, direction
     if record is None:  # zero-length segment
         x_new, record = solver.load_step(history.x, end[:-1], end[-1])
         history.accept(x_new, end)
@@ -131,16 +206,22 @@ def volume_path(
     steps: list[Step] = []
     events: list[str] = []
     for Vt in volumes:
-        start_V, h, cuts, t, record = V, 1.0, 0, 0.0, None
+        start_V, h, cuts, t, record, trials = V, 1.0, 0, 0.0, None, 0
         while t < 1.0 - 1e-14:
             h = min(h, 1.0 - t)
+            trials += 1
             try:
+                if trials > opt.max_volume_steps:
+                    raise Diverged(
+                        f"{opt.max_volume_steps} volume steps (max_volume_steps) did not reach {Vt:.6g} mm^3"
+                    )
                 x_new, P_new, record = solver.volume_step(x, P, start_V + (t + h) * (Vt - start_V), factor)
             except Diverged as exc:
                 h *= 0.5
                 cuts += 1
-                if cuts > opt.max_cutbacks:
-                    return failed(steps, events, solver, t0, shape.vector(P, factor), str(exc), volume=V)
+                if cuts > opt.max_cutbacks or h < opt.min_step_fraction or trials > opt.max_volume_steps:
+                    reason = f"{exc} (after {cuts - 1} cut-backs of the volume step)"
+                    return failed(steps, events, solver, t0, shape.vector(P, factor), reason, volume=V)
                 continue
             x, P, t = x_new, float(P_new[0]), t + h
             model.commit(x)

@@ -77,15 +77,17 @@ def describe_load(L: np.ndarray) -> str:
 
 
 class History:
-    """The last two converged states on the path: the secant predictor extrapolates from them."""
+    """The last two converged states on the path, for the predictors of `fem.path`."""
 
     def __init__(self, x, load, volume=None) -> None:
         self.x, self.load, self.volume = x, load, volume
         self.x_prev, self.load_prev, self.volume_prev = None, None, None
+        self.tangent = None  # (direction, dx/ds) at x, computed on demand by the path
 
     def accept(self, x, load, volume=None) -> None:
         self.x_prev, self.load_prev, self.volume_prev = self.x, self.load, self.volume
         self.x, self.load, self.volume = x, load, volume
+        self.tangent = None
 
     def predict(self, load=None, volume=None) -> np.ndarray:
         """Linear extrapolation of the state to a new load (or volume) from the last two states."""
@@ -100,6 +102,20 @@ class History:
         if span == 0 or not np.isfinite(ahead / span) or ahead / span > 2.0:
             return self.x
         return self.x + (self.x - self.x_prev) * (ahead / span)
+
+    def hermite(self, load, direction: np.ndarray, slope: np.ndarray) -> np.ndarray:
+        """The state at `load` on the quadratic x(s) = x + s v + s^2 w through the last state
+        with the slope v = dx/ds along the unit load `direction`, and through the previous state
+        when it lies on the same load line behind (else the Euler step x + s v)."""
+        s = float(np.dot(np.subtract(load, self.load), direction))
+        if self.x_prev is not None:
+            back = np.subtract(self.load_prev, self.load)
+            s_prev = float(np.dot(back, direction))
+            if s_prev < 0 and np.linalg.norm(back - s_prev * direction) <= 1e-9 * abs(s_prev):
+                w = (self.x_prev - self.x - s_prev * slope) / (s_prev * s_prev)
+                if s <= 2.0 * abs(s_prev):
+                    return self.x + s * slope + s * s * w
+        return self.x + s * slope
 
 
 def make_step(

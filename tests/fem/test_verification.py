@@ -107,11 +107,11 @@ def test_reaction_balances_the_pressure_load():
 
 
 def test_volume_control_lands_on_targets_before_and_flags_states_past_the_limit():
-    # a stalling pressure control (3 Newton iterations allowed, no cut-back) hands over to volume
+    # a stalling pressure control (3 Newton iterations from the last state, no cut-back) hands over to volume
     # control on the monotone tube: the targets are landed on and are not "past the limit"
     model = RM.tube_model(3.0, 9.0, n_radial=4, n_angle=6)
     targets = [(0.3 * V.MU, 0.0), (0.6 * V.MU, 0.0)]
-    res = load_path(model, targets, options=NewtonOptions(max_iter=3, max_cutbacks=0))
+    res = load_path(model, targets, options=NewtonOptions(max_iter=3, max_cutbacks=0, predictor="none"))
     assert res.converged and res.limit_pressure is None, res.message
     assert [s.control for s in res.steps] == ["volume", "volume"]
     assert not any(s.past_limit for s in res.steps)

@@ -1,0 +1,76 @@
+r"""Right-preconditioned GMRES: a Newton step on the current tangent with an older factorisation.
+
+A Newton iteration needs the step dx with K dx = -R to the accuracy of the forcing term eta,
+||W (K dx + R)|| <= eta ||W R|| (W: diagonal row weights that put forces and volume constraints
+on one scale). When the factorisation of an earlier tangent K0 is at hand, GMRES on K with the
+right preconditioner K0^{-1} gets there in a few iterations as long as K0^{-1} K is close to the
+identity: each iteration costs one product with K and one solve with the old factors (forward and
+back substitution), an order of magnitude less than a new factorisation (docs/DESIGN.md
+section 7 has the measurements).
+
+GMRES (Saad & Schultz 1986) builds an orthonormal basis v_1..v_m of the Krylov space of
+A = W K M^{-1} from v_1 = W b / ||W b|| (Arnoldi, modified Gram-Schmidt with one
+re-orthogonalisation pass) and picks y minimising ||beta e_1 - H y|| over the (m + 1) x m
+Hessenberg matrix H; the residual norm of that least-squares problem is the true (weighted)
+residual in exact arithmetic, so the loop stops as soon as it is below rtol ||W b||. The solution
+is x = M^{-1} V y. No restart: the callers cap the iterations far below any memory concern.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class KrylovResult:
+    x: np.ndarray
+    iterations: int
+    relative_residual: float  # ||W (b - K x)|| / ||W b||
+    converged: bool
+
+
+def gmres(
+    matvec: Callable[[np.ndarray], np.ndarray],
+    precondition: Callable[[np.ndarray], np.ndarray],
+    b: np.ndarray,
+    *,
+    rtol: float,
+    max_iter: int,
+    weights: np.ndarray | None = None,
+) -> KrylovResult:
+    """Solve K x = b with x = M^{-1} y (right preconditioning), stopping at
+    ||W (b - K x)|| <= rtol ||W b|| or after `max_iter` iterations. `matvec` is v -> K v,
+    `precondition` v -> M^{-1} v, `weights` the diagonal of W (ones when None)."""
+    w = np.ones_like(b) if weights is None else weights
+    r0 = w * b
+    beta = float(np.linalg.norm(r0))
+    if beta == 0.0:
+        return KrylovResult(np.zeros_like(b), 0, 0.0, True)
+    V = np.empty((max_iter + 1, b.size))
+    Z = np.empty((max_iter, b.size))  # preconditioned basis vectors M^{-1} v_j
+    H = np.zeros((max_iter + 1, max_iter))
+    V[0] = r0 / beta
+    rel, k, y = 1.0, 0, np.zeros(0)
+    for k in range(1, max_iter + 1):
+        j = k - 1
+        Z[j] = precondition(V[j] / w)
+        u = w * matvec(Z[j])
+        for _ in range(2):  # modified Gram-Schmidt, twice: keeps V orthonormal at rtol ~1e-10
+            for i in range(k):
+                c = float(V[i] @ u)
+                H[i, j] += c
+                u -= c * V[i]
+        H[k, j] = float(np.linalg.norm(u))
+        if H[k, j] > 0:
+            V[k] = u / H[k, j]
+        e1 = np.zeros(k + 1)
+        e1[0] = beta
+        y, *_ = np.linalg.lstsq(H[: k + 1, :k], e1, rcond=None)
+        rel = float(np.linalg.norm(e1 - H[: k + 1, :k] @ y)) / beta
+        if rel <= rtol or H[k, j] == 0:
+            break
+    x = y @ Z[: y.size]
+    return KrylovResult(x, k, rel, rel <= rtol)
