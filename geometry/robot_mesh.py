@@ -292,12 +292,16 @@ def _tag_facets(points, tets, design: RobotDesign) -> dict[str, np.ndarray]:
     def on(tris, cond):
         return np.all(cond(points[tris]), axis=1)
 
+    def in_z(p, a, b):
+        return (p[..., 2] > a - tol) & (p[..., 2] < b + tol)
+
     out = {}
     for i, (cx, cy) in enumerate(design.actuator_centres, start=1):
-        rho = lambda p, cx=cx, cy=cy: np.hypot(p[..., 0] - cx, p[..., 1] - cy)  # noqa: E731
-        in_z = lambda p, a, b: (p[..., 2] > a - tol) & (p[..., 2] < b + tol)  # noqa: E731
-        out[f"outer{i}"] = faces[on(faces, lambda p: (np.abs(rho(p) - R0) < tol) & in_z(p, 0.0, L))]
-        cavity = boundary[on(boundary, lambda p: (rho(p) < r0 + tol) & in_z(p, c, L - c))]
+        rho_f = np.hypot(points[faces][..., 0] - cx, points[faces][..., 1] - cy)
+        on_outer = np.all((np.abs(rho_f - R0) < tol) & in_z(points[faces], 0.0, L), axis=1)
+        out[f"outer{i}"] = faces[on_outer]
+        rho_b = np.hypot(points[boundary][..., 0] - cx, points[boundary][..., 1] - cy)
+        cavity = boundary[np.all((rho_b < r0 + tol) & in_z(points[boundary], c, L - c), axis=1)]
         flat = on(cavity, lambda p: (np.abs(p[..., 2] - c) < tol) | (np.abs(p[..., 2] - L + c) < tol))
         out[f"chamber_wall{i}"] = cavity[~flat]
         out[f"chamber_ends{i}"] = cavity[flat]
