@@ -21,7 +21,8 @@ finely enough for theirs to be (checked: a missing circle edge is an error).
 Layers (z): rear hub [-t_hub, 0], actuators [0, L] (the chamber r < r0 is empty for c < z < L - c),
 seal heads [L, L + t_s], front hub [L + t_s, L + t_s + t_hub]; ring k at z_k +- t_r / 2
 (z_k = k L / (n + 1)) occupies the web annulus between the ring bore and the ring's outer radius.
-The hubs are the feet's disks (under the actuators too) between the hub bore and the hub radius;
+The hubs are the feet's disks (under the actuators too); rings and hubs share one outline
+(`stiff_outline`);
 the conical grooved skirts of `geometry.foot` are not part of this mesh (they carry no load in
 free bending; the crawling gait will need them with contact). Each prism is split into three
 tetrahedra by the global node order (as in `geometry.swept`), so all layers conform.
@@ -91,15 +92,23 @@ class CrossSection:
 
 
 def _axis_radii(design: RobotDesign) -> tuple[float, ...]:
+    """The axis-centred circles of the section: one bore and one outline for the rings and the
+    hubs together (the smaller bore, the larger outer radius; see `stiff_outline`)."""
+    bore, outer = stiff_outline(design)
+    return (bore, outer) if bore > 0 else (outer,)
+
+
+def stiff_outline(design: RobotDesign) -> tuple[float, float]:
+    """(bore radius, outer radius) of the rings and foot hubs in this mesh. The two parts differ
+    by 0.5-1 mm (Table 1 defaults: ring bore 3.5 / outer 25 mm, hub bore 4 / outer 24 mm); one
+    outline for both keeps the section's circles apart, so the web needs no sub-millimetre
+    cells (which made the web, not the actuators, hold most of the unknowns). The parts are
+    ABS and Shore 70A rubber, 3-4 orders stiffer than the silicone: 1 mm on their outline does
+    not change how the actuators bend."""
     f, r = design.foot, design.ring
-    radii = {f.hub_radius}
-    if design.n_rings:
-        radii.add(r.outer_radius)
-        if r.bore_radius > 0:
-            radii.add(r.bore_radius)
-    if f.bore_radius > 0:
-        radii.add(f.bore_radius)
-    return tuple(sorted(radii))
+    bores = [b for b in (f.bore_radius, r.bore_radius if design.n_rings else None) if b is not None]
+    outers = [f.hub_radius] + ([r.outer_radius] if design.n_rings else [])
+    return min(bores), max(outers)
 
 
 def robot_cross_section(design: RobotDesign, settings: RobotMeshSettings) -> CrossSection:
@@ -112,14 +121,12 @@ def robot_cross_section(design: RobotDesign, settings: RobotMeshSettings) -> Cro
     nodes = [xy + c for c in centres]
     act_tris = [tris + i * n_act for i in range(3)]
     radii = _axis_radii(design)
-    # axis circles: spacing below the web size and below the gaps to the neighbouring circles and
-    # to the actuators, so that their chords are Delaunay edges
-    gaps = np.diff(np.array((0.0, *radii)))
-    gaps = np.r_[gaps[1:], np.inf] if len(gaps) > 1 else np.array([np.inf])
-    act_gap = np.array([abs(r - (design.d + R0)) if r > design.d else abs(design.d - R0 - r) for r in radii])
+    # axis circles: spacing below the web size and comparable to the gap to the actuators, so
+    # that their chords are Delaunay edges (checked below)
     circle_pts = []
-    for r, g_next, g_act in zip(radii, np.minimum(np.r_[np.inf, np.diff(radii)], gaps), act_gap):
-        spacing = min(settings.web_size, 1.2 * g_next, 1.5 * g_act)
+    for r in radii:
+        gap = abs(r - (design.d + R0)) if r > design.d else abs(design.d - R0 - r)
+        spacing = min(settings.web_size, 1.5 * gap)
         n = max(24, math.ceil(2 * math.pi * r / spacing))
         th = 2 * math.pi * (np.arange(n) + 0.5) / n
         circle_pts.append(np.column_stack([r * np.cos(th), r * np.sin(th)]))
@@ -204,11 +211,12 @@ def _layers(design: RobotDesign, settings: RobotMeshSettings) -> np.ndarray:
 
 def _layer_parts(design: RobotDesign, cs: CrossSection, zmid: float) -> list[tuple[str, np.ndarray]]:
     """(region name, triangle mask) of the parts present in the layer at height zmid."""
-    e, f, r = design.epsa, design.foot, design.ring
+    e, r = design.epsa, design.ring
     L, c, ts = e.length, e.end_cap_thickness, e.seal_head_thickness
     act = cs.actuator >= 0
+    bore, outer = stiff_outline(design)
     if zmid < 0.0 or zmid > L + ts:
-        hub = act | ((cs.actuator < 0) & (cs.rho > f.bore_radius) & (cs.rho < f.hub_radius))
+        hub = act | ((cs.actuator < 0) & (cs.rho > bore) & (cs.rho < outer))
         return [("foot_rear" if zmid < 0 else "foot_front", hub)]
     if zmid > L:
         return [(f"seal_head{i + 1}", cs.actuator == i) for i in range(3)]
@@ -216,7 +224,7 @@ def _layer_parts(design: RobotDesign, cs: CrossSection, zmid: float) -> list[tup
     parts = [(f"epsa{i + 1}", (cs.actuator == i) & (in_cap | ~cs.in_chamber)) for i in range(3)]
     for k, zk in enumerate(design.ring_centres_z, start=1):
         if abs(zmid - zk) < r.thickness / 2:
-            web = (cs.actuator < 0) & (cs.rho > r.bore_radius) & (cs.rho < r.outer_radius)
+            web = (cs.actuator < 0) & (cs.rho > bore) & (cs.rho < outer)
             parts.append((f"ring{k}", web))
     return parts
 
