@@ -7,4 +7,4 @@ that `softcrawl --help` stays fast.
 
 #: Subcommand modules, in the order `softcrawl --help` lists them. A module that is missing
 #: (work in progress on a branch) is skipped.
-COMMAND_MODULES = ("mesh", "epsa", "verify", "material", "model", "study", "table1", "calibrate")
+COMMAND_MODULES = ("mesh", "epsa", "verify", "material", "model", "robot", "study", "table1", "calibrate")

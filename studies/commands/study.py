@@ -5,6 +5,14 @@
     softcrawl study identify          [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study optimise-actuator [--quick] [--material M] [--storage URL] [--workers N]
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
+    softcrawl study rings             [--quick] [--material M] [--workers N] --out DIR
+    softcrawl study foot-radius       [--quick] [--material M] [--workers N] --out DIR
+    softcrawl study workspace         [--quick] [--material M] --out DIR
+
+rings (Fig. 11(c)), foot-radius (Section V-C) and workspace (Fig. 11(d)) are the robot-level
+studies on the tied assembly (studies.catalogue.robot_studies, robot_workspace); they write to
+DIR/robot-NAME/MATERIAL[-quick]/ and decide their Table 1 rows by the rules of
+studies.review.robot_rules.
 
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm, N =
 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1 ePSA under
@@ -34,7 +42,9 @@ from studies.catalogue.actuator_studies import DEFAULT_MATERIAL, GRIDS
 from studies.catalogue.optimise_actuator import DEFAULT_TRIALS, QUICK_TRIALS
 from studies.catalogue.optimise_actuator import NAME as OPTIMISER
 
-STUDIES = (*GRIDS, OPTIMISER)
+#: The robot-level studies (studies.catalogue.robot_studies, robot_workspace).
+ROBOT_STUDIES = ("rings", "foot-radius", "workspace")
+STUDIES = (*GRIDS, OPTIMISER, *ROBOT_STUDIES)
 
 
 def register(subparsers) -> None:
@@ -56,8 +66,9 @@ def register(subparsers) -> None:
     )
     parser.add_argument(
         "--material",
-        default=DEFAULT_MATERIAL,
-        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}; see `softcrawl material list`)",
+        default=None,
+        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}; robot studies: the calibrated "
+        "modulus of studies.parts.robot_model.DEFAULT_MATERIAL; see `softcrawl material list`)",
     )
     parser.add_argument(
         "--storage",
@@ -128,7 +139,13 @@ def run(args: argparse.Namespace) -> int:
     from studies.catalogue.optimise_actuator import run_optimiser
     from studies.sweeps.engine import SweepInterrupted
 
+    if args.material is None:
+        from studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
+
+        args.material = ROBOT_MATERIAL if args.name in ROBOT_STUDIES else DEFAULT_MATERIAL
     _check(args)
+    if args.name in ROBOT_STUDIES:
+        return _run_robot_study(args)
     settings = study_settings(
         args.name, args.material, args.quick, args.mesh_size, args.fibers, args.simulator
     )
@@ -155,6 +172,35 @@ def run(args: argparse.Namespace) -> int:
                 progress=progress,
                 retry=args.retry_failed,
             )
+    except SweepInterrupted as exc:
+        print(f"softcrawl study {args.name}: interrupted: {exc}", file=sys.stderr)
+        return 1
+    for line in outcome.lines:
+        print(line)
+    for line in outcome.problems:
+        print(line, file=sys.stderr)
+    print("wrote " + ", ".join(map(str, outcome.written)))
+    return 0 if outcome.ok else 1
+
+
+def _run_robot_study(args) -> int:
+    """rings and foot-radius (sweeps, studies.catalogue.robot_studies) and workspace
+    (studies.catalogue.robot_workspace)."""
+    from studies.sweeps.engine import SweepInterrupted
+
+    progress = not args.no_progress
+    try:
+        if args.name == "workspace":
+            from studies.catalogue.robot_workspace import run_workspace
+
+            outcome = run_workspace(args.out, args.material, args.quick, print if progress else None)
+        else:
+            from studies.catalogue.robot_studies import run_robot_study
+
+            outcome = run_robot_study(
+                args.name, args.out, args.material, args.quick, workers=args.workers, progress=progress,
+                retry=args.retry_failed,
+            )  # fmt: skip
     except SweepInterrupted as exc:
         print(f"softcrawl study {args.name}: interrupted: {exc}", file=sys.stderr)
         return 1

@@ -11,6 +11,7 @@ Outputs of a state (`RobotState`), all from the deformed vertices:
   vertices with rho_i <= r0 (the axis in the end caps, the chamber circle along the chamber); the
   robot's centreline is the mean of the three. FE arc length l_i = the length of actuator i's
   centreline polyline (chord error ~ (kappa h)^2 / 24, 2e-4 at 120 deg on the default mesh).
+* end: the robot centreline at the actuators' top level z = L0, where the arc of eqs. 4-9 ends.
 * front hub: the rigid motion (R, t) that best fits the front hub's vertices (Kabsch); the tip
   is the hub's top-face centre moved by it; theta = angle between R e_z and e_z, phi = the
   azimuth of R e_z (the CC end frame of eq. 9 has R e_z = (c phi s theta, s phi s theta, c theta)).
@@ -41,6 +42,7 @@ THETA_MIN_FOR_D = math.radians(0.5)
 class RobotState:
     pressures_kpa: tuple[float, float, float]
     tip_mm: tuple[float, float, float]
+    end_mm: tuple[float, float, float]  # robot centreline at the actuators' top level z = L0
     theta_deg: float
     phi_deg: float
     lengths_mm: tuple[float, float, float]
@@ -55,6 +57,7 @@ class RobotState:
         d = asdict(self)
         out = {f"P{i + 1}_kpa": p for i, p in enumerate(d.pop("pressures_kpa"))}
         out |= {f"tip_{c}_mm": v for c, v in zip("xyz", d.pop("tip_mm"))}
+        out |= {f"end_{c}_mm": v for c, v in zip("xyz", d.pop("end_mm"))}
         out |= {f"l{i + 1}_mm": v for i, v in enumerate(d.pop("lengths_mm"))}
         return out | d
 
@@ -144,6 +147,7 @@ def robot_state(robot: RobotModel, probes: Probes, x: np.ndarray, pressures_mpa)
     return RobotState(
         tuple(float(p) * 1e3 for p in pressures_mpa),
         tuple(float(v) for v in tip),
+        tuple(float(v) for v in axis[-1]),
         math.degrees(theta),
         math.degrees(phi),
         tuple(float(v) for v in lengths),
