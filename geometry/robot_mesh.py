@@ -74,7 +74,7 @@ class RobotMeshSettings:
 MESH_PRESETS = {
     "quick": RobotMeshSettings(n_around=12, n_radial=1, axial_size=10.0, web_size=4.0),
     "default": RobotMeshSettings(),
-    "fine": RobotMeshSettings(n_around=24, n_radial=3, axial_size=3.33, web_size=2.0),
+    "fine": RobotMeshSettings(n_around=20, n_radial=2, axial_size=4.0, web_size=2.5),
 }
 
 
