@@ -25,12 +25,12 @@ from studies.sweeps.engine import Evaluation, SweepSpec, run_sweep, write_csv
 
 EVALUATOR = "studies.catalogue.robot_studies:evaluate_robot"
 #: Load cases (kPa): the paper's Fig. 11(c) case, sequential (P2 = 40 and P3 = 60 kPa first, then
-#: P1 ramped), and equal pressures. Steps of 25 / 50 kPa (the paper plots 20 kPa steps): the path
-#: sub-steps adaptively between targets, so fewer targets cost fewer Newton iterations on the
-#: loaded 2-core machine without changing the end states.
+#: P1 ramped), and equal pressures. Few targets (the paper plots 20 kPa steps): the path
+#: sub-steps adaptively between targets, so the end states are the same and the loaded 2-core
+#: machine spends fewer Newton iterations on output points.
 LOAD_CASES_KPA = {
-    "equal": [(50.0, 50.0, 50.0), (100.0, 100.0, 100.0)],
-    "asymmetric": [(0.0, 40.0, 60.0)] + [(p, 40.0, 60.0) for p in (25.0, 50.0, 75.0, 100.0)],
+    "equal": [(100.0, 100.0, 100.0)],
+    "asymmetric": [(0.0, 40.0, 60.0), (50.0, 40.0, 60.0), (100.0, 40.0, 60.0)],
 }
 GRIDS = {
     "rings": ({"n_rings": (1, 2, 3, 4, 5)}, ("equal", "asymmetric")),
