@@ -53,32 +53,37 @@ def point_name(params) -> str:
     return ",".join(f"{k}={params[k]:g}" for k in sorted(params))
 
 
-def evaluate_robot(params, fixed, settings) -> Evaluation:
-    """Build the robot of the grid point and follow each load case of `settings["cases"]`."""
+def run_cases(design, material: str, mesh: str, cases) -> dict:
+    """The FE robot of `design` under each load case: rows (one per converged state), whether
+    every case converged, the messages, the DOFs and the path time."""
     from studies.parts.robot_model import build_robot_model
     from studies.parts.robot_response import simulate_robot
 
-    robot = build_robot_model(_design(params), settings["material"], settings["mesh"])
+    robot = build_robot_model(design, material, mesh)
     rows, ok, messages, wall = [], True, [], 0.0
-    for case in settings["cases"]:
+    for case in cases:
         run = simulate_robot(robot, [tuple(p / 1e3 for p in P) for P in LOAD_CASES_KPA[case]])
         wall += run.seconds
-        for k, state in enumerate(run.states):
-            rows.append({"case": case, "step": k} | state.row())
+        rows += [{"case": case, "step": k} | state.row() for k, state in enumerate(run.states)]
         ok &= run.converged
         messages.append(f"{case}: {run.message}")
-    attrs = {
-        "rows": rows,
-        "converged": ok,
-        "message": "; ".join(messages),
-        "wall_s": wall,
-        "n_dofs": robot.n_dofs,
-        "material": robot.materials,
-    }
+    return {"rows": rows, "converged": ok, "message": "; ".join(messages), "wall_s": wall,
+            "n_dofs": robot.n_dofs, "material": robot.materials}  # fmt: skip
+
+
+def evaluate_robot(params, fixed, settings) -> Evaluation:
+    """Build the robot of the grid point and follow each load case of `settings["cases"]`
+    (`settings["runner"]`, "module:function" with the signature of `run_cases`, replaces the FE
+    in tests)."""
+    from studies.sweeps.engine import load_callable
+
+    runner = load_callable(settings["runner"]) if settings.get("runner") else run_cases
+    attrs = runner(_design(params), settings["material"], settings["mesh"], settings["cases"])
     folder = Path(settings["out_dir"]) / "points"
     folder.mkdir(parents=True, exist_ok=True)
     (folder / f"{point_name(params)}.json").write_text(json.dumps({"params": dict(params)} | attrs, indent=1))
-    last = [r for r in rows if r["case"] == settings["cases"][-1]]
+    last = [r for r in attrs["rows"] if r["case"] == settings["cases"][-1]]
+    ok = bool(attrs["converged"])
     theta = last[-1]["theta_deg"] if last and ok else math.nan
     return Evaluation(ok=ok and math.isfinite(theta), values=(theta,), attrs=attrs, message=attrs["message"])
 
@@ -112,7 +117,7 @@ def summary_row(params, data) -> dict:
 
 
 def run_robot_study(name: str, out, material: str, quick: bool, *, workers: int = 1, progress: bool = True,
-                    retry: bool = False) -> StudyOutcome:  # fmt: skip
+                    retry: bool = False, runner: str | None = None) -> StudyOutcome:  # fmt: skip
     """Run (or resume) the robot study `name` and write its tables, decision and figure."""
     from studies.plots.robot import plot_robot_study
     from studies.review.robot_rules import foot_radius_rule, ring_rule
@@ -121,6 +126,8 @@ def run_robot_study(name: str, out, material: str, quick: bool, *, workers: int 
     folder = Path(out) / f"robot-{name}" / (material + ("-quick" if quick else ""))
     settings = {"material": material, "mesh": "quick" if quick else "default", "cases": list(cases),
                 "out_dir": str(folder)}  # fmt: skip
+    if runner:
+        settings["runner"] = runner
     spec = SweepSpec(
         name=f"robot-{name}", grid=grid, out_dir=str(folder), evaluator=EVALUATOR, settings=settings
     )

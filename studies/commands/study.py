@@ -101,7 +101,7 @@ def register(subparsers) -> None:
         default=None,
         metavar="MODULE:FUNCTION",
         help="replace studies.parts.epsa_response:simulate_epsa (same signature), e.g. a "
-        "surrogate or a test fake",
+        "surrogate or a test fake; for rings and foot-radius, studies.catalogue.robot_studies:run_cases",
     )
     parser.add_argument(
         "--retry-failed",
@@ -199,7 +199,7 @@ def _run_robot_study(args) -> int:
 
             outcome = run_robot_study(
                 args.name, args.out, args.material, args.quick, workers=args.workers, progress=progress,
-                retry=args.retry_failed,
+                retry=args.retry_failed, runner=args.simulator,
             )  # fmt: skip
     except SweepInterrupted as exc:
         print(f"softcrawl study {args.name}: interrupted: {exc}", file=sys.stderr)
