@@ -2,14 +2,17 @@ r"""The robot's workspace in FE against the constant-curvature model (paper Fig.
 
 Grid. Pressure levels v = (0, 25, 50, 75, 100) kPa (--quick: 0, 50, 100) for each chamber. The
 robot is 3-fold symmetric: turning it by +120 deg about its axis takes actuator i to i + 1, so
-the state at (P3, P1, P2) is the state at (P1, P2, P3) turned by +120 deg. The FE computes only
-the triples with P1 = max(P1, P2, P3) and obtains the rest by turning (the swept mesh's actuator
+the state at (P3, P1, P2) is the state at (P1, P2, P3) turned by +120 deg. It is also mirror
+symmetric about the plane x = 0 through actuator 1 (the double helix has both hands): the state
+at (P1, P3, P2) is the state at (P1, P2, P3) with x -> -x. The FE computes only the triples with
+P1 = max(P1, P2, P3) and P2 <= P3 and obtains the rest by mirroring and turning (the swept mesh's
 sections are translated, not turned, copies: the symmetry holds for the physics and to the
 discretisation error for the mesh).
 
 Continuation. For each (P2, P3) on the grid one path: proportional from zero to
 (max(P2, P3), P2, P3), then P1 up through the grid levels, each converged state the start of the
-next (`fem.path`). A path that stops keeps its converged points; the missing points are reported.
+next (`fem.path`), with targets at most 10 kPa apart (the bending robot needs small
+steps). A path that stops keeps its converged points; the missing points are reported.
 
 Comparison. The FE end point is the robot centreline at the actuators' top level z = L0
 (`studies.parts.robot_response`), where the arc of eqs. 4-9 ends; the constant-curvature (CC) end
@@ -47,11 +50,26 @@ def fe_lines(levels) -> list[list[tuple[float, float, float]]]:
     lines = []
     for p2 in levels:
         for p3 in levels:
+            if p2 > p3:
+                continue  # the mirror image of (p3, p2)
             start = max(p2, p3)
             pts = [(p1, p2, p3) for p1 in levels if p1 >= start]
             if pts:
                 lines.append(pts)
     return lines
+
+
+#: Largest pressure change between two path targets (kPa): see LOAD_CASES_KPA in robot_studies.
+TARGET_STEP_KPA = 10.0
+
+
+def _dense(points):
+    """The path through `points` with targets at most TARGET_STEP_KPA apart (in every chamber)."""
+    out = []
+    for a, b in zip(points, points[1:]):
+        n = max(1, math.ceil(max(abs(x - y) for x, y in zip(a, b)) / TARGET_STEP_KPA - 1e-9))
+        out += [tuple(x + (y - x) * k / n for x, y in zip(a, b)) for k in range(1, n + 1)]
+    return out or [points[0]]
 
 
 def fe_cloud(robot, levels, progress=None) -> tuple[dict, list[str]]:
@@ -60,9 +78,7 @@ def fe_cloud(robot, levels, progress=None) -> tuple[dict, list[str]]:
 
     states, messages = {}, []
     for line in fe_lines(levels):
-        first = line[0]
-        targets = [] if max(first) == 0 else [tuple(0.5 * v for v in first)]
-        targets += line
+        targets = _dense([(0.0, 0.0, 0.0), *line])
         run = simulate_robot(robot, [tuple(v / 1e3 for v in P) for P in targets])
         for s in run.states:
             for P in line:  # a target reached on volume control reads e.g. 100.0006 kPa
@@ -74,11 +90,11 @@ def fe_cloud(robot, levels, progress=None) -> tuple[dict, list[str]]:
             progress(f"line {line[0]}..{line[-1]}: {run.message} ({run.seconds:.0f} s)")
     full = {}
     for key, s in states.items():
-        for turns in range(3):
-            P = key
-            for _ in range(turns):
+        for mirror in (False, True):
+            P = (key[0], key[2], key[1]) if mirror else key
+            for turns in range(3):
+                full.setdefault(P, (s, turns, mirror))
                 P = (P[2], P[0], P[1])
-            full.setdefault(P, (s, turns))
     return full, messages
 
 
@@ -97,9 +113,11 @@ def workspace_comparison(full: dict, single_fe: dict, d: float) -> tuple[list[di
 
     acts = actuator_set("prototype")
     rows = []
-    for P, (s, turns) in sorted(full.items()):
-        end = _rotate(np.array(s.end_mm), turns)
-        l_fe = np.roll(np.array(s.lengths_mm), turns)
+    for P, (s, turns, mirror) in sorted(full.items()):
+        end, l_fe = np.array(s.end_mm), np.array(s.lengths_mm)
+        if mirror:
+            end, l_fe = end * np.array([-1.0, 1.0, 1.0]), l_fe[[0, 2, 1]]
+        end, l_fe = _rotate(end, turns), np.roll(l_fe, turns)
         l_a = np.array([single_fe[p] for p in P])
         l_b = np.array([float(acts[i].length(P[i], 0.0)) for i in range(3)])
         end_a, th_a = _cc_end(l_a, d)
