@@ -3,9 +3,10 @@
     python bench/robot_bench.py [--mesh quick|default|fine] [--material M] [--proportional]
 
 Sequential path (P2 = 40 and P3 = 60 kPa first, then P1 up to 100 kPa in 10 kPa targets, as the
-ring study; --proportional: straight to (100, 40, 60) kPa in 5 steps). Prints the DOFs, the Newton iterations, the model build time,
-the time per iteration, the share of the linear solve, the peak RSS and the final theta, phi and
-tip. Targets (issue 15, idle 2-core machine): default mesh at most 3 minutes and 4 GB.
+ring study; --proportional: straight to (100, 40, 60) kPa in 5 steps). Prints the DOFs, the
+Newton iterations, the model build time, the time per iteration, the share of the linear solve,
+the peak RSS and the final theta, phi and tip. Targets (issue 15, idle 2-core machine): default
+mesh at most 3 minutes and 4 GB.
 """
 
 from __future__ import annotations

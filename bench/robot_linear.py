@@ -27,6 +27,7 @@ def main() -> None:
     from fem.linsolve import LinearSolver
     from fem.path import load_path
     from studies.parts.robot_model import build_robot_model
+    from studies.parts.robot_response import ROBOT_NEWTON
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh", default="quick")
@@ -34,7 +35,7 @@ def main() -> None:
     robot = build_robot_model(None, mesh=args.mesh)
     model = robot.model
     P = (0.0, 0.02, 0.03)
-    x = load_path(model, [(P, 0.0)]).steps[-1].x
+    x = load_path(model, [(P, 0.0)], options=ROBOT_NEWTON).steps[-1].x
     P2 = (0.0, 0.024, 0.036)  # the next load step from there
     R, K = model.residual_and_tangent(x, P2, 0.0)
     b = -R[model.free_dofs]

@@ -72,7 +72,9 @@ def test_arc_fit_is_exact_on_an_arc_and_a_line():
 @pytest.mark.slow
 def test_theta_at_the_table1_load_is_mesh_converged():
     """theta at P = (100, 40, 60) kPa changes by < 2 % from the default to the fine mesh."""
-    targets = [(0.0, 0.04, 0.06)] + [(p, 0.04, 0.06) for p in (0.025, 0.05, 0.075, 0.1)]
+    from studies.catalogue.robot_studies import LOAD_CASES_KPA
+
+    targets = [tuple(p * KPA for p in P) for P in LOAD_CASES_KPA["asymmetric"]]
     theta = {}
     for mesh in ("default", "fine"):
         run = simulate_robot(build_robot_model(None, mesh=mesh), targets)
