@@ -65,9 +65,10 @@ def load_path(
     history = History(model.initial_state(), np.zeros(shape.n + 1))
     steps = ReportingList(on_step)
     events: list[str] = []
+    step = [np.inf]  # the last accepted sub-step, as a load distance (see `_advance`)
     for i, target in enumerate(loads):
         try:
-            record, n_sub = _advance(solver, history, target, opt)
+            record, n_sub = _advance(solver, history, target, opt, step)
         except Diverged as exc:
             rising = bool(np.any(target[:-1] > history.load[:-1]))
             if not model.chambers or not rising:
@@ -83,13 +84,20 @@ def load_path(
     return PathResult(tuple(steps), True, "all load targets reached", None, tuple(events), solver.stats(t0))
 
 
-def _advance(solver: NewtonSolver, history: History, end, opt):
+def _advance(solver: NewtonSolver, history: History, end, opt, step=None):
     """From the last converged load to `end` in adaptive sub-steps, each started from the
-    secant prediction; returns (last Newton record, number of sub-steps)."""
+    secant prediction; returns (last Newton record, number of sub-steps). `step` ([distance])
+    carries the last accepted sub-step (a load distance) from segment to segment: a path of many
+    targets starts each segment with twice the step that last worked instead of the whole
+    segment, which on a hard path (the bending robot) fails first and costs a diverged Newton
+    iteration per target."""
     start = history.load
-    t, h, n_sub, cuts = 0.0, 1.0, 0, 0
+    length = float(np.linalg.norm(end - start))
+    h0 = 1.0 if step is None or length == 0.0 else min(1.0, 2.0 * step[0] / length)
+    t, h, n_sub, cuts = 0.0, h0, 0, 0
     record = None
     while t < 1.0 - 1e-14:
+        intended = h
         h = min(h, 1.0 - t)
         s = t + h
         load = start + s * (end - start)
@@ -103,6 +111,8 @@ def _advance(solver: NewtonSolver, history: History, end, opt):
             continue
         history.accept(x_new, load)
         solver.model.commit(x_new)
+        if step is not None:
+            step[0] = intended * length  # the step size that worked, before the segment end clipped it
         t = s
         n_sub += 1
         if record.iterations <= 6:
