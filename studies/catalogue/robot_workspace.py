@@ -72,12 +72,14 @@ def _dense(points):
     return out or [points[0]]
 
 
-def fe_cloud(robot, levels, progress=None) -> tuple[dict, list[str]]:
-    """{(P1, P2, P3) kPa: RobotState} over the whole grid (computed and turned), and messages."""
+def fe_cloud(robot, levels, progress=None, on_line=None) -> tuple[dict, list[str]]:
+    """{(P1, P2, P3) kPa: RobotState} over the whole grid (computed and turned), and messages.
+    The paths run cheapest first (least bending: smallest spread of the pressures); `on_line`,
+    if given, gets (grid so far, messages) after every path, so partial results are kept."""
     from studies.parts.robot_response import simulate_robot
 
     states, messages = {}, []
-    for line in fe_lines(levels):
+    for line in sorted(fe_lines(levels), key=lambda ln: max(max(P) - min(P) for P in ln)):
         targets = _dense([(0.0, 0.0, 0.0), *line])
         run = simulate_robot(robot, [tuple(v / 1e3 for v in P) for P in targets])
         for s in run.states:
@@ -88,6 +90,13 @@ def fe_cloud(robot, levels, progress=None) -> tuple[dict, list[str]]:
             messages.append(f"path {line[0]}..{line[-1]} kPa: {run.message}")
         if progress:
             progress(f"line {line[0]}..{line[-1]}: {run.message} ({run.seconds:.0f} s)")
+        if on_line:
+            on_line(_expand(states), messages)
+    return _expand(states), messages
+
+
+def _expand(states: dict) -> dict:
+    """The computed states mirrored and turned onto the whole grid: {P: (state, turns, mirror)}."""
     full = {}
     for key, s in states.items():
         for mirror in (False, True):
@@ -95,7 +104,7 @@ def fe_cloud(robot, levels, progress=None) -> tuple[dict, list[str]]:
             for turns in range(3):
                 full.setdefault(P, (s, turns, mirror))
                 P = (P[2], P[0], P[1])
-    return full, messages
+    return full
 
 
 def _cc_end(lengths, d):
@@ -195,19 +204,28 @@ def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcom
     folder = Path(out) / "robot-workspace" / (material + ("-quick" if quick else ""))
     robot = build_robot_model(None, material, mesh)
     single = single_actuator_lengths(material, mesh, levels)
-    full, messages = fe_cloud(robot, levels, progress)
-    rows, summary = workspace_comparison(full, single, robot.design.d)
-    clouds = summary.pop("clouds")
-    summary |= {"material": material, "mesh": mesh, "levels_kpa": list(levels), "n_dofs": robot.n_dofs}
-    summary |= {"single_fe_lengths_mm": {str(k): v for k, v in single.items()}, "problems": messages}
-    folder.mkdir(parents=True, exist_ok=True)
-    written = [write_csv(rows, folder / "workspace.csv")]
-    (folder / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    title = f"workspace: FE robot vs constant curvature ({material}, {mesh} mesh, ends at z = L0)"
-    fig = plot_workspace(
-        *(np.array(clouds[k]) for k in ("fe", "cc_fe", "cc_eq3")), folder / "workspace.png", title
-    )
-    written += [folder / "summary.json", fig]
+    written = []
+
+    def write(full, messages, partial=True):
+        if not full:
+            return None
+        rows, summary = workspace_comparison(full, single, robot.design.d)
+        clouds = summary.pop("clouds")
+        summary |= {"material": material, "mesh": mesh, "levels_kpa": list(levels), "n_dofs": robot.n_dofs}
+        summary |= {"single_fe_lengths_mm": {str(k): v for k, v in single.items()}, "problems": messages}
+        summary |= {"partial": partial}
+        folder.mkdir(parents=True, exist_ok=True)
+        written[:] = [write_csv(rows, folder / "workspace.csv"), folder / "summary.json"]
+        (folder / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        title = f"workspace: FE robot vs constant curvature ({material}, {mesh} mesh, ends at z = L0)"
+        clouds = (np.array(clouds[k]) for k in ("fe", "cc_fe", "cc_eq3"))
+        written.append(plot_workspace(*clouds, folder / "workspace.png", title))
+        return summary
+
+    full, messages = fe_cloud(robot, levels, progress, on_line=write)
+    summary = write(full, messages, partial=False)
+    if summary is None:
+        return StudyOutcome(ok=False, problems=("no workspace point converged", *messages))
     lines = [
         f"workspace ({material}, {mesh} mesh, {summary['n_points']} points): max theta FE "
         f"{summary['max_theta_fe_deg']:.1f} deg, CC(FE lengths) {summary['max_theta_cc_fe_deg']:.1f}, "
