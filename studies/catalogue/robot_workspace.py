@@ -218,8 +218,8 @@ def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcom
         written[:] = [write_csv(rows, folder / "workspace.csv"), folder / "summary.json"]
         (folder / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
         title = f"workspace: FE robot vs constant curvature ({material}, {mesh} mesh, ends at z = L0)"
-        clouds = (np.array(clouds[k]) for k in ("fe", "cc_fe", "cc_eq3"))
-        written.append(plot_workspace(*clouds, folder / "workspace.png", title))
+        arrays = [np.array(clouds[k]) for k in ("fe", "cc_fe", "cc_eq3")]
+        written.append(plot_workspace(*arrays, folder / "workspace.png", title))
         return summary
 
     full, messages = fe_cloud(robot, levels, progress, on_line=write)
