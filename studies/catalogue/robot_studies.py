@@ -119,19 +119,18 @@ def summary_row(params, data) -> dict:
 def run_robot_study(name: str, out, material: str, quick: bool, *, workers: int = 1, progress: bool = True,
                     retry: bool = False, runner: str | None = None) -> StudyOutcome:  # fmt: skip
     """Run (or resume) the robot study `name` and write its tables, decision and figure."""
+    spec = study_spec(name, out, material, quick, runner)
+    run_sweep(spec, workers=workers, progress=progress, retry=retry)
+    return write_tables(name, spec, material)
+
+
+def write_tables(name: str, spec: SweepSpec, material: str) -> StudyOutcome:
+    """curves.csv, summary.csv, decision.json, spec.json and the figure from the points/ files of
+    the study folder (the points computed so far; a missing one is a row that says so)."""
     from studies.plots.robot import plot_robot_study
     from studies.review.robot_rules import foot_radius_rule, ring_rule
 
-    grid, cases = GRIDS[name]
-    folder = Path(out) / f"robot-{name}" / (material + ("-quick" if quick else ""))
-    settings = {"material": material, "mesh": "quick" if quick else "default", "cases": list(cases),
-                "out_dir": str(folder)}  # fmt: skip
-    if runner:
-        settings["runner"] = runner
-    spec = SweepSpec(
-        name=f"robot-{name}", grid=grid, out_dir=str(folder), evaluator=EVALUATOR, settings=settings
-    )
-    run_sweep(spec, workers=workers, progress=progress, retry=retry)
+    folder = Path(spec.out_dir)
     curves, summary = [], []
     for params in spec.points():
         path = folder / "points" / f"{point_name(params)}.json"
@@ -149,7 +148,19 @@ def run_robot_study(name: str, out, material: str, quick: bool, *, workers: int 
         plot_robot_study(name, summary, curves, folder),
     ]
     missing = [point_name(p) for p, s in zip(spec.points(), summary) if not s["converged"]]
-    lines = [f"{name} ({material}, {settings['mesh']} mesh): {decision.parameter} = {decision.value}",
+    lines = [f"{name} ({material}, {spec.settings['mesh']} mesh): {decision.parameter} = {decision.value}",
              decision.reason]  # fmt: skip
     problems = tuple(f"not converged or missing: {m}" for m in missing)
     return StudyOutcome(tuple(lines), tuple(written), ok=decision.value is not None, problems=problems)
+
+
+def study_spec(name: str, out, material: str, quick: bool, runner: str | None = None) -> SweepSpec:
+    grid, cases = GRIDS[name]
+    folder = Path(out) / f"robot-{name}" / (material + ("-quick" if quick else ""))
+    settings = {"material": material, "mesh": "quick" if quick else "default", "cases": list(cases),
+                "out_dir": str(folder)}  # fmt: skip
+    if runner:
+        settings["runner"] = runner
+    return SweepSpec(
+        name=f"robot-{name}", grid=grid, out_dir=str(folder), evaluator=EVALUATOR, settings=settings
+    )
