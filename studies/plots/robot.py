@@ -37,6 +37,7 @@ def plot_robot_study(name: str, summary, curves, folder) -> Path:
     ax = axes[-1]
     for value in sorted({r.get(key) for r in curves if r.get(key) is not None}, key=float):
         rows = [r for r in curves if r.get(key) == value and r.get("case") == "asymmetric"]
+        rows = [r for r in rows if number(r.get("P2_kpa")) == 40.0 and number(r.get("P3_kpa")) == 60.0]
         x, y = _series(rows, "P1_kpa", "theta_deg")
         ax.plot(x, y, "o-", label=f"{key} = {value}")
     ax.set_xlabel("P1 (kPa), P2 = 40, P3 = 60 kPa")
