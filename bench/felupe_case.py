@@ -99,7 +99,7 @@ class _EdgeNumbering:
         return self.nv + np.searchsorted(self.keys, lo * self.nv + hi)
 
 
-def _boundary_faces(cells):
+def boundary_faces(cells):
     "Faces that belong to exactly one tet: (tet index, local face index)."
     faces = cells[:, _TET_FACES[:, :3]].reshape(-1, 3)
     _, index, counts = np.unique(np.sort(faces, axis=1), axis=0, return_index=True, return_counts=True)
@@ -127,7 +127,7 @@ def _build_quadratic_mesh(points, cells, inner, outer, tol):
     radius = np.hypot(points[:, 0], points[:, 1])
     on_inner = np.abs(radius - inner) < tol
     on_outer = np.abs(radius - outer) < tol
-    tet, face = _boundary_faces(cells)
+    tet, face = boundary_faces(cells)
     local = _TET_FACES[face]  # (nfaces, 4): 3 face vertices + opposite vertex
     verts = cells[tet[:, None], local]  # global vertex ids
 

@@ -1,9 +1,16 @@
 r"""The unknowns of a solid on quadratic tetrahedra and the deformation gradient at its points.
 
 Unknowns. Displacements u on the P2 nodes (dof 3 * node + i, node numbering of scikit-fem's
-scalar `ElementTetP2` basis) and, for the mixed formulation "p2p1", a continuous P1 pressure p on
-the vertices after them (Taylor-Hood P2-P1, inf-sup stable, so it does not lock as K/mu -> inf).
+scalar `ElementTetP2` basis) and, for the mixed formulation "p2p1", a P1 pressure p on the
+vertices after them (Taylor-Hood P2-P1, inf-sup stable, so it does not lock as K/mu -> inf).
 The displacement-only formulation "p2" has no pressure dofs.
+
+Pressure groups. The pressure p = K (J - 1) jumps where the material does (silicone next to ABS:
+K differs by a factor ~70 and J - 1 by more), so one continuous field across a material
+interface forces a wrong, smeared pressure into the elements next to it. `pressure_groups`
+(one integer per element) gives each group its own continuous P1 field: a vertex shared by
+elements of g groups carries g pressure dofs, one per group. Displacements stay continuous
+everywhere (the tie). With one group (the default) this is the usual Taylor-Hood space.
 
 Kinematics. F_iJ = d_iJ + sum_a u_ai dN_a/dX_J at the quadrature points. The shape-function
 gradients are kept in element-first layouts, so that F of a whole mesh is one small
@@ -26,7 +33,7 @@ FORMULATIONS = ("p2p1", "p2")
 class Discretisation:
     """P2 displacements (and P1 pressures for "p2p1") on `mesh` with `intorder` quadrature."""
 
-    def __init__(self, mesh, formulation: str = "p2p1", intorder: int = 2) -> None:
+    def __init__(self, mesh, formulation: str = "p2p1", intorder: int = 2, pressure_groups=None) -> None:
         if formulation not in FORMULATIONS:
             raise SolverInputError("formulation", f"{formulation!r} is not one of {FORMULATIONS}")
         self.mesh = mesh
@@ -47,8 +54,9 @@ class Discretisation:
         if self.mixed:
             self.pbasis = skfem.Basis(mesh, skfem.ElementTetP1(), quadrature=self.basis.quadrature)
             self.Np = np.stack([np.asarray(phi[0]) for phi in self.pbasis.basis])  # (4, E, Q)
-            self.p_dofs = self.n_u + self.pbasis.element_dofs  # (4, E)
-            self.n_p = self.pbasis.N
+            self.p_dofs, self.pressure_vertex = _pressure_dofs(self.pbasis.element_dofs, pressure_groups)
+            self.p_dofs = self.p_dofs + self.n_u  # (4, E)
+            self.n_p = len(self.pressure_vertex)
         else:
             self.n_p = 0
         self.n_dofs = self.n_u + self.n_p
@@ -99,6 +107,20 @@ class Discretisation:
         F[1, 1] += 1.0
         F[2, 2] += 1.0
         return F
+
+
+def _pressure_dofs(vertex_dofs: np.ndarray, groups) -> tuple[np.ndarray, np.ndarray]:
+    """Pressure dof numbers (4, E) and the vertex of each pressure dof: one dof per (vertex,
+    group) pair that occurs (see the module docstring); groups None means one group."""
+    if groups is None:
+        return vertex_dofs.copy(), np.arange(vertex_dofs.max() + 1)
+    groups = np.asarray(groups)
+    if groups.shape != (vertex_dofs.shape[1],) or not np.issubdtype(groups.dtype, np.integer):
+        raise SolverInputError("pressure_groups", f"give one integer per element ({vertex_dofs.shape[1]})")
+    n_groups = int(groups.max()) + 1
+    key = vertex_dofs.astype(np.int64) * n_groups + groups[None, :]
+    unique, inverse = np.unique(key, return_inverse=True)
+    return inverse.reshape(vertex_dofs.shape), unique // n_groups
 
 
 def element_first(dN: np.ndarray) -> np.ndarray:

@@ -26,14 +26,14 @@ on the constrained dofs: at equilibrium f_int = P q + f f_dead + f_support.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
 from fem import sheets
 from fem.chamber import Chamber, ChamberSpec
 from fem.contact import ContactTerm
-from fem.dead_load import dead_load_vector
+from fem.dead_load import body_force_vector, dead_load_vector
 from fem.dirichlet import Constraints, Dirichlet
 from fem.discretisation import FORMULATIONS, Discretisation
 from fem.errors import SolverInputError
@@ -81,6 +81,27 @@ def _chamber_specs(chambers) -> list[ChamberSpec]:
     raise SolverInputError("chambers", "give the tags of one chamber or a sequence of ChamberSpec")
 
 
+PRESSURE_FIELDS = ("per-material", "continuous")
+
+
+def _pressure_groups(mesh, materials, pressure_fields: str):
+    """Element -> pressure group (`fem.discretisation`): one group per distinct material law
+    ("per-material", the default: no pressure field is continuous across a material jump), or
+    None (one field for the whole body, "continuous": wrong at a material interface, kept to show
+    it in tests/fem/test_multi_material.py)."""
+    if pressure_fields not in PRESSURE_FIELDS:
+        raise SolverInputError("pressure_fields", f"{pressure_fields!r} is not one of {PRESSURE_FIELDS}")
+    if pressure_fields == "continuous" or not isinstance(materials, Mapping):
+        return None
+    laws: list = []
+    groups = np.zeros(mesh.t.shape[1], dtype=np.int64)
+    for name, law in materials.items():
+        if law not in laws:
+            laws.append(law)
+        groups[(mesh.subdomains or {}).get(name, [])] = laws.index(law)
+    return groups if len(laws) > 1 else None
+
+
 class SolidModel:
     """A meshed solid with materials, Dirichlet conditions, chamber pressures, fibers, dead loads.
 
@@ -95,6 +116,10 @@ class SolidModel:
         with its own friction coefficient (`model.contacts` holds the terms).
     extra_terms: other term specifications with `build(space) -> term` (e.g.
         `fem.equal_displacement.EqualDisplacement`, a rigid plate's common translation).
+    pressure_fields: "per-material" (one P1 pressure field per distinct material law, see
+        `_pressure_groups`) or "continuous" (one field).
+    body_forces: mapping subdomain -> force per reference volume (3,) in N/mm^3 (gravity: density
+        times g); scaled by the load factor like the dead loads.
     """
 
     def __init__(
@@ -111,8 +136,11 @@ class SolidModel:
         dead_loads=None,
         contacts: Sequence = (),
         extra_terms: Sequence = (),
+        pressure_fields: str = "per-material",
+        body_forces=None,
     ) -> None:
-        self.space = Discretisation(mesh, formulation, intorder)
+        groups = _pressure_groups(mesh, materials, pressure_fields)
+        self.space = Discretisation(mesh, formulation, intorder, groups)
         self.solid = Solid(self.space, materials)
         self.constraints = Constraints(self.space, dirichlet)
         touched = np.zeros(self.space.n_dofs, dtype=bool)
@@ -130,7 +158,7 @@ class SolidModel:
         self.contacts = [ContactTerm(self.space, spec) for spec in contacts]
         self.terms += self.contacts
         self.terms += [spec.build(self.space) for spec in extra_terms]
-        self.dead_load = dead_load_vector(self.space, dead_loads)
+        self.dead_load = dead_load_vector(self.space, dead_loads) + body_force_vector(self.space, body_forces)
         groups = self.solid.groups + [c.u_dofs for c in self.chambers] + [t.dofs for t in self.terms]
         self.pattern = Pattern(self.constraints.free_index, groups)
         self._memo = None  # see `_at`

@@ -54,7 +54,7 @@ def cross_section(
     return np.vstack(nodes), np.vstack(tris), np.concatenate(is_wall)
 
 
-def _levels(a: float, b: float, size: float) -> np.ndarray:
+def levels(a: float, b: float, size: float) -> np.ndarray:
     n = max(1, int(np.ceil((b - a) / size - 1e-9)))
     return np.linspace(a, b, n + 1)
 
@@ -86,8 +86,8 @@ def mesh_epsa_swept(
     t_s = design.seal_head_thickness if seal_head else 0.0
     z = np.unique(
         np.concatenate(
-            [_levels(0, c, axial_size), _levels(c, L - c, axial_size), _levels(L - c, L, axial_size)]
-            + ([_levels(L, L + t_s, axial_size)] if seal_head else [])
+            [levels(0, c, axial_size), levels(c, L - c, axial_size), levels(L - c, L, axial_size)]
+            + ([levels(L, L + t_s, axial_size)] if seal_head else [])
         )
     )
     n2 = len(xy)
@@ -131,7 +131,7 @@ def mesh_epsa_swept(
     return mesh
 
 
-def _boundary_faces(tets: np.ndarray) -> np.ndarray:
+def boundary_faces(tets: np.ndarray) -> np.ndarray:
     """Boundary triangles, outward-oriented (faces that belong to exactly one tet)."""
     local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # outward for positive tets
     faces = tets[:, local].reshape(-1, 3)
@@ -144,7 +144,7 @@ def _tag_facets(
     points: np.ndarray, tets: np.ndarray, design: EPSADesign, seal_thickness: float = 0.0
 ) -> dict[str, np.ndarray]:
     R0, r0, L, c = design.outer_radius, design.chamber_radius, design.length, design.end_cap_thickness
-    faces = _boundary_faces(tets)
+    faces = boundary_faces(tets)
     top = L + seal_thickness
     p = points[faces]  # (f, 3 vertices, 3)
     rho = np.hypot(p[..., 0], p[..., 1])

@@ -13,6 +13,7 @@ COMMAND_MODULES = (
     "verify",
     "material",
     "model",
+    "robot",
     "study",
     "table1",
     "calibrate",

@@ -7,6 +7,9 @@
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
     softcrawl study groove            [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study foot              [--quick] [--material M] [--storage URL] [--workers N] --out DIR
+    softcrawl study rings             [--quick] [--material M] [--workers N] --out DIR
+    softcrawl study foot-radius       [--quick] [--material M] [--workers N] --out DIR
+    softcrawl study workspace         [--quick] [--material M] --out DIR
     softcrawl study paper-material    --out DIR
     softcrawl study kp-mismatch       --out DIR
 
@@ -14,6 +17,11 @@ paper-material: which material (Neo-Hookean, Yeoh, Gent; every shape and shear m
 the paper's own FE observations of Figs. 8-9; no FE (studies/catalogue/paper_material.py).
 kp-mismatch: the identify studies under DIR against the confined and unconfined tube stiffness
 (studies/catalogue/kp_mismatch.py), DIR/identify/kp-mismatch.md.
+
+rings (Fig. 11(c)), foot-radius (Section V-C) and workspace (Fig. 11(d)) are the robot-level
+studies on the tied assembly (studies.catalogue.robot_studies, robot_workspace); they write to
+DIR/robot-NAME/MATERIAL[-quick]/ and decide their Table 1 rows by the rules of
+studies.review.robot_rules.
 
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm, N =
 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1 ePSA under
@@ -48,7 +56,9 @@ from studies.catalogue.optimise_actuator import NAME as OPTIMISER
 PAPER_MATERIAL = "paper-material"
 KP_MISMATCH = "kp-mismatch"
 CONTACT_STUDIES = ("groove", "foot")  # studies.catalogue.contact_studies
-STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH, *CONTACT_STUDIES)
+#: The robot-level studies (studies.catalogue.robot_studies, robot_workspace).
+ROBOT_STUDIES = ("rings", "foot-radius", "workspace")
+STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH, *CONTACT_STUDIES, *ROBOT_STUDIES)
 
 
 #: Most worker processes: each is a process with its own solver (0.3-1 GB on the default mesh);
@@ -62,6 +72,7 @@ MAX_SEED = 2**32 - 1
 
 
 def register(subparsers) -> None:
+    from studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
 
     parser = subparsers.add_parser(
         "study",
@@ -80,8 +91,9 @@ def register(subparsers) -> None:
     parser.add_argument(
         "--material",
         default=None,
-        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}), or the foot's rubber for groove "
-        "and foot (default rubber-70a); see `softcrawl material list`",
+        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}), the foot's rubber for groove "
+        "and foot (default rubber-70a), or the robot studies' silicone (default "
+        f"{ROBOT_MATERIAL}, the calibrated modulus); see `softcrawl material list`",
     )
     parser.add_argument(
         "--storage",
@@ -95,7 +107,7 @@ def register(subparsers) -> None:
         default=None,
         metavar="MODULE:FUNCTION",
         help="replace studies.parts.epsa_response:simulate_epsa (same signature), e.g. a "
-        "surrogate or a test fake",
+        "surrogate or a test fake; for rings and foot-radius, studies.catalogue.robot_studies:run_cases",
     )
     parser.add_argument(
         "--retry-failed",
@@ -171,7 +183,10 @@ def _check(args) -> None:
     from studies.sweeps.spec import StudyError
 
     if args.material is None:
-        args.material = "rubber-70a" if args.name in CONTACT_STUDIES else DEFAULT_MATERIAL
+        from studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
+
+        defaults = dict.fromkeys(CONTACT_STUDIES, "rubber-70a") | dict.fromkeys(ROBOT_STUDIES, ROBOT_MATERIAL)
+        args.material = defaults.get(args.name, DEFAULT_MATERIAL)
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
@@ -252,6 +267,8 @@ def _run_study(args):
     from studies.catalogue.optimise_actuator import run_optimiser
 
     progress = not args.no_progress
+    if args.name in ROBOT_STUDIES:
+        return _run_robot_study(args, progress)
     if args.name in CONTACT_STUDIES:
         from studies.catalogue.contact_runs import run_contact_study
 
@@ -288,3 +305,18 @@ def _run_study(args):
         progress=progress,
         retry=args.retry_failed,
     )
+
+
+def _run_robot_study(args, progress: bool):
+    """rings and foot-radius (sweeps, studies.catalogue.robot_studies) and workspace
+    (studies.catalogue.robot_workspace)."""
+    if args.name == "workspace":
+        from studies.catalogue.robot_workspace import run_workspace
+
+        return run_workspace(args.out, args.material, args.quick, print if progress else None)
+    from studies.catalogue.robot_studies import run_robot_study
+
+    return run_robot_study(
+        args.name, args.out, args.material, args.quick, workers=args.workers, progress=progress,
+        retry=args.retry_failed, runner=args.simulator, storage=args.storage,
+    )  # fmt: skip

@@ -7,7 +7,9 @@ r"""The FE model of one ePSA: the swept mesh, the materials, the winding, the en
 Body and seal head. The body is the silicone `material` (a `materials` preset, `NAME@mu=VALUE`
 allowed); the ABS seal head on top is tied to it (one mesh) and is a stiff Neo-Hookean solid with
 the ABS shear and bulk moduli: at 20-100 kPa its strains are ~1e-4, so the hyperelastic and the
-linear-elastic ABS agree.
+linear-elastic ABS agree. Each material has its own P1 pressure field (`fem.model`, per-material
+pressure groups): a field continuous across the silicone/ABS interface is wrong there
+(docs/DESIGN.md section 12; the length at 100 kPa changes by 1.5e-5).
 
 Winding (`FIBER_MODELS`). "sheet", the default: the double helix smeared over the outer surface
 as two fiber families (`fem.sheets`, `geometry.epsa_shape.helix_families`); it converges under

@@ -160,8 +160,9 @@ def test_table1_epsa_with_tensile_modulus_runs_to_100_kpa_on_the_default_mesh():
     assert all(b > a for a, b in zip(lengths, lengths[1:]))
     assert all(r.tip_lateral_mm < SWAY_WARNING * r.length_mm for r in rows)
     assert not curve.events
-    # the README's figure (results/epsa-default-mesh/curve-probe_mu03.csv: 290.667 mm)
-    assert lengths[-1] == pytest.approx(290.667, abs=0.01)
+    # the committed figure (results/epsa-default-mesh/curve-probe_mu03.csv: 290.656 mm; 290.667 mm
+    # with one pressure field continuous across the silicone/ABS interface, docs/DESIGN.md section 12)
+    assert lengths[-1] == pytest.approx(290.656, abs=0.005)
 
 
 def test_undeformed_sheet_carries_exactly_no_force():

@@ -229,3 +229,30 @@ def limited_simulate(
 def invalid_simulate(design, **kwargs):
     """Every design is invalid (an input error of the evaluation, for every point)."""
     raise DesignError("chamber_radius", "made-up invalid design for the test")
+
+
+def fake_robot_cases(design, material, mesh, cases):
+    """A stand-in for `studies.catalogue.robot_studies.run_cases` (no FE): theta falls with the
+    ring count and with d, splay falls with the ring count, as the rules expect."""
+    n, d = design.n_rings, design.d
+    rows = []
+    for case in cases:
+        theta = 0.0 if case == "equal" else 80.0 - 2.0 * n - 3.0 * (d - 14.0)
+        rows.append(
+            {
+                "case": case,
+                "step": 0,
+                "P1_kpa": 100.0,
+                "P2_kpa": 100.0 if case == "equal" else 40.0,
+                "P3_kpa": 100.0 if case == "equal" else 60.0,
+                "theta_deg": theta,
+                "phi_deg": 100.0,
+                "phi_cc_deg": 100.5,
+                "d_eff_mm": d,
+                "extension_mm": 50.0 - 0.1 * n,
+                "splay_mm": 3.0 / n,
+                "arc_rms_mm": 0.2,
+            }  # fmt: skip
+        )
+    return {"rows": rows, "converged": True, "message": "fake", "wall_s": 0.0, "n_dofs": 0,
+            "material": {"epsa": material}}  # fmt: skip
