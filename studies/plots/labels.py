@@ -22,6 +22,10 @@ STUDIES = {
     "fiber-turns": ("Fiber turns study, r0 = 3 mm", "paper Fig. 9"),
     "identify": ("Static identification: the Table 1 ePSA under weights", "paper Section VII-A"),
     "optimise-actuator": ("Actuator optimiser (NSGA-II) at 100 kPa", "beyond the paper"),
+    "groove": ("Groove segment pressed at 100 kPa and dragged on the wall", "paper Fig. 10(a)"),
+    "foot": ("Whole foot inserted into pipes and dragged both ways", "paper Fig. 10(b), Fig. 4"),
+    "robot-rings": ("Connecting rings of the tied robot", "paper Fig. 11(c)"),
+    "robot-foot-radius": ("Foot radius d of the tied robot", "paper Section V-C"),
 }
 
 

@@ -189,13 +189,33 @@ def renders(results: Path) -> str:
     return f"<p>Command: <code>{esc(RENDERS)}</code></p><div class='figrow'>{figs}</div>"
 
 
+#: Study folders under results/ in the review's order -> the `softcrawl study` name that makes them.
+STUDY_FOLDERS = {
+    "chamber-radius": "chamber-radius",
+    "fiber-turns": "fiber-turns",
+    "identify": "identify",
+    "optimise-actuator": "optimise-actuator",
+    "groove": "groove",
+    "foot": "foot",
+    "robot-rings": "rings",
+    "robot-foot-radius": "foot-radius",
+}
+#: The material of each study's example command when its results are missing.
+DEFAULT_STUDY_MATERIAL = dict.fromkeys(("groove", "foot"), "rubber-70a") | dict.fromkeys(
+    ("robot-rings", "robot-foot-radius"), "ecoflex-00-50@mu=0.0638"
+)
+
+
 def _study_block(folder: Path, name: str) -> str:
     from studies.plots.labels import material_label, study_title
 
     spec = json.loads((folder / "spec.json").read_text())
     material = spec["settings"].get("material")
-    head = f"<h3>{esc(study_title(name, material, bool(spec['settings'].get('quick'))))}</h3>"
-    command = STUDY_COMMAND.format(name=name, material=material)
+    quick = bool(spec["settings"].get("quick")) or spec["settings"].get("mesh") == "quick"
+    head = f"<h3>{esc(study_title(name, material, quick))}</h3>"
+    command = STUDY_COMMAND.format(name=STUDY_FOLDERS.get(name, name), material=material)
+    if quick:
+        command = command.replace(" --workers", " --quick --workers")
     body = [f"<p>Material {esc(material_label(material))}. Command: <code>{esc(command)}</code></p>"]
     for png in sorted(folder.glob("*.png")):
         body.append(figure(png, f"{folder.relative_to(folder.parents[1])}/{png.name}"))
@@ -207,12 +227,12 @@ def _study_block(folder: Path, name: str) -> str:
 
 def studies(results: Path) -> str:
     out = []
-    for name in ("chamber-radius", "fiber-turns", "identify", "optimise-actuator"):
+    for name, command_name in STUDY_FOLDERS.items():
         folders = _materials(results, name)
         if not folders:
-            out.append(
-                missing(f"The {name} study", STUDY_COMMAND.format(name=name, material="ecoflex-00-50"))
-            )
+            material = DEFAULT_STUDY_MATERIAL.get(name, "ecoflex-00-50")
+            command = STUDY_COMMAND.format(name=command_name, material=material)
+            out.append(missing(f"The {name} study", command))
         out.extend(_study_block(f, name) for f in folders)
     return "".join(out)
 
@@ -305,14 +325,15 @@ def provenance(results: Path) -> str:
         spec = json.loads(spec_path.read_text())
         settings = spec.get("settings", {})
         name = re.sub(r"-ecoflex.*|-dragon.*", "", spec.get("name", ""))
+        name = STUDY_FOLDERS.get(spec_path.parent.parent.name, name)
+        quick = bool(settings.get("quick")) or settings.get("mesh") == "quick"
+        command = STUDY_COMMAND.format(name=name, material=settings.get("material"))
         rows.append(
             {
                 "result": str(spec_path.parent.relative_to(results)),
-                "command": STUDY_COMMAND.format(name=name, material=settings.get("material")),
+                "command": command.replace(" --workers", " --quick --workers") if quick else command,
                 "material": settings.get("material"),
-                "mesh": "quick"
-                if settings.get("quick")
-                else f"default (h = {settings.get('mesh_size') or 5} mm)",
+                "mesh": "quick" if quick else f"default (h = {settings.get('mesh_size') or 5} mm)",
                 "winding": settings.get("fibers", ""),
             }
         )

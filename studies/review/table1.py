@@ -34,11 +34,6 @@ PAPER_TABLE1 = {
 #: Study folders under the results folder that feed the ePSA rows.
 STUDY_DIRS = {"chamber_radius": "chamber-radius", "fiber_turns": "fiber-turns"}
 QUICK_SUFFIX = "-quick"
-PENDING = {
-    "groove_height": "foot study not implemented (issue: foot and ring studies)",
-    "foot_radius": "foot study not implemented (issue: foot and ring studies)",
-    "rings": "robot ring-count study not implemented (issue: foot and ring studies)",
-}
 
 
 @dataclass(frozen=True)
@@ -74,8 +69,9 @@ def material_run(results: str | Path, material: str) -> MaterialRun:
     return MaterialRun(material, sources)
 
 
-def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
-    """Apply every rule of one material's study data."""
+def select_all(run: MaterialRun, robot_rows: dict | None = None) -> dict[str, rules.Selection]:
+    """Apply every rule of one material's study data; the robot-level and foot rows come from
+    `studies.review.robot_rows.study_rows` (the same for every silicone; read once by `render`)."""
     from studies.sweeps.tables import read_csv
 
     out = {
@@ -106,8 +102,7 @@ def select_all(run: MaterialRun) -> dict[str, rules.Selection]:
             rows = read_csv(src)
             out[param] = select(rows)
             out["linearity"] = linearity_claim(rows)
-    for param, why in PENDING.items():
-        out[param] = rules.pending(param, why)
+    out |= {param: row.selection for param, row in (robot_rows or {}).items()}
     return out
 
 
@@ -136,11 +131,10 @@ def agreement(param: str, sel: rules.Selection) -> tuple[str, str]:
 
 
 def _why_not(sel: rules.Selection, paper: float) -> str:
-    key = {"chamber_radius": "r", "fiber_turns": "N"}.get(sel.parameter, sel.parameter)
-    for line in sel.evidence:
-        if line.startswith(f"{key} = {paper:g}:"):
-            return line
-    return f"no result for {key} = {paper:g}"
+    keys = {"chamber_radius": "r", "fiber_turns": "N", "groove_height": "h", "rings": "n_rings"}
+    key = (keys | {"foot_radius": "d"}).get(sel.parameter, sel.parameter)
+    found = [line for line in sel.evidence if line.startswith(f"{key} = {paper:g}:")]
+    return "; ".join(found) if found else f"no result for {key} = {paper:g}"
 
 
 def _mu(material: str) -> float | None:
@@ -188,10 +182,13 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             "`softcrawl study fiber-turns` first (see README).",
             "",
         ]
+    from studies.review.robot_rows import study_rows
+
+    robot_rows = study_rows(results)
     selections = {}
     for material in materials:
         run = material_run(results, material)
-        sel = select_all(run)
+        sel = select_all(run, robot_rows)
         selections[material] = sel
         label = _material_label(material)
         lines += [
@@ -204,8 +201,10 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             s = sel[param]
             ours = "-" if s.value is None else f"{s.value:g} {unit}".strip()
             verdict, why = agreement(param, s)
-            mat = label if param in STUDY_DIRS else "-"
-            if param in STUDY_DIRS and run.quick(param):
+            mat = label if param in STUDY_DIRS else robot_rows[param].material if param in robot_rows else "-"
+            if (param in STUDY_DIRS and run.quick(param)) or (
+                param in robot_rows and robot_rows[param].quick
+            ):
                 mat += " (quick mesh)"
             lines.append(
                 f"| {name} | {paper:g} {unit} | {ours} | {_cell(s.rule)} | "
@@ -218,10 +217,11 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             lines += [f"- {e}" for e in sel[param].evidence] or ["- (none)"]
             lines += [""]
     if materials:
-        from studies.review.table1_summary import closing, summary_table
+        from studies.review.table1_summary import closing, robot_evidence, summary_table
 
         quick = {m for m in materials if any(material_run(results, m).quick(p) for p in STUDY_DIRS)}
         lines[4:4] = summary_table(results, materials, selections, quick)
+        lines += robot_evidence(results, robot_rows, PAPER_TABLE1)
         lines += closing(results, materials, selections)
     if len(materials) > 1:
         lines += ["## Dependence on the material", ""]

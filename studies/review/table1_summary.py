@@ -70,7 +70,7 @@ def _law(material: str) -> str:
 def paper_note(param: str, sel: rules.Selection) -> str:
     """Why the paper chose otherwise, where the paper says it (the disagreement's reason)."""
     v = sel.value
-    if v is None or abs(v - PAPER[param]) < 1e-9:
+    if v is None or param not in PAPER or abs(v - PAPER[param]) < 1e-9:
         return ""
     if param == "chamber_radius" and v in PAPER_FLUCTUATING_RADII:
         return f"; the paper excluded r = {v:g} as fluctuating, which this FE does not show (monotone length)"
@@ -149,6 +149,28 @@ def _names(materials, test) -> str:
     return ", ".join(f"`{m}`" for m in chosen) if chosen else "none"
 
 
+def robot_evidence(results, robot_rows: Mapping, paper_table: Mapping) -> list[str]:
+    """The evidence of the rows decided by the foot and robot-level studies (the same for every
+    silicone, so written once): the groove rule's table, and each robot rule's candidates."""
+    from studies.review import groove_rule
+
+    lines = ["## Rows decided by the foot and robot-level studies", ""]
+    decision, source = groove_rule.decide_from_results(results)
+    lines += groove_rule.markdown(decision, source) + [""]
+    for param in ("foot_radius", "rings"):
+        row = robot_rows[param]
+        sel = row.selection
+        shown = "pending" if sel.value is None else f"{sel.value:g}"
+        mesh = " (quick mesh)" if row.quick else ""
+        label, paper, unit = paper_table[param]
+        unit = f" {unit}" if unit else ""
+        lines += [f"{label}: {shown}{unit} ({row.material}{mesh}; paper {paper:g}{unit}). {sel.reason}.", ""]
+        lines += [f"Source: {row.source}" if row.source else "Source: none", ""]
+        lines += [f"- {e}" for e in sel.evidence] or ["- (none)"]
+        lines += [""]
+    return lines
+
+
 def closing(results, materials: Sequence[str], selections: Mapping[str, Mapping]) -> list[str]:
     """Which of the paper's conclusions survive which material assumption (data-driven)."""
 
@@ -164,9 +186,6 @@ def closing(results, materials: Sequence[str], selections: Mapping[str, Mapping]
     n_other = _names(materials, lambda m: value(m, "fiber_turns") not in (None, 20.0))
     lin = _names(materials, lambda m: (selections[m].get("linearity") or rules.pending("x", "")).value == 1.0)
     fluct = _names(materials, lambda m: "withstands; fluctuating" in evidence(m, "chamber_radius"))
-    burst = _names(materials, lambda m: _monotone(evidence(m, "chamber_radius"), _LIMIT, falling=True))
-    more = _names(materials, lambda m: _monotone(evidence(m, "fiber_turns"), _EXTENSION, falling=False))
-
     burst = _names(materials, lambda m: _monotone(evidence(m, "chamber_radius"), _LIMIT, falling=True))
     more = _names(materials, lambda m: _monotone(evidence(m, "fiber_turns"), _EXTENSION, falling=False))
     centres = _json(Path(results) / "paper-material" / "paper-material.json").get("centres", {})

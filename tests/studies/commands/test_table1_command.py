@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 
 import pytest
 
@@ -95,3 +96,43 @@ def test_table1_without_results(tmp_path, capsys):
     assert "No study results found" in (tmp_path / "table1.md").read_text()
     assert main(["table1", "--out", str(tmp_path / "x"), "--results", str(tmp_path / "nope")]) == 2
     assert "results" in capsys.readouterr().err
+
+
+def test_robot_level_rows_follow_their_studies(tmp_path):
+    """The groove, foot-radius and ring rows are read from their studies' outputs: a fake ring
+    study decides the ring row, and raising the strain of the h = 2 mm groove lowers h."""
+    _study(tmp_path, "chamber-radius", "ecoflex-00-50-fit", PAPER_LIKE)
+    fake_robot = "tests.studies.fakes:fake_robot_cases"
+    argv = ["study", "rings", "--quick", "--simulator", fake_robot, "--out", str(tmp_path), "--no-progress"]
+    assert main(argv) == 0
+    (decision,) = (tmp_path / "robot-rings").glob("*/decision.json")
+    rings = json.loads(decision.read_text())["value"]
+    groove = tmp_path / "groove" / "rubber-70a" / "summary.csv"
+    groove.parent.mkdir(parents=True)
+    rows = [
+        {
+            "groove_height": h,
+            "mu": mu,
+            "trial_status": "completed",
+            "converged": "True",
+            "plateau_over_mu_n": 1.0,
+            "von_mises_mpa_p99": 0.2 * h,
+            "max_principal_strain_p99": strain,
+            "deformation_max_mm": 0.1 * h,
+        }  # fmt: skip
+        for mu in (0.3, 0.5)
+        for h, strain in ((0.5, 0.03), (1.0, 0.04), (1.5, 0.05), (2.0, 0.2))
+    ]
+    with open(groove, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    assert main(["table1", "--out", str(tmp_path)]) == 0
+    md = (tmp_path / "table1.md").read_text()
+    ring_row = _row(md, "connecting rings")
+    assert ring_row[2] == f"{rings:g}" and "quick mesh" in ring_row[4]
+    assert ring_row[5] == ("agree" if rings == 3 else "disagree")
+    groove_row = _row(md, "foot groove height h")
+    assert groove_row[2] == "1.5 mm" and groove_row[4] == "rubber-70a" and groove_row[5] == "disagree"
+    assert _row(md, "foot radius d")[5] == "pending"  # no foot-radius study in this folder
+    assert "## Rows decided by the foot and robot-level studies" in md
