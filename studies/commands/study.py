@@ -7,8 +7,8 @@
                                       [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
     softcrawl study groove            [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study foot              [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study rings             [--quick] [--material M] [--workers N] --out DIR
-    softcrawl study foot-radius       [--quick] [--material M] [--workers N] --out DIR
+    softcrawl study rings             [--quick] [--material M] [--storage URL] [--workers N] --out DIR
+    softcrawl study foot-radius       [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study workspace         [--quick] [--material M] --out DIR
     softcrawl study paper-material    --out DIR
     softcrawl study kp-mismatch       --out DIR
