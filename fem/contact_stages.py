@@ -4,7 +4,9 @@ A stage moves, over a pseudo-time s in [0, 1], the chamber pressures P and the l
 (prescribed displacements, dead loads) linearly from where the last stage ended to its own end
 values, and may move the rigid surfaces (`surfaces`: contact index -> callable s -> surface,
 e.g. a pipe wall shrinking from clear of an oversized foot to its radius) and set the friction
-coefficients at its start (`friction`: contact index -> mu; stick points restart there). The
+coefficients at its start (`friction`: contact index -> mu; stick points restart there), and
+may drive other terms along s (`drive(s)`, called before each sub-step's solve, e.g. the preload
+and stiffness of an actuator's `fem.axial_link.AxialLink`, set as functions of s). The
 staged insertion of a foot into a pipe is three stages: shrink the wall frictionless, switch
 friction on, drag by prescribed displacement.
 
@@ -43,6 +45,7 @@ class Stage:
     surfaces: Mapping[int, Callable] = field(default_factory=dict)
     friction: Mapping[int, float] = field(default_factory=dict)
     steps: int = 1  # initial number of sub-steps
+    drive: Callable[[float], None] | None = None  # called with s before each sub-step's solve
 
     def __post_init__(self):
         if int(self.steps) < 1:
@@ -152,6 +155,8 @@ def run_stages(
             snap = _snapshot(model)
             for i, surface_at in stage.surfaces.items():
                 model.contacts[i].set_surface(surface_at(s))
+            if stage.drive is not None:
+                stage.drive(s)
             Ps, fs = P0 + s * (P1 - P0), f0 + s * (f1 - f0)
             guess = x if prev is None else x + (x - prev[1]) * (h / (t - prev[0]))
             try:
