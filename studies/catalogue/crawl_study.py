@@ -111,7 +111,8 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
         rows.append(dict(params) | {"status": status} | {k: v for k, v in data.items() if k != "params"})
     written = [write_csv(rows, folder / "summary.csv"), plot_crawl_study(rows, folder / "crawl-study.png")]
     lines = [
-        f"D = {r['pipe_diameter']:g} mm, mu = {r['mu']:g}: {r['status']}; strides {r.get('strides_mm', '-')} mm, "
+        f"D = {r['pipe_diameter']:g} mm, mu = {r['mu']:g}: {r['status']}; "
+        f"strides {r.get('strides_mm', '-')} mm, "
         f"anchoring slip ratio {r.get('anchoring_slip_ratio', float('nan')):.3g}"
         for r in rows
     ]

@@ -51,7 +51,8 @@ def register(subparsers) -> None:
                minimum=0.0, min_open=True, maximum=100.0)  # fmt: skip
     add_number(p, "--cycle-time", help="cycle time of the inflate preset", unit="s", default=2.0,
                minimum=0.0, min_open=True, maximum=1e4)  # fmt: skip
-    add_number(p, "--mu-smooth", help="friction of the smooth face and rim", default=FOOT_FRICTION["mu_smooth"],
+    add_number(p, "--mu-smooth", help="friction of the smooth face and rim",
+               default=FOOT_FRICTION["mu_smooth"],
                minimum=0.0, maximum=5.0)  # fmt: skip
     add_number(p, "--mu-grooved", help="friction of the grooved face", default=FOOT_FRICTION["mu_grooved"],
                minimum=0.0, maximum=5.0)  # fmt: skip

@@ -104,12 +104,13 @@ def summary_text(result, setup, schedule, cmp: dict) -> str:
     t2 = cmp["table2_mm_s"]
     lines.append(
         f"speed {cmp['speed_mm_s']:.3f} mm/s ({cmp['direction']}, {cmp['cycle_s']:g} s cycles); Table 2: "
-        f"{'n/a' if t2 is None else f'{t2:g} mm/s'}; analytic crawl_speed: {cmp['analytic_paper_friction_mm_s']:.2f} "
-        f"mm/s with the paper's {cmp['paper_friction_n']:g} N, {cmp['analytic_fe_friction_mm_s']:.2f} mm/s with "
-        f"the FE's {cmp['fe_friction_n']:.2f} N"
+        f"{'n/a' if t2 is None else f'{t2:g} mm/s'}; analytic crawl_speed: "
+        f"{cmp['analytic_paper_friction_mm_s']:.2f} mm/s with the paper's {cmp['paper_friction_n']:g} N, "
+        f"{cmp['analytic_fe_friction_mm_s']:.2f} mm/s with the FE's {cmp['fe_friction_n']:.2f} N"
     )
     lines.append(
-        f"ground springs at most {result.ground_max_n:.3g} N against {result.friction_max_n:.3g} N of friction; "
+        f"ground springs at most {result.ground_max_n:.3g} N against {result.friction_max_n:.3g} N "
+        f"of friction; "
         f"momentum balance at most {result.momentum_max_n:.3g} N"
     )
     lines.append(
