@@ -1,0 +1,80 @@
+"""Crawl benchmark (issue 17): one inflate cycle of the two-feet crawl in a 70 mm pipe.
+
+    python bench/crawl_bench.py [--quick-only] [--pipe 70] [--cycles 1]
+
+Targets (issue 17): one gait cycle on the default settings at most 15 minutes, --quick at most 3
+minutes, on an idle 2-core machine. Prints per run: DOFs, states (increments), Newton iterations,
+wall time of the setup (insertion, friction on) and per cycle, the linear solves' and assembly's
+seconds, and the contact terms' share of one assembly (`ContactTerm.arrays`, residual and tangent).
+The foot mesh is the same for both (fTetWild keeps the skirt's own size); --quick takes fewer load
+steps (insertion 4, 2 per schedule segment, against 8 and 4).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+
+def contact_share(model, x, repeat: int = 2) -> tuple[float, float]:
+    """(seconds per full residual-and-tangent assembly, seconds of it in the contact terms)."""
+    t0 = time.perf_counter()
+    for _ in range(repeat):
+        model.residual_and_tangent(x)
+    full = (time.perf_counter() - t0) / repeat
+    t0 = time.perf_counter()
+    for _ in range(repeat):
+        for term in model.contacts:
+            term.arrays(x, None, True)
+    return full, (time.perf_counter() - t0) / repeat
+
+
+def run_case(pipe: float, cycles: int, quick: bool) -> None:
+    from studies.catalogue.contact_studies import _material
+    from studies.parts.crawl_mesh import crawl_mesh
+    from studies.parts.crawl_model import CrawlSetup, build, run_crawl
+    from studies.parts.crawl_schedule import preset
+
+    setup = CrawlSetup(
+        pipe_diameter=pipe, insert_steps=4 if quick else 8, steps=2 if quick else 4, cycles=cycles
+    )
+    t0 = time.perf_counter()
+    design, mesh = crawl_mesh(setup.mirrored)
+    cm = build(mesh, _material({"material": "rubber-70a"}), design, setup)
+    t_build = time.perf_counter() - t0
+    stamps = {}
+
+    def on_state(index, model, x, time_s):
+        stamps[index] = time.perf_counter()
+        stamps["x"] = x
+
+    t0 = time.perf_counter()
+    res = run_crawl(cm, preset("inflate"), on_state=on_state)
+    setup_states = [s for s in res.states if s["cycle"] == 0]
+    t_setup = (stamps[setup_states[-1]["index"]] - t0) if setup_states else float("nan")
+    per_cycle = (res.wall_s - t_setup) / max(len(res.cycles), 1)
+    full, contact = contact_share(cm.model, stamps["x"])
+    label = "quick" if quick else "default"
+    print(f"{label}: {pipe:g} mm pipe, {res.n_dofs} DOFs, mesh + model {t_build:.1f} s; {res.message}")
+    print(
+        f"  {res.increments} states ({len(setup_states)} setup), {res.newton_iterations} Newton iterations; "
+        f"setup {t_setup:.0f} s, {per_cycle:.0f} s per cycle (target {'180' if quick else '900'} s)"
+    )
+    print(f"  linear solves {res.solve_s:.0f} s, assembly {res.assembly_s:.0f} s of {res.wall_s:.0f} s")
+    print(f"  assembly {full:.2f} s per iteration, contact terms {contact:.2f} s ({contact / full:.1%})")
+    print(f"  strides {', '.join(f'{s:.3f}' for s in res.strides)} mm")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick-only", action="store_true")
+    ap.add_argument("--pipe", type=float, default=70.0, help="pipe diameter (mm)")
+    ap.add_argument("--cycles", type=int, default=1)
+    args = ap.parse_args()
+    run_case(args.pipe, args.cycles, True)
+    if not args.quick_only:
+        run_case(args.pipe, args.cycles, False)
+
+
+if __name__ == "__main__":
+    main()
