@@ -44,8 +44,8 @@ def run_case(pipe: float, cycles: int, quick: bool) -> None:
     t_build = time.perf_counter() - t0
     stamps = {}
 
-    def on_state(index, model, x, time_s):
-        stamps[index] = time.perf_counter()
+    def on_state(row, model, x):
+        stamps[row["index"]] = time.perf_counter()
         stamps["x"] = x
 
     t0 = time.perf_counter()

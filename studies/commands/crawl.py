@@ -87,6 +87,9 @@ def run(args) -> int:
         steps=steps,
         cycles=args.cycles,
     )
-    result, summary = run_and_write(setup, schedule, Path(out), quick=args.quick)
+    print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
+    result, summary = run_and_write(
+        setup, schedule, Path(out), quick=args.quick, progress=lambda line: print(line, flush=True)
+    )
     print(summary["text"])
     return 0 if result.converged else 1

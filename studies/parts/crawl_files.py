@@ -120,8 +120,18 @@ def summary_text(result, setup, schedule, cmp: dict) -> str:
     return "\n".join(lines)
 
 
-def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool = True):
-    """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict)."""
+def progress_line(row: dict) -> str:
+    return (
+        f"  {row['stage']:>16s} t = {row['time_s']:6.3f} s: F = {row['actuator_force_n']:7.3f} N, "
+        f"rear {row['rear_u_mm']:+8.3f} mm, front {row['front_u_mm']:+8.3f} mm, friction "
+        f"{row['rear_friction_n']:+7.2f} / {row['front_friction_n']:+7.2f} N, slip "
+        f"{row['rear_slip_share']:.2f} / {row['front_slip_share']:.2f}, {row['newton']} Newton"
+    )
+
+
+def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool = True, progress=None):
+    """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
+    `progress(line)` is called with one line per converged state."""
     from studies.catalogue.contact_studies import _material
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import build, run_crawl
@@ -138,7 +148,14 @@ def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool 
         write_pipe(
             series.folder / "pipe.vtu", setup.pipe_diameter / 2, float(z.min()) - 20, float(z.max()) + 80
         )
-    result = run_crawl(cm, schedule, on_state=series)
+
+    def on_state(row, model, x):
+        if series is not None:
+            series(row["index"], model, x, row["time_s"])
+        if progress is not None:
+            progress(progress_line(row))
+
+    result = run_crawl(cm, schedule, on_state=on_state)
     pressure = float(np.max(schedule.pressures_kpa))
     cmp = compare(result, setup, schedule, pressure)
     text = summary_text(result, setup, schedule, cmp)

@@ -103,7 +103,7 @@ class StateRecorder:
         row["momentum_n"] = balance
         self.states.append(row)
         if self.on_state is not None:
-            self.on_state(row["index"], self.cm.model, x, row["time_s"])
+            self.on_state(row, self.cm.model, x)
 
     def mark_start(self, x) -> None:
         self.start = self._positions(x)
