@@ -16,7 +16,9 @@ easy one (<= 6 iterations) lets the next grow back, up to the stage's own step 1
 that a drag records at least `steps` points of its curve). After a converged sub-step, the
 augmented-Lagrangian (Uzawa) loop updates the multipliers lambda <- p_N and solves again at the
 same load until the largest penetration is below `penetration_tol` (mm) or `max_augment`
-updates were made; then the friction history is committed once (`SolidModel.commit`). The
+updates were made (the last update, which no solve follows, is undone: the state keeps the
+multipliers it is in equilibrium with); then the friction history is committed once
+(`SolidModel.commit`). The
 history never changes inside a Newton iteration. Within a stage, each sub-step starts from the
 secant prediction of the last two converged states (linear in the pseudo-time), which puts a
 drag increment near its slip solution.
@@ -90,14 +92,21 @@ def _restore(model, snap) -> None:
 
 def _solve_augmented(solver, model, x, P, f, tol, max_augment):
     """Newton at (P, f), then Uzawa updates until the penetration is below tol; returns
-    (x, iterations per solve, residuals of the first solve, last penetration). Raises Diverged."""
+    (x, iterations per solve, residuals of the first solve, last penetration). Raises Diverged.
+
+    The state returned is in equilibrium with the multipliers of its own solve: an update that
+    is not followed by a solve (the loop stops) is undone, so that the contact forces reported
+    at x (and the history committed from them) are the ones the residual balanced."""
     iterations, residuals = [], None
     for k in range(max_augment + 1):
         x, record = solver.load_step(x, P, f)
         iterations.append(record.iterations)
         residuals = residuals or record.residuals
+        solved = [c.multiplier.copy() for c in model.contacts]
         penetration = max((c.augment(x) for c in model.contacts), default=0.0)
         if penetration <= tol or k == max_augment:
+            for c, lam in zip(model.contacts, solved):
+                c.multiplier = lam
             model.commit(x)
             return x, tuple(iterations), residuals, penetration
     raise AssertionError("unreachable")

@@ -130,3 +130,28 @@ def test_bad_links_name_the_parameter():
         AxialLink("a", None, 3)
     with pytest.raises(SolverInputError, match="axial_link.tag_a"):
         AxialLink("a", "a")
+
+
+def test_reported_contact_forces_balance_when_the_uzawa_loop_stops_early():
+    """With one solve per step (max_augment = 0) the state keeps the multipliers it was solved
+    with: the reported normal force is the applied N (before the fix the report used the
+    multipliers of an update that no solve had balanced: 2 N after one pure-penalty step) and
+    the friction balances the link."""
+    mu, N, k = 0.3, 0.04, 0.01
+    model = SolidModel(
+        box((2.0, 1.0, 0.5), (4, 2, 2)),
+        RUBBER,
+        dirichlet=[Dirichlet.symmetry("y0", 1)],
+        dead_loads={"z1": (0.0, 0.0, -N)},
+        contacts=[ContactSpec(("z0",), Plane(), penalty=100.0, mu=mu)],
+        extra_terms=[
+            AxialLink("x1", None, 0, k, 0.5 * mu * N, name="pull"),
+            EqualDisplacement("x1", 0, 10.0),
+        ],
+    )
+    pull = model.terms[-2]
+    res = run_stages(model, [Stage("load", factor=1.0)], penetration_tol=1e-12, max_augment=0)
+    assert res.converged, res.message
+    rep = model.contacts[0].report(res.x)
+    assert rep.normal_force == pytest.approx(N, rel=1e-6)
+    assert rep.friction_force[0] + pull.tension(res.x) == pytest.approx(0.0, abs=1e-7 * N)
