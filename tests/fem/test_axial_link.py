@@ -155,3 +155,39 @@ def test_reported_contact_forces_balance_when_the_uzawa_loop_stops_early():
     rep = model.contacts[0].report(res.x)
     assert rep.normal_force == pytest.approx(N, rel=1e-6)
     assert rep.friction_force[0] + pull.tension(res.x) == pytest.approx(0.0, abs=1e-7 * N)
+
+
+def test_a_sliding_block_unloads_back_to_stick():
+    """Pulled past mu N (full slip), then the pull drops below mu N: the block sticks where it
+    slid to and the friction follows the pull (the unloading starts with every point on the
+    Coulomb limit: `fem.contact_law.SLIP_MARGIN`; this block unloads with or without it)."""
+    mu, N, k = 0.3, 0.04, 1e-4
+    model = SolidModel(
+        box((2.0, 1.0, 0.5), (4, 2, 2)),
+        RUBBER,
+        dirichlet=[Dirichlet.symmetry("y0", 1)],
+        dead_loads={"z1": (0.0, 0.0, -N)},
+        contacts=[ContactSpec(("z0",), Plane(), penalty=100.0)],
+        extra_terms=[AxialLink("x1", None, 0, k, name="pull"), EqualDisplacement("x1", 0, 10.0)],
+    )
+    pull = model.terms[-2]
+    F_slide, F_hold = 1.02 * mu * N, 0.5 * mu * N
+    stages = [
+        Stage("press", factor=1.0, steps=2),
+        Stage("friction", friction={0: mu}),
+        Stage("pull", drive=lambda s: pull.set_load(k, s * F_slide), steps=2),
+        Stage("release", drive=lambda s: pull.set_load(k, F_slide + s * (F_hold - F_slide)), steps=2),
+    ]
+    slid = {}
+    res = run_stages(
+        model,
+        stages,
+        penetration_tol=1e-8,
+        on_step=lambda st: slid.update({st.stage: pull.extension(st.x)}),
+    )
+    assert res.converged, res.message
+    u_slide = (F_slide - mu * N) / k  # 2.4 mm
+    assert slid["pull"] == pytest.approx(u_slide, rel=1e-3)
+    assert slid["release"] == pytest.approx(u_slide, abs=0.01 * u_slide)  # it stays where it slid to
+    rep = model.contacts[0].report(res.x)
+    assert rep.friction_force[0] == pytest.approx(-pull.tension(res.x), abs=1e-7 * N)
