@@ -3,7 +3,8 @@ r"""`softcrawl study crawl`: stride and anchoring of the FE crawl over pipe diam
 Grid: pipe diameter D in {55, 60, 65, 70, 75} mm x mu in {0.3, 0.5} (the same mu on the smooth
 and the grooved face: `studies.catalogue.contact_studies` states why 0.5 and the groove study's
 lower value 0.3); the "inflate" schedule at 100 kPa, 2 s cycles, 2 cycles, the paper's feet.
---quick: D in {60, 70}, mu = 0.5, the quick load steps. Each point runs `studies.parts.crawl_files`
+--quick: D in {60, 70}, mu = 0.3 (the 70 mm, mu = 0.5 case is `softcrawl crawl --quick`'s default),
+the quick load steps. Each point runs `studies.parts.crawl_files`
 into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json, crawl.png; no VTU) and its
 summary is kept in points/crawl-D..-mu...json, so a stopped study resumes and a diverged point is
 recorded with the last converged state in its reason.
@@ -23,7 +24,7 @@ from studies.catalogue.outcome import StudyOutcome
 
 NAME = "crawl"
 GRID = {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0), "mu": (0.3, 0.5)}
-QUICK_GRID = {"pipe_diameter": (60.0, 70.0), "mu": (0.5,)}
+QUICK_GRID = {"pipe_diameter": (60.0, 70.0), "mu": (0.3,)}
 EVALUATOR = "studies.catalogue.crawl_study:evaluate_crawl"
 
 
