@@ -38,7 +38,12 @@ from fem.rigid_surfaces import CylinderWall
 from studies.parts.crawl_mesh import FEET, attach_tag
 from studies.parts.crawl_outputs import CrawlResult, StateRecorder
 from studies.parts.crawl_schedule import AxialLaw, Schedule
-from studies.parts.foot_model import AUGMENT, FOOT_NEWTON, MAX_CUTBACKS
+from studies.parts.foot_model import AUGMENT, FOOT_NEWTON
+
+#: Halvings of a sub-step before a stage is given up: the unloading of a skirt reverses slip
+#: over part of its contact (points flip between stick and slip), which needs sub-steps down to
+#: 1/256 of a schedule segment (4 halvings, the foot study's, stopped at 56 kPa on the way down).
+MAX_CUTBACKS = 8
 
 GROUND_HOLD = 1.0e3  # N/mm: holds the plates during the frictionless insertion
 GROUND_SOFT = 1.0e-4  # N/mm: after friction is on (<< the skirts' axial stiffness, ~10 N/mm)
