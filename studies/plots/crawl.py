@@ -10,13 +10,15 @@ def plot_crawl(states, path, title: str = ""):
     friction on each foot (N); bottom: the three pressures (kPa). Setup states (insertion,
     friction on) are drawn at t = 0 before the schedule starts."""
     plt = pyplot()
-    rows = [s for s in states if s["cycle"] > 0] or list(states)
+    setup = [s for s in states if s["cycle"] == 0]
+    rows = setup[-1:] + [s for s in states if s["cycle"] > 0]
     t = [s["time_s"] for s in rows]
     fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     for key, label in (("rear_u_mm", "rear foot"), ("front_u_mm", "front foot"), ("centre_u_mm", "centre")):
         axes[0].plot(t, [s[key] for s in rows], "o-" if key != "centre_u_mm" else "k--", ms=3, label=label)
-    axes[0].set(ylabel="axial displacement (mm)", title=title[:90])
-    axes[1].plot(t, [s["actuator_force_n"] for s in rows], "k-", label="actuators (push > 0)")
+    axes[0].set(ylabel="axial displacement (mm)")
+    fig.suptitle(title, fontsize=8)
+    axes[1].plot(t, [s["actuator_force_n"] for s in rows], "k--", lw=2.5, label="actuators (push > 0)")
     for f in ("rear", "front"):
         axes[1].plot(t, [s[f"{f}_friction_n"] for s in rows], "o-", ms=3, label=f"wall friction on {f}")
     axes[1].set(ylabel="axial force (N)")
