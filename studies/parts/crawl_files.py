@@ -103,10 +103,10 @@ def summary_text(result, setup, schedule, cmp: dict) -> str:
         )
     if not result.cycles and result.states and result.states[-1]["cycle"] > 0:
         last = result.states[-1]
+        moved = last["centre_u_mm"] - result.states[0]["centre_u_mm"]
         lines.append(
             f"no complete cycle: by the last converged state (t = {last['time_s']:.3f} s) the centre "
-            f"advanced {last['centre_u_mm'] - result.states[0]['centre_u_mm']:.3f} mm (rear {last['rear_u_mm']:+.3f}, "
-            f"front {last['front_u_mm']:+.3f} mm)"
+            f"advanced {moved:.3f} mm (rear {last['rear_u_mm']:+.3f}, front {last['front_u_mm']:+.3f} mm)"
         )
     t2 = cmp["table2_mm_s"]
     lines.append(
