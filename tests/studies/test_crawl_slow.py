@@ -45,7 +45,7 @@ def test_symmetric_feet_do_not_advance():
     _check_balance(res)
     deltas = [s["delta_mm"] for s in res.states if s["cycle"] > 0]
     swing = max(deltas) - min(deltas)
-    assert swing > 1.0  # the actuators did move the feet apart
+    assert swing > 0.5  # the actuators moved the feet apart (1.16 mm seen)
     assert abs(res.strides[0]) < 0.01 * swing
 
 
