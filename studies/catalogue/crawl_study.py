@@ -4,7 +4,7 @@ Grid: pipe diameter D in {55, 60, 65, 70, 75} mm x mu in {0.3, 0.5} (the same mu
 and the grooved face: `studies.catalogue.contact_studies` states why 0.5 and the groove study's
 lower value 0.3); the "inflate" schedule at 100 kPa, 2 s cycles, 2 cycles, the paper's feet.
 --quick: D in {60, 70}, mu = 0.3 (the 70 mm, mu = 0.5 case is `softcrawl crawl --quick`'s default),
-the quick load steps. Each point runs `studies.parts.crawl_files`
+4 insertion steps, one cycle. Each point runs `studies.parts.crawl_files`
 into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json, crawl.png; no VTU) and its
 summary is kept in points/crawl-D..-mu...json, so a stopped study resumes and a diverged point is
 recorded with the last converged state in its reason.
@@ -51,7 +51,7 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
         mu_smooth=mu,
         mu_grooved=mu,
         insert_steps=4 if quick else 8,
-        steps=2 if quick else 4,
+        steps=4,
         cycles=int(settings.get("cycles", 2)),
     )
     folder = Path(settings["out_dir"]) / "points" / point_stem(params)
@@ -91,7 +91,7 @@ def run_crawl_study(out, *, quick=False, storage=None, workers=1, progress=True,
         grid=QUICK_GRID if quick else GRID,
         out_dir=str(folder),
         evaluator=EVALUATOR,
-        settings={"quick": bool(quick), "out_dir": str(folder), "cycles": 2},
+        settings={"quick": bool(quick), "out_dir": str(folder), "cycles": 1 if quick else 2},
         storage=storage,
     )
     jsonio.write(folder / "spec.json", spec.to_dict())

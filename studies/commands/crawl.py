@@ -9,8 +9,9 @@ friction is switched on, then the pressures follow the schedule (quasi-static st
 ePSAs act between the hubs through their axial law (the paper's prototype statics, eqs. 19-24;
 bending is not modelled). --backward: both feet mirrored (skirts lean forward, the paper's
 backward motion by the initial contact faces); --symmetric: only the front foot mirrored (the
-pair is symmetric under z -> -z: a check, it should not advance). --quick: fewer load steps (the
-foot mesh cannot be coarsened: fTetWild keeps the skirt's own size).
+pair is symmetric under z -> -z: a check, it should not advance). --quick: 4 insertion steps instead of 8 (the foot
+mesh cannot be coarsened: fTetWild keeps the skirt's own size; 2 sub-steps per schedule segment
+stalled where the actuator force changes sign, 4 pass).
 
 Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the
 paper's Table 2 speed for that diameter and the analytic `robot.loads.crawl_speed`; writes
@@ -56,9 +57,9 @@ def register(subparsers) -> None:
                minimum=0.0, maximum=5.0)  # fmt: skip
     add_number(p, "--mu-grooved", help="friction of the grooved face", default=FOOT_FRICTION["mu_grooved"],
                minimum=0.0, maximum=5.0)  # fmt: skip
-    add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4 (2 with --quick)",
+    add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4",
                minimum=1, maximum=200, integer=True)  # fmt: skip
-    p.add_argument("--quick", action="store_true", help="fewer load steps (insertion 4, 2 per segment)")
+    p.add_argument("--quick", action="store_true", help="fewer insertion steps (4 instead of 8)")
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet mirrored: skirts lean forward")
     feet.add_argument("--symmetric", action="store_true", help="front foot mirrored: a symmetric pair")
@@ -77,7 +78,7 @@ def run(args) -> int:
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
     out = output_folder(args.out)
     feet = "backward" if args.backward else "symmetric" if args.symmetric else "paper"
-    steps = args.steps or (2 if args.quick else 4)
+    steps = args.steps or 4
     setup = CrawlSetup(
         pipe_diameter=args.pipe_diameter,
         mu_smooth=args.mu_smooth,
