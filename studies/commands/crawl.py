@@ -9,9 +9,9 @@ friction is switched on, then the pressures follow the schedule (quasi-static st
 ePSAs act between the hubs through their axial law (the paper's prototype statics, eqs. 19-24;
 bending is not modelled). --backward: both feet mirrored (skirts lean forward, the paper's
 backward motion by the initial contact faces); --symmetric: only the front foot mirrored (the
-pair is symmetric under z -> -z: a check, it should not advance). --quick: 4 insertion steps instead of 8 (the foot
-mesh cannot be coarsened: fTetWild keeps the skirt's own size; 2 sub-steps per schedule segment
-stalled where the actuator force changes sign, 4 pass).
+pair is symmetric under z -> -z: a check, it should not advance). --quick: 4 insertion steps
+instead of 8 (the foot mesh cannot be coarsened: fTetWild keeps the skirt's own size; 2 sub-steps
+per schedule segment stalled where the actuator force changes sign, 4 pass).
 
 Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the
 paper's Table 2 speed for that diameter and the analytic `robot.loads.crawl_speed`; writes
