@@ -39,9 +39,11 @@ def run_case(pipe: float, whole_cycle: bool, quick: bool) -> None:
     from studies.catalogue.contact_studies import _material
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import CrawlSetup, build, run_crawl
-    from studies.parts.crawl_schedule import preset
+    from studies.parts.crawl_schedule import Schedule, preset
 
-    setup = CrawlSetup(pipe_diameter=pipe, insert_steps=4 if quick else 8, steps=4, cycles=cycles)
+    setup = CrawlSetup(pipe_diameter=pipe, insert_steps=4 if quick else 8, steps=4, cycles=1)
+    extend = Schedule("extend", np.array([0.0, 1.0]), np.array([[0.0] * 3, [100.0] * 3]), "0 -> 100 kPa")
+    schedule = preset("inflate") if whole_cycle else extend
     t0 = time.perf_counter()
     design, mesh = crawl_mesh(setup.mirrored)
     cm = build(mesh, _material({"material": "rubber-70a"}), design, setup)
@@ -68,7 +70,7 @@ def run_case(pipe: float, whole_cycle: bool, quick: bool) -> None:
     print(f"  assembly {full:.2f} s per iteration, contact terms {contact:.2f} s ({contact / full:.1%})")
     end = res.states[-1]
     print(
-        f"  last state t = {end['time_s']:.3f} s: rear {end['rear_u_mm']:+.3f} mm, front {end['front_u_mm']:+.3f} mm"
+        f"  last state t = {end['time_s']:.3f} s: rear {end['rear_u_mm']:+.3f}, front {end['front_u_mm']:+.3f} mm"
     )
 
 
