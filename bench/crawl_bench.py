@@ -70,7 +70,8 @@ def run_case(pipe: float, whole_cycle: bool, quick: bool) -> None:
     print(f"  assembly {full:.2f} s per iteration, contact terms {contact:.2f} s ({contact / full:.1%})")
     end = res.states[-1]
     print(
-        f"  last state t = {end['time_s']:.3f} s: rear {end['rear_u_mm']:+.3f}, front {end['front_u_mm']:+.3f} mm"
+        f"  last state t = {end['time_s']:.3f} s: rear {end['rear_u_mm']:+.3f} mm, "
+        f"front {end['front_u_mm']:+.3f} mm"
     )
 
 
