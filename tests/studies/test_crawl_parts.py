@@ -89,3 +89,30 @@ def test_two_feet_keep_orientation_and_tags(mirrored):
         assert seg[0][1] == pytest.approx((1.0 - 1.0 + dz) if m else (-1.0 + dz))
     assert attach_tag("rear", False) == "rear:hub_top" and attach_tag("front", False) == "front:hub_bottom"
     assert attach_tag("rear", True) == "rear:hub_bottom" and attach_tag("front", True) == "front:hub_top"
+
+
+def test_study_tables_keep_every_point_with_its_status(tmp_path):
+    """summary.csv from the stored point files: a completed, a failed (with its reason) and a
+    missing point all appear; the outcome names the ones that did not complete."""
+    import csv
+
+    from softcrawl import jsonio
+    from studies.catalogue.crawl_study import GRID, point_stem, write_study_outputs
+    from studies.sweeps.spec import SweepSpec
+
+    spec = SweepSpec(name="crawl-test", grid=GRID, out_dir=str(tmp_path), evaluator="x:y")
+    points = list(spec.points())
+    ok, bad = points[0], points[1]
+    base = {"strides_mm": "5.1", "steady_stride_mm": 5.1, "anchoring_slip_ratio": 0.04}
+    jsonio.write(
+        tmp_path / "points" / f"crawl-{point_stem(ok)}.json", {"params": ok, "converged": True} | base
+    )
+    failed = {"params": bad, "converged": False, "message": "stage 'cycle0-seg1' diverged"} | base
+    jsonio.write(tmp_path / "points" / f"crawl-{point_stem(bad)}.json", failed)
+    outcome = write_study_outputs(spec, tmp_path)
+    rows = list(csv.DictReader(open(tmp_path / "summary.csv")))
+    assert len(rows) == len(points)
+    status = [r["status"] for r in rows]
+    assert status[:2] == ["completed", "failed"] and set(status[2:]) == {"missing"}
+    assert not outcome.ok and any("diverged" in p for p in outcome.problems)
+    assert (tmp_path / "crawl-study.png").exists()
