@@ -3,7 +3,8 @@
 FOLDER/states.csv (one row per converged state, `studies.parts.crawl_outputs`), cycles.csv (one
 row per cycle), summary.json (strict JSON: setup, sources, the speeds beside Table 2 and the
 analytic model, solver figures), crawl.png (foot positions and pressures against time),
-vtu/crawl.pvd (one VTU per state, the time in s) with the pipe wall in vtu/pipe.vtu.
+vtu/crawl.pvd (one VTU per state, the time in s; the setup states at small negative times) with
+the pipe wall in vtu/pipe.vtu.
 """
 
 from __future__ import annotations
@@ -157,8 +158,9 @@ def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool 
         )
 
     def on_state(row, model, x):
-        if series is not None:
-            series(row["index"], model, x, row["time_s"])
+        if series is not None:  # setup states (insertion, friction on) at negative times, in order
+            t = row["time_s"] if row["cycle"] > 0 else (row["index"] - 1000) * 1e-3
+            series(row["index"], model, x, t)
         if progress is not None:
             progress(progress_line(row))
 
