@@ -77,3 +77,20 @@ def test_paper_feet_complete_an_inflate_cycle_forward():
     res = _crawl("paper", preset("inflate"))
     _check_balance(res)
     assert res.strides[0] > 0.5
+
+
+def test_a_whole_cycle_at_mu_03_anchors_as_in_fig4():
+    """mu = 0.3 on both faces: the front foot slides out while the rear anchors, then the rear is
+    pulled after it while the front anchors (results/crawl/forward-70-mu0.3: +24.25 / +6.51 mm)."""
+    from studies.catalogue.contact_studies import _material
+    from studies.parts.crawl_mesh import crawl_mesh
+    from studies.parts.crawl_model import CrawlSetup, build, run_crawl
+
+    setup = CrawlSetup(pipe_diameter=70.0, mu_smooth=0.3, mu_grooved=0.3, insert_steps=4, steps=4, cycles=1)
+    design, mesh = crawl_mesh(setup.mirrored)
+    res = run_crawl(build(mesh, _material({"material": "rubber-70a"}), design, setup), preset("inflate"))
+    _check_balance(res)
+    c = res.cycles[0]
+    assert c["extend_front_slid"] and not c["extend_rear_slid"]
+    assert c["retract_rear_slid"] and not c["retract_front_slid"]
+    assert c["rear_advance_mm"] > 3.0 and c["front_advance_mm"] > 15.0
