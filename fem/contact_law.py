@@ -15,13 +15,20 @@ the projector P = I - n n and v_n = n . v, the trial traction is
     t* = -eps_T P v,      d t*/dx = -eps_T [ P + v_n C + n (C v)^T ]
 
 (the last two terms vanish on a plane; they are the curvature part of the projector). Stick
-where |t*| <= mu p_N: f_T = t*. Slip otherwise: with m = t* / |t*|
+where |t*| <= mu p_N (1 + SLIP_MARGIN): f_T = t*. Slip otherwise: with m = t* / |t*|
 
     f_T = mu p_N m,
     d f_T / dx = mu m (d p_N/dx)^T + mu p_N / |t*| (I - m m) d t*/dx,   d p_N/dx = -eps_N n
 
 The first term is the slip-normal coupling, which is not symmetric; with it Newton converges
 quadratically in slip (dropping it leaves a linearly converging iteration).
+
+SLIP_MARGIN (1e-9, far above round-off, far below any physical change) makes the points that a
+commit has put exactly on the Coulomb limit stick at the start of the next increment (the elastic
+predictor of return mapping): without it their status at the start is decided by round-off, and a
+foot in full slip whose load then decreases gets the slip tangent, which has no stiffness along
+the slip: the first Newton step of the unloading is a free rigid slide that no line search can
+repair at any step size (seen in the crawl, docs/DESIGN.md section 13).
 
 History update, after an increment has converged (never inside Newton): stick points keep x_s;
 slipping points move it so that the elastic part of the tangential spring equals the traction,
@@ -36,6 +43,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+SLIP_MARGIN = 1e-9
 
 
 @dataclass(frozen=True)
@@ -72,7 +81,7 @@ def evaluate(x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent) -> P
         v_n = np.einsum("ni,ni->n", n, v)
         t_trial = -eps_t * (v - v_n[:, None] * n)
         norm = np.linalg.norm(t_trial, axis=1)
-        slip = active & (norm > mu * p)
+        slip = active & (norm > mu * p * (1.0 + SLIP_MARGIN))
         stuck = active & ~slip
         safe = np.where(slip, norm, 1.0)
         m = t_trial / safe[:, None]

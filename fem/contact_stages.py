@@ -4,7 +4,9 @@ A stage moves, over a pseudo-time s in [0, 1], the chamber pressures P and the l
 (prescribed displacements, dead loads) linearly from where the last stage ended to its own end
 values, and may move the rigid surfaces (`surfaces`: contact index -> callable s -> surface,
 e.g. a pipe wall shrinking from clear of an oversized foot to its radius) and set the friction
-coefficients at its start (`friction`: contact index -> mu; stick points restart there). The
+coefficients at its start (`friction`: contact index -> mu; stick points restart there), and
+may drive other terms along s (`drive(s)`, called before each sub-step's solve, e.g. the preload
+and stiffness of an actuator's `fem.axial_link.AxialLink`, set as functions of s). The
 staged insertion of a foot into a pipe is three stages: shrink the wall frictionless, switch
 friction on, drag by prescribed displacement.
 
@@ -14,7 +16,9 @@ easy one (<= 6 iterations) lets the next grow back, up to the stage's own step 1
 that a drag records at least `steps` points of its curve). After a converged sub-step, the
 augmented-Lagrangian (Uzawa) loop updates the multipliers lambda <- p_N and solves again at the
 same load until the largest penetration is below `penetration_tol` (mm) or `max_augment`
-updates were made; then the friction history is committed once (`SolidModel.commit`). The
+updates were made (the last update, which no solve follows, is undone: the state keeps the
+multipliers it is in equilibrium with); then the friction history is committed once
+(`SolidModel.commit`). The
 history never changes inside a Newton iteration. Within a stage, each sub-step starts from the
 secant prediction of the last two converged states (linear in the pseudo-time), which puts a
 drag increment near its slip solution.
@@ -43,6 +47,7 @@ class Stage:
     surfaces: Mapping[int, Callable] = field(default_factory=dict)
     friction: Mapping[int, float] = field(default_factory=dict)
     steps: int = 1  # initial number of sub-steps
+    drive: Callable[[float], None] | None = None  # called with s before each sub-step's solve
 
     def __post_init__(self):
         if int(self.steps) < 1:
@@ -87,14 +92,21 @@ def _restore(model, snap) -> None:
 
 def _solve_augmented(solver, model, x, P, f, tol, max_augment):
     """Newton at (P, f), then Uzawa updates until the penetration is below tol; returns
-    (x, iterations per solve, residuals of the first solve, last penetration). Raises Diverged."""
+    (x, iterations per solve, residuals of the first solve, last penetration). Raises Diverged.
+
+    The state returned is in equilibrium with the multipliers of its own solve: an update that
+    is not followed by a solve (the loop stops) is undone, so that the contact forces reported
+    at x (and the history committed from them) are the ones the residual balanced."""
     iterations, residuals = [], None
     for k in range(max_augment + 1):
         x, record = solver.load_step(x, P, f)
         iterations.append(record.iterations)
         residuals = residuals or record.residuals
+        solved = [c.multiplier.copy() for c in model.contacts]
         penetration = max((c.augment(x) for c in model.contacts), default=0.0)
         if penetration <= tol or k == max_augment:
+            for c, lam in zip(model.contacts, solved):
+                c.multiplier = lam
             model.commit(x)
             return x, tuple(iterations), residuals, penetration
     raise AssertionError("unreachable")
@@ -152,6 +164,8 @@ def run_stages(
             snap = _snapshot(model)
             for i, surface_at in stage.surfaces.items():
                 model.contacts[i].set_surface(surface_at(s))
+            if stage.drive is not None:
+                stage.drive(s)
             Ps, fs = P0 + s * (P1 - P0), f0 + s * (f1 - f0)
             guess = x if prev is None else x + (x - prev[1]) * (h / (t - prev[0]))
             try:

@@ -14,6 +14,7 @@ COMMAND_MODULES = (
     "material",
     "model",
     "robot",
+    "crawl",
     "study",
     "table1",
     "calibrate",

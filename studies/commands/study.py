@@ -10,6 +10,7 @@
     softcrawl study rings             [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study foot-radius       [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study workspace         [--quick] [--material M] --out DIR
+    softcrawl study crawl             [--quick] [--storage URL] [--workers N] --out DIR
     softcrawl study paper-material    --out DIR
     softcrawl study kp-mismatch       --out DIR
 
@@ -32,6 +33,9 @@ constrained problem (optuna TPE or NSGA-II with trial constraints): the least Ke
 {2..6} mm and N in 0..50 that withstands 100 kPa, keeps |dR| within 5 % of R0 and extends within the N
 rule's tolerance of the N = 50 design of its radius (studies/catalogue/optimise_actuator.py). The
 Table 1 design (r = 3, N = 20) is evaluated first and marked.
+
+crawl (issue 17): stride and anchoring of the FE crawl (two feet, the ePSAs' axial law) over pipe
+diameter and friction coefficient (studies/catalogue/crawl_study.py), DIR/crawl/rubber-70a[-quick]/.
 
 groove (Fig. 10(a)) and foot (Fig. 10(b)): contact with the pipe wall, Coulomb friction; see
 studies/catalogue/contact_studies.py for the grids and the stated friction coefficients.
@@ -58,7 +62,8 @@ KP_MISMATCH = "kp-mismatch"
 CONTACT_STUDIES = ("groove", "foot")  # studies.catalogue.contact_studies
 #: The robot-level studies (studies.catalogue.robot_studies, robot_workspace).
 ROBOT_STUDIES = ("rings", "foot-radius", "workspace")
-STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH, *CONTACT_STUDIES, *ROBOT_STUDIES)
+CRAWL = "crawl"  # studies.catalogue.crawl_study
+STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH, *CONTACT_STUDIES, *ROBOT_STUDIES, CRAWL)
 
 
 #: Most worker processes: each is a process with its own solver (0.3-1 GB on the default mesh);
@@ -185,9 +190,12 @@ def _check(args) -> None:
     if args.material is None:
         from studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
 
-        defaults = dict.fromkeys(CONTACT_STUDIES, "rubber-70a") | dict.fromkeys(ROBOT_STUDIES, ROBOT_MATERIAL)
+        feet = (*CONTACT_STUDIES, CRAWL)
+        defaults = dict.fromkeys(feet, "rubber-70a") | dict.fromkeys(ROBOT_STUDIES, ROBOT_MATERIAL)
         args.material = defaults.get(args.name, DEFAULT_MATERIAL)
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
+    if args.name == CRAWL and args.material != "rubber-70a":
+        raise StudyError("material", "the crawl study's feet are rubber-70a (the foot study's rubber)")
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
     if args.mesh_size is not None:
@@ -269,6 +277,17 @@ def _run_study(args):
     progress = not args.no_progress
     if args.name in ROBOT_STUDIES:
         return _run_robot_study(args, progress)
+    if args.name == CRAWL:
+        from studies.catalogue.crawl_study import run_crawl_study
+
+        return run_crawl_study(
+            args.out,
+            quick=args.quick,
+            storage=args.storage,
+            workers=args.workers,
+            progress=progress,
+            retry=args.retry_failed,
+        )
     if args.name in CONTACT_STUDIES:
         from studies.catalogue.contact_runs import run_contact_study
 

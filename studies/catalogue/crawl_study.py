@@ -1,0 +1,125 @@
+r"""`softcrawl study crawl`: stride and anchoring of the FE crawl over pipe diameter and friction.
+
+Grid: pipe diameter D in {55, 60, 65, 70, 75} mm x mu in {0.3, 0.5} (the same mu on the smooth
+and the grooved face: `studies.catalogue.contact_studies` states why 0.5 and the groove study's
+lower value 0.3); the "inflate" schedule at 100 kPa, 2 s cycles, 2 cycles, the paper's feet.
+--quick: D in {60, 70}, mu = 0.3 (the 70 mm, mu = 0.5 case is `softcrawl crawl --quick`'s default),
+4 insertion steps, one cycle. Each point runs `studies.parts.crawl_files`
+into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json, crawl.png; no VTU) and its
+summary is kept in points/crawl-D..-mu...json, so a stopped study resumes and a diverged point is
+recorded with the last converged state in its reason.
+
+Figures per point: the stride of each cycle and the steady stride (cycles after the first), the
+speed, and the anchoring slip ratio of the extension phase, |anchoring foot's motion| / (|rear| +
+|front| motion): 0 when the rear foot holds perfectly, 0.5 when both feet move alike.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from softcrawl import jsonio
+from studies.catalogue.outcome import StudyOutcome
+
+NAME = "crawl"
+GRID = {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0), "mu": (0.3, 0.5)}
+QUICK_GRID = {"pipe_diameter": (60.0, 70.0), "mu": (0.3,)}
+EVALUATOR = "studies.catalogue.crawl_study:evaluate_crawl"
+
+
+def point_stem(params: dict) -> str:
+    return f"D{float(params['pipe_diameter']):g}-mu{float(params['mu']):g}"
+
+
+def anchoring_slip_ratio(cycle: dict) -> float:
+    rear, front = abs(cycle["extend_rear_moved_mm"]), abs(cycle["extend_front_moved_mm"])
+    return rear / (rear + front) if rear + front > 0 else float("nan")
+
+
+def evaluate_crawl(params: dict, fixed: dict, settings: dict):
+    from studies.parts.crawl_files import run_and_write
+    from studies.parts.crawl_model import CrawlSetup
+    from studies.parts.crawl_outputs import steady_stride
+    from studies.parts.crawl_schedule import preset
+    from studies.sweeps.spec import Evaluation
+
+    quick = bool(settings.get("quick"))
+    mu = float(params["mu"])
+    setup = CrawlSetup(
+        pipe_diameter=float(params["pipe_diameter"]),
+        mu_smooth=mu,
+        mu_grooved=mu,
+        insert_steps=4 if quick else 8,
+        steps=4,
+        cycles=int(settings.get("cycles", 2)),
+    )
+    folder = Path(settings["out_dir"]) / "points" / point_stem(params)
+    result, summary = run_and_write(setup, preset("inflate", 100.0, 2.0), folder, quick=quick, vtu=False)
+    ratios = [anchoring_slip_ratio(c) for c in result.cycles]
+    attrs = {
+        "converged": result.converged,
+        "message": result.message,
+        "strides_mm": ";".join(f"{s:.4f}" for s in result.strides),
+        "steady_stride_mm": steady_stride(result),
+        "speed_mm_s": summary["comparison"]["speed_mm_s"],
+        "table2_mm_s": summary["comparison"]["table2_mm_s"],
+        "anchoring_slip_ratio": ratios[-1] if ratios else float("nan"),
+        "fe_friction_n": summary["comparison"]["fe_friction_n"],
+        "ground_max_n": result.ground_max_n,
+        "momentum_max_n": result.momentum_max_n,
+        "n_dofs": result.n_dofs,
+        "newton_iterations": result.newton_iterations,
+        "wall_s": result.wall_s,
+    }
+    jsonio.write(
+        Path(settings["out_dir"]) / "points" / f"crawl-{point_stem(params)}.json", {"params": params} | attrs
+    )
+    if not result.converged:
+        return Evaluation(ok=False, attrs=attrs, message=result.message)
+    return Evaluation(ok=True, values=(attrs["steady_stride_mm"],), attrs=attrs)
+
+
+def run_crawl_study(out, *, quick=False, storage=None, workers=1, progress=True, retry=False) -> StudyOutcome:
+    from studies.sweeps.spec import SweepSpec
+    from studies.sweeps.sweep import run_sweep
+
+    folder = Path(out) / NAME / ("rubber-70a-quick" if quick else "rubber-70a")
+    folder.mkdir(parents=True, exist_ok=True)
+    spec = SweepSpec(
+        name=f"{NAME}-{'quick' if quick else 'default'}",
+        grid=QUICK_GRID if quick else GRID,
+        out_dir=str(folder),
+        evaluator=EVALUATOR,
+        settings={"quick": bool(quick), "out_dir": str(folder), "cycles": 1 if quick else 2},
+        storage=storage,
+    )
+    jsonio.write(folder / "spec.json", spec.to_dict())
+    run_sweep(spec, workers=workers, progress=progress, retry=retry)
+    return write_study_outputs(spec, folder)
+
+
+def write_study_outputs(spec, folder: Path) -> StudyOutcome:
+    """summary.csv and crawl-study.png from the stored point files (every grid point, done or not)."""
+    from studies.plots.crawl import plot_crawl_study
+    from studies.sweeps.tables import write_csv
+
+    rows = []
+    for params in spec.points():
+        path = folder / "points" / f"crawl-{point_stem(params)}.json"
+        data = json.loads(path.read_text()) if path.exists() else {"params": params, "message": "not run"}
+        status = "completed" if data.get("converged") else ("failed" if path.exists() else "missing")
+        rows.append(dict(params) | {"status": status} | {k: v for k, v in data.items() if k != "params"})
+    written = [write_csv(rows, folder / "summary.csv"), plot_crawl_study(rows, folder / "crawl-study.png")]
+    lines = [
+        f"D = {r['pipe_diameter']:g} mm, mu = {r['mu']:g}: {r['status']}; "
+        f"strides {r.get('strides_mm', '-')} mm, "
+        f"anchoring slip ratio {r.get('anchoring_slip_ratio', float('nan')):.3g}"
+        for r in rows
+    ]
+    problems = tuple(
+        f"crawl D = {r['pipe_diameter']:g}, mu = {r['mu']:g}: {r['status']}: {r.get('message', '')}"
+        for r in rows
+        if r["status"] != "completed"
+    )
+    return StudyOutcome(tuple(lines), tuple(written), not problems, problems)

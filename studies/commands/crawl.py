@@ -1,0 +1,96 @@
+"""`softcrawl crawl`: the robot's crawl in FE, two grooved feet in a rigid pipe (docs/DESIGN.md 13).
+
+    softcrawl crawl [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3] [--schedule CSV]
+                    [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
+                    [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric] --out DIR
+
+Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
+friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
+ePSAs act between the hubs through their axial law (the paper's prototype statics, eqs. 19-24;
+bending is not modelled). --backward: both feet mirrored (skirts lean forward, the paper's
+backward motion by the initial contact faces); --symmetric: only the front foot mirrored (the
+pair is symmetric under z -> -z: a check, it should not advance). --quick: 4 insertion steps
+instead of 8 (the foot mesh cannot be coarsened: fTetWild keeps the skirt's own size; 2 sub-steps
+per schedule segment stalled where the actuator force changes sign, 4 pass).
+
+Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the
+paper's Table 2 speed for that diameter and the analytic `robot.loads.crawl_speed`; writes
+states.csv, cycles.csv, summary.json, vtu/ (crawl.pvd with the pipe in pipe.vtu) and crawl.png.
+Exit code 1 when a stage diverges (the outputs then end at the last converged state).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from studies.catalogue.contact_studies import FOOT_FRICTION
+from studies.parts.crawl_schedule import GAITS
+
+MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
+
+
+def register(subparsers) -> None:
+    from studies.commands.options import add_number
+
+    p = subparsers.add_parser(
+        "crawl",
+        help="the crawl in FE: two grooved feet in a pipe, stride and speed",
+        description=__doc__.splitlines()[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="\n".join(__doc__.splitlines()[1:]),
+    )
+    add_number(p, "--pipe-diameter", help="pipe inner diameter", unit="mm", default=70.0,
+               minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True, max_open=True)  # fmt: skip
+    p.add_argument(
+        "--gait", default="inflate", choices=GAITS, help="pressure schedule preset (default inflate)"
+    )
+    p.add_argument(
+        "--schedule", default=None, help="CSV time_s,P1_kpa,P2_kpa,P3_kpa (one cycle; replaces --gait)"
+    )
+    add_number(p, "--cycles", help="number of cycles", default=2, minimum=1, maximum=100, integer=True)
+    add_number(p, "--pressure", help="peak pressure of the presets", unit="kPa", default=100.0,
+               minimum=0.0, min_open=True, maximum=100.0)  # fmt: skip
+    add_number(p, "--cycle-time", help="cycle time of the inflate preset", unit="s", default=2.0,
+               minimum=0.0, min_open=True, maximum=1e4)  # fmt: skip
+    add_number(p, "--mu-smooth", help="friction of the smooth face and rim",
+               default=FOOT_FRICTION["mu_smooth"],
+               minimum=0.0, maximum=5.0)  # fmt: skip
+    add_number(p, "--mu-grooved", help="friction of the grooved face", default=FOOT_FRICTION["mu_grooved"],
+               minimum=0.0, maximum=5.0)  # fmt: skip
+    add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4",
+               minimum=1, maximum=200, integer=True)  # fmt: skip
+    p.add_argument("--quick", action="store_true", help="fewer insertion steps (4 instead of 8)")
+    feet = p.add_mutually_exclusive_group()
+    feet.add_argument("--backward", action="store_true", help="both feet mirrored: skirts lean forward")
+    feet.add_argument("--symmetric", action="store_true", help="front foot mirrored: a symmetric pair")
+    p.add_argument("--out", required=True, help="output folder")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from pathlib import Path
+
+    from studies.commands.options import output_folder
+    from studies.parts.crawl_files import run_and_write
+    from studies.parts.crawl_model import CrawlSetup
+    from studies.parts.crawl_schedule import preset, read_csv
+
+    schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
+    out = output_folder(args.out)
+    feet = "backward" if args.backward else "symmetric" if args.symmetric else "paper"
+    steps = args.steps or 4
+    setup = CrawlSetup(
+        pipe_diameter=args.pipe_diameter,
+        mu_smooth=args.mu_smooth,
+        mu_grooved=args.mu_grooved,
+        feet=feet,
+        insert_steps=4 if args.quick else 8,
+        steps=steps,
+        cycles=args.cycles,
+    )
+    print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
+    result, summary = run_and_write(
+        setup, schedule, Path(out), quick=args.quick, progress=lambda line: print(line, flush=True)
+    )
+    print(summary["text"])
+    return 0 if result.converged else 1

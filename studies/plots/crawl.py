@@ -1,0 +1,54 @@
+"""Figure of one crawl: the feet's axial positions, the actuator force and the pressures against time."""
+
+from __future__ import annotations
+
+from studies.plots.style import pyplot, save
+
+
+def plot_crawl(states, path, title: str = ""):
+    """Top: rear, front and centre displacement (mm); middle: actuator force and the wall's axial
+    friction on each foot (N); bottom: the three pressures (kPa). Setup states (insertion,
+    friction on) are drawn at t = 0 before the schedule starts."""
+    plt = pyplot()
+    setup = [s for s in states if s["cycle"] == 0]
+    rows = setup[-1:] + [s for s in states if s["cycle"] > 0]
+    t = [s["time_s"] for s in rows]
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    for key, label in (("rear_u_mm", "rear foot"), ("front_u_mm", "front foot"), ("centre_u_mm", "centre")):
+        axes[0].plot(t, [s[key] for s in rows], "o-" if key != "centre_u_mm" else "k--", ms=3, label=label)
+    axes[0].set(ylabel="axial displacement (mm)")
+    fig.suptitle(title, fontsize=8)
+    axes[1].plot(t, [s["actuator_force_n"] for s in rows], "k--", lw=2.5, label="actuators (push > 0)")
+    for f in ("rear", "front"):
+        axes[1].plot(t, [s[f"{f}_friction_n"] for s in rows], "o-", ms=3, label=f"wall friction on {f}")
+    axes[1].set(ylabel="axial force (N)")
+    for i in (1, 2, 3):
+        axes[2].plot(t, [s[f"p{i}_kpa"] for s in rows], label=f"P{i}")
+    axes[2].set(xlabel="time (s)", ylabel="pressure (kPa)")
+    for ax in axes:
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    return save(fig, path)
+
+
+def plot_crawl_study(rows, path):
+    """Steady stride and anchoring slip ratio against pipe diameter, one line per mu; failed
+    points are not drawn (summary.csv has their reasons)."""
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for mu in sorted({r["mu"] for r in rows}):
+        ok = sorted(
+            (r for r in rows if r["mu"] == mu and r["status"] == "completed"),
+            key=lambda r: r["pipe_diameter"],
+        )
+        d = [r["pipe_diameter"] for r in ok]
+        axes[0].plot(d, [r["steady_stride_mm"] for r in ok], "o-", label=f"mu = {mu:g}")
+        axes[1].plot(d, [r["anchoring_slip_ratio"] for r in ok], "o-", label=f"mu = {mu:g}")
+    axes[0].set(
+        xlabel="pipe diameter (mm)", ylabel="stride per cycle (mm)", title="FE crawl, inflate 100 kPa"
+    )
+    axes[1].set(xlabel="pipe diameter (mm)", ylabel="|anchor motion| / (|rear| + |front|)", title="anchoring")
+    for ax in axes:
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    return save(fig, path)

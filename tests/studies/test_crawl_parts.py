@@ -1,0 +1,118 @@
+"""The crawl's parts that run fast: schedules, the axial law, the two-feet mesh and model."""
+
+import numpy as np
+import pytest
+
+from studies.parts.crawl_mesh import attach_tag, two_feet
+from studies.parts.crawl_schedule import AxialLaw, ScheduleError, preset, read_csv, table2
+
+
+def test_presets_follow_the_stated_valve_timings():
+    s = preset("inflate", 80.0, 3.0)
+    assert s.cycle_s == 3.0 and np.allclose(s.pressures_kpa[1], 80.0) and np.allclose(s.pressures_kpa[-1], 0)
+    g1 = preset("gait1")
+    assert g1.cycle_s == pytest.approx(3.5)
+    assert np.allclose(g1.pressures_kpa[1], 100.0)
+    g2 = preset("gait2")  # ePSA 1 filled for 0.3 s of 1.5: 20 kPa; a 0.2 s release of 0.5 loses 40 kPa
+    assert g2.cycle_s == pytest.approx(1.7)
+    assert g2.pressures_kpa.max(axis=0) == pytest.approx([20.0, 100.0, 100.0])
+    assert np.allclose(g2.pressures_kpa[0], g2.pressures_kpa[-1]) and np.allclose(
+        g2.pressures_kpa[-1], [0, 60, 60]
+    )
+    g3 = preset("gait3")
+    assert g3.cycle_s == pytest.approx(2.0) and np.allclose(g3.pressures_kpa[-1], 0.0)
+    # linear between rows: at 1.6 s ePSA 2 and 3 have released 0.1 s x 200 kPa/s
+    i = int(np.argmin(np.abs(g3.times - 1.6)))
+    assert g3.pressures_kpa[i] == pytest.approx([0.0, 80.0, 80.0])
+
+
+def test_axial_law_is_eq3_summed_over_three_actuators():
+    from robot.prototype import nominal_epsa
+
+    a = nominal_epsa()
+    law = AxialLaw()
+    k, f0 = law.stiffness_preload((100.0, 40.0, 0.0))
+    assert k == pytest.approx(float(a.k_p(100.0) + a.k_p(40.0) + a.k_p(0.0)))
+    assert f0 == pytest.approx(float(a.f_p(100.0) + a.f_p(40.0) - 2 * a.f_p(0.0)))
+    assert law.force((0, 0, 0), 0.0) == 0.0  # the robot as built is force-free
+    # free extension at 100 kPa: f_p / k_p of one actuator
+    assert law.force((100.0,) * 3, float((a.f_p(100.0) - a.f_p(0.0)) / a.k_p(100.0))) == pytest.approx(
+        0, abs=1e-9
+    )
+    assert table2(70.0, "forward") == 18.3 and table2(72.0, "forward") is None
+
+
+def test_user_csv_schedule(tmp_path):
+    good = tmp_path / "s.csv"
+    good.write_text("time_s,P1_kpa,P2_kpa,P3_kpa\n0,0,0,0\n1,50,60,70\n2,0,0,0\n")
+    s = read_csv(good)
+    assert s.cycle_s == 2.0 and s.pressures_kpa[1].tolist() == [50, 60, 70]
+    for text in (
+        "time_s,P1_kpa,P2_kpa,P3_kpa\n0,0,0,0\n0,1,1,1\n",  # times not increasing
+        "time_s,P1_kpa,P2_kpa,P3_kpa\n0,0,0,0\n1,200,0,0\n",  # over 100 kPa
+        "t,a,b,c\n0,0,0,0\n1,1,1,1\n",  # header
+        "time_s,P1_kpa,P2_kpa,P3_kpa\n0,0,0\n1,1,1,1\n",  # short row
+    ):
+        bad = tmp_path / "bad.csv"
+        bad.write_text(text)
+        with pytest.raises(ScheduleError, match="schedule"):
+            read_csv(bad)
+
+
+def _foot():
+    """A stand-in foot: two tets stacked along z, with hub_top at z = 0 and a rim below."""
+    from geometry.tagged_mesh import TaggedMesh
+
+    p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, -1.0], [1, 1, -1.0]])
+    t = np.array([[0, 1, 2, 3], [1, 2, 3, 4]])
+    vol = np.linalg.det(p[t[:, 1:]] - p[t[:, :1]])
+    t[vol < 0] = t[vol < 0][:, [1, 0, 2, 3]]
+    facets = {"hub_top": np.array([[0, 1, 2]]), "rim": np.array([[3, 4, 2]])}
+    meta = {"curved_surfaces": {"rim": [[[1.0, -1.0], [1.0, 0.0], [0.0, 0.0]]]}}
+    return TaggedMesh(p, t, np.ones(2, int), {1: "foot"}, facets, meta=meta)
+
+
+@pytest.mark.parametrize("mirrored", [(False, False), (False, True), (True, True)])
+def test_two_feet_keep_orientation_and_tags(mirrored):
+    foot = _foot()
+    both = two_feet(foot, 10.0, 1.0, mirrored)
+    assert np.all(both.tet_volumes() > 0)
+    assert set(both.facets) == {"rear:hub_top", "rear:rim", "front:hub_top", "front:rim"}
+    for name, dz, m in zip(("rear", "front"), (0.0, 10.0), mirrored):
+        top = both.points[both.facets[f"{name}:hub_top"]].mean(axis=(0, 1))
+        # the hub top of a mirrored foot lands at -hub_thickness: the hub keeps its place
+        assert top[2] == pytest.approx(dz - 1.0 if m else dz)
+        tri = both.points[both.facets[f"{name}:hub_top"][0]]
+        normal = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+        assert np.sign(normal[2]) == (-1 if m else 1)  # outward: +z, or -z when mirrored
+        seg = both.meta["curved_surfaces"][f"{name}:rim"][0]
+        assert seg[0][1] == pytest.approx((1.0 - 1.0 + dz) if m else (-1.0 + dz))
+    assert attach_tag("rear", False) == "rear:hub_top" and attach_tag("front", False) == "front:hub_bottom"
+    assert attach_tag("rear", True) == "rear:hub_bottom" and attach_tag("front", True) == "front:hub_top"
+
+
+def test_study_tables_keep_every_point_with_its_status(tmp_path):
+    """summary.csv from the stored point files: a completed, a failed (with its reason) and a
+    missing point all appear; the outcome names the ones that did not complete."""
+    import csv
+
+    from softcrawl import jsonio
+    from studies.catalogue.crawl_study import GRID, point_stem, write_study_outputs
+    from studies.sweeps.spec import SweepSpec
+
+    spec = SweepSpec(name="crawl-test", grid=GRID, out_dir=str(tmp_path), evaluator="x:y")
+    points = list(spec.points())
+    ok, bad = points[0], points[1]
+    base = {"strides_mm": "5.1", "steady_stride_mm": 5.1, "anchoring_slip_ratio": 0.04}
+    jsonio.write(
+        tmp_path / "points" / f"crawl-{point_stem(ok)}.json", {"params": ok, "converged": True} | base
+    )
+    failed = {"params": bad, "converged": False, "message": "stage 'cycle0-seg1' diverged"} | base
+    jsonio.write(tmp_path / "points" / f"crawl-{point_stem(bad)}.json", failed)
+    outcome = write_study_outputs(spec, tmp_path)
+    rows = list(csv.DictReader(open(tmp_path / "summary.csv")))
+    assert len(rows) == len(points)
+    status = [r["status"] for r in rows]
+    assert status[:2] == ["completed", "failed"] and set(status[2:]) == {"missing"}
+    assert not outcome.ok and any("diverged" in p for p in outcome.problems)
+    assert (tmp_path / "crawl-study.png").exists()
