@@ -1,4 +1,4 @@
-"""`softcrawl study NAME`: the paper's ePSA finite element studies as resumable optuna studies.
+"""`softcrawl study NAME`: the finite element studies (ePSA, contact, robot, crawl) as resumable sweeps.
 
     softcrawl study chamber-radius    [--quick] [--material M] [--storage URL] [--workers N] --out DIR
     softcrawl study fiber-turns       [--quick] [--material M] [--storage URL] [--workers N] --out DIR
@@ -81,7 +81,7 @@ def register(subparsers) -> None:
 
     parser = subparsers.add_parser(
         "study",
-        help="ePSA finite element studies (sweeps, optimiser)",
+        help="FE studies as resumable sweeps: ePSA, foot contact, robot, crawl",
         description=__doc__.splitlines()[0],
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="\n".join(__doc__.splitlines()[1:]),
