@@ -23,7 +23,7 @@ def test_committed_json_is_strict(path):
 
 
 def test_committed_tables_and_texts_hold_no_absolute_paths():
-    files = [p for p in RESULTS.rglob("*") if p.suffix in (".csv", ".json", ".md", ".html")]
+    files = [p for p in RESULTS.rglob("*") if p.suffix in (".csv", ".json", ".md", ".html", ".txt")]
     assert files
     for path in files:
         text = path.read_text(errors="replace")
