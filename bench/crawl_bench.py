@@ -21,22 +21,12 @@ import time
 
 import numpy as np
 
-
-def contact_share(model, x, repeat: int = 2) -> tuple[float, float]:
-    """(seconds per full residual-and-tangent assembly, seconds of it in the contact terms)."""
-    t0 = time.perf_counter()
-    for _ in range(repeat):
-        model.residual_and_tangent(x)
-    full = (time.perf_counter() - t0) / repeat
-    t0 = time.perf_counter()
-    for _ in range(repeat):
-        for term in model.contacts:
-            term.arrays(x, None, True)
-    return full, (time.perf_counter() - t0) / repeat
+from bench.contact_bench import contact_share  # run with PYTHONPATH=. (CONTRIBUTING)
 
 
 def run_case(pipe: float, whole_cycle: bool, quick: bool) -> None:
-    from studies.catalogue.contact_studies import _material
+    from materials import get_material
+    from materials.fem_law import solid_law
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import CrawlSetup, build, run_crawl
     from studies.parts.crawl_schedule import Schedule, preset
@@ -46,7 +36,7 @@ def run_case(pipe: float, whole_cycle: bool, quick: bool) -> None:
     schedule = preset("inflate") if whole_cycle else extend
     t0 = time.perf_counter()
     design, mesh = crawl_mesh(setup.mirrored)
-    cm = build(mesh, _material({"material": "rubber-70a"}), design, setup)
+    cm = build(mesh, solid_law(get_material("rubber-70a"), hyperelastic_only=True), design, setup)
     t_build = time.perf_counter() - t0
     stamps = {}
 

@@ -46,7 +46,7 @@ linear solver call; the rest of ``newton_s`` is partitioning of the system
 and bookkeeping.  ``wall_s`` = FElupe setup (regions, fields, boundaries) +
 all Newton iterations, i.e. everything except building the P2 mesh.
 
-Run standalone (``python bench/felupe_case.py``) to solve a small structured
+Run standalone (``PYTHONPATH=. python bench/felupe_case.py``) to solve a small structured
 mesh and print the result together with the analytic plane-strain error.
 """
 
@@ -375,17 +375,6 @@ def _quarter_tube_mesh(inner=3.0, outer=9.0, length=50.0, nr=4, nt=6, nz=2):
     return points, tets.cells
 
 
-def _analytic_inner_radius(p, inner, outer, mu):
-    "Inner radius of the incompressible plane-strain Neo-Hookean tube (bisection)."
-    from scipy.optimize import brentq
-
-    def pressure(la):
-        lb = np.sqrt((la**2 * inner**2 + outer**2 - inner**2) / outer**2)
-        return mu * (np.log(la / lb) + (lb**-2 - la**-2) / 2) - p
-
-    return brentq(pressure, 1.0, 10.0) * inner
-
-
 if __name__ == "__main__":
     import sys
 
@@ -396,7 +385,9 @@ if __name__ == "__main__":
     for key, value in result.items():
         print(f"{key:>20}: {value}")
 
-    a = _analytic_inner_radius(0.02, 3.0, 9.0, 0.03)
+    from fem.analytic import tube_inner_stretch  # the project's closed form (run with PYTHONPATH=.)
+
+    a = tube_inner_stretch(0.03, 0.02, 3.0, 9.0) * 3.0
     ua, uh = a - 3.0, result["inner_radius_mm"] - 3.0
     print(f"{'analytic radius':>20}: {a:.6f} mm")
     print(f"{'error u_r(A)':>20}: {100 * (uh - ua) / ua:+.3f} %")

@@ -140,7 +140,8 @@ def progress_line(row: dict) -> str:
 def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool = True, progress=None):
     """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
     `progress(line)` is called with one line per converged state."""
-    from studies.catalogue.contact_studies import _material
+    from materials import get_material
+    from materials.fem_law import solid_law
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import build, run_crawl
     from studies.plots.crawl import plot_crawl
@@ -148,7 +149,7 @@ def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool 
 
     folder.mkdir(parents=True, exist_ok=True)
     design, mesh = crawl_mesh(setup.mirrored)
-    cm = build(mesh, _material({"material": MATERIAL}), design, setup)
+    cm = build(mesh, solid_law(get_material(MATERIAL), hyperelastic_only=True), design, setup)
     series = None
     if vtu:
         series = _VtuSeries(folder / "vtu")

@@ -45,6 +45,7 @@ class StudyRow:
     material: str  #: the material the study ran with ("-" when there is no study)
     source: Path | None  #: the file the decision was read from
     quick: bool  #: the study ran on its quick mesh
+    evidence_lines: tuple[str, ...] = ()  #: Markdown of the evidence, where the rule writes its own
 
 
 def _pick(results: str | Path, pattern: str) -> Path | None:
@@ -69,13 +70,14 @@ def _fmt(value) -> str:
 
 
 def groove_row(results: str | Path) -> StudyRow:
-    from studies.review.groove_rule import decide_from_results
+    from studies.review.groove_rule import decide_from_results, markdown
 
     decision, source = decide_from_results(results)
+    lines = tuple(markdown(decision, source))
     material, quick = _material_of(source)
     if decision.value is None:
         why = f"{decision.reason} (run `softcrawl study groove --out DIR`)"
-        return StudyRow(rules.pending("groove_height", why), material, source, quick)
+        return StudyRow(rules.pending("groove_height", why), material, source, quick, lines)
     evidence = tuple(
         f"h = {e['h_mm']:g}: mu = {e['mu']:g}, plateau / mu N {_fmt(e['plateau_over_mu_n'])}, "
         f"strain p99 {_fmt(e['strain_p99'])}, von Mises p99 {_fmt(e['von_mises_p99_mpa'])} MPa"
@@ -85,7 +87,7 @@ def groove_row(results: str | Path) -> StudyRow:
     selection = rules.Selection(
         "groove_height", float(decision.value), GROOVE_RULE, evidence, "selected", reason
     )
-    return StudyRow(selection, material, source, quick)
+    return StudyRow(selection, material, source, quick, lines)
 
 
 def robot_study_row(results: str | Path, parameter: str) -> StudyRow:

@@ -221,7 +221,7 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
 
         quick = {m for m in materials if any(material_run(results, m).quick(p) for p in STUDY_DIRS)}
         lines[4:4] = summary_table(results, materials, selections, quick)
-        lines += robot_evidence(results, robot_rows, PAPER_TABLE1)
+        lines += robot_evidence(robot_rows, PAPER_TABLE1)
         lines += closing(results, materials, selections)
     if len(materials) > 1:
         lines += ["## Dependence on the material", ""]

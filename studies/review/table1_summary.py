@@ -149,14 +149,11 @@ def _names(materials, test) -> str:
     return ", ".join(f"`{m}`" for m in chosen) if chosen else "none"
 
 
-def robot_evidence(results, robot_rows: Mapping, paper_table: Mapping) -> list[str]:
+def robot_evidence(robot_rows: Mapping, paper_table: Mapping) -> list[str]:
     """The evidence of the rows decided by the foot and robot-level studies (the same for every
     silicone, so written once): the groove rule's table, and each robot rule's candidates."""
-    from studies.review import groove_rule
-
     lines = ["## Rows decided by the foot and robot-level studies", ""]
-    decision, source = groove_rule.decide_from_results(results)
-    lines += groove_rule.markdown(decision, source) + [""]
+    lines += [*robot_rows["groove_height"].evidence_lines, ""]
     for param in ("foot_radius", "rings"):
         row = robot_rows[param]
         sel = row.selection
