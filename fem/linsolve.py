@@ -26,8 +26,10 @@ from __future__ import annotations
 
 import functools
 import os
+import sys
 import time
 import zlib
+from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
@@ -45,7 +47,29 @@ SOLVERS = ("pardiso", "superlu")
 FLOPS_PER_RATIO = 90.0
 
 
+#: OpenMP spin time of MKL's threads after a parallel region (ms), unless the user sets
+#: KMP_BLOCKTIME. Intel's default, 200 ms, keeps both MKL threads spinning on the 2 cores after
+#: each factorisation while the assembly that follows runs: measured (default mesh, loaded
+#: machine) the process used 0.08-0.11 s of CPU for an assembly right after a factorisation
+#: against 0.045-0.05 s with 0; the factorisation itself took the same time (docs/DESIGN.md 7.1).
+KMP_BLOCKTIME_MS = "0"
+
+
+def _prepare_mkl() -> None:
+    """Environment for MKL before pypardiso loads it: the OpenMP spin time above, and the path
+    of MKL's runtime library. pypardiso looks for it by a recursive glob over the whole Python
+    environment (~0.25 s per solver object, and importing pypardiso makes one) unless
+    PYPARDISO_MKL_RT names it; pip installs it in <prefix>/lib. The user's settings win."""
+    os.environ.setdefault("KMP_BLOCKTIME", KMP_BLOCKTIME_MS)
+    if os.environ.get("PYPARDISO_MKL_RT"):
+        return
+    found = sorted(Path(sys.prefix, "lib").glob("libmkl_rt.so*"), key=lambda p: len(p.name))
+    if found:
+        os.environ["PYPARDISO_MKL_RT"] = str(found[0])
+
+
 def pardiso_available() -> bool:
+    _prepare_mkl()
     try:
         import pypardiso  # noqa: F401
     except Exception:  # noqa: BLE001 - a broken MKL install fails in many ways; fall back to SuperLU
@@ -71,6 +95,7 @@ SYMMETRY_TOL = 1e-11
 @functools.lru_cache(maxsize=2)
 def _pardiso_handle(mtype: int):
     """One PARDISO handle per matrix type and process (creating one searches the disk for MKL)."""
+    _prepare_mkl()
     import pypardiso
 
     ps = pypardiso.PyPardisoSolver(mtype=mtype)
@@ -136,6 +161,11 @@ class LinearSolver:
         self._A, self._mtype = M, mtype
         self.symmetric = symmetric
 
+    def holds_factor(self) -> bool:
+        if self.name == "superlu":
+            return self._lu is not None
+        return self._A is not None and _OWNER.get(self._mtype) is self
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         if self.name == "superlu":
             return self._lu.solve(np.asarray(b, dtype=float))
@@ -162,6 +192,7 @@ class StepSolver:
         self.substitutions = 0
         self.krylov_iterations = 0
         self.seconds = 0.0
+        self.last_factored = False  # the last solve factorised its matrix (no GMRES)
 
     def solve(self, K, B, rtol: float, weights=None, min_krylov: int = 2) -> np.ndarray:
         """X with ||W (K X - B)|| <= rtol ||W B||. The last factorisation is tried first when
@@ -172,6 +203,7 @@ class StepSolver:
             X = None
             if self.reuse and min_krylov > 0 and self.factorizations > 0:
                 X = self._reused(K, B, rtol, weights, min_krylov)
+            self.last_factored = X is None
             if X is None:
                 self.direct.factor(K, self.symmetric)
                 self.factorizations += 1
@@ -180,6 +212,19 @@ class StepSolver:
             return X
         finally:
             self.seconds += time.perf_counter() - t0
+
+    def substitute(self, B) -> np.ndarray:
+        """K0^{-1} B with the last factorisation K0 (one forward and back substitution)."""
+        t0 = time.perf_counter()
+        try:
+            return self._substitute(B)
+        finally:
+            self.seconds += time.perf_counter() - t0
+
+    def holds_factor(self) -> bool:
+        """Whether the last factorisation is still in the solver (PARDISO's handle is shared by
+        the solvers of a process: another solver's factorisation replaces it)."""
+        return self.factorizations > 0 and self.direct.holds_factor()
 
     def _reused(self, K, B, rtol, weights, min_krylov):
         """GMRES per column with the last factorisation, within the time of half a

@@ -123,6 +123,7 @@ class NewtonSolver:
         self._q0 = [model.pressure_load(x0, i)[: model.n_u] for i in range(len(model.chambers))]
         self._dead_norm = np.linalg.norm(model.dead_load)
         self._floor = force_floor(model)
+        self._converged_factor = None  # the state whose last Newton iteration factorised (load_tangent)
 
     # ------------------------------------------------------------------ assembly
     def _tangent(self, x, P, f):
@@ -171,6 +172,7 @@ class NewtonSolver:
         free = self.free
         x = self._admissible(self.model.apply_dirichlet(x, factor), start, P, factor)
         history = []
+        self._converged_factor = None
         for it in range(self.opt.max_iter + 1):
             R = self._checked_residual(x, P, factor)
             merit, p_ok, scale = self._merit(R, x, P, factor)
@@ -178,6 +180,8 @@ class NewtonSolver:
             if not np.isfinite(merit):
                 raise Diverged("non-finite residual")
             if merit <= self.opt.tol and p_ok:
+                if it > 0 and self.linear.last_factored:
+                    self._converged_factor = x
                 return x, NewtonRecord(tuple(history), True)
             if it == self.opt.max_iter:
                 break
@@ -279,17 +283,29 @@ class NewtonSolver:
         """dx/ds along the load direction `direction` (a load vector (P..., f) per unit s) at the
         converged state x at load L: K dx/ds = -dR/ds, with dR/ds by a one-sided difference of
         the residual (exact for pressures and dead loads, which enter linearly; the Dirichlet
-        values move with f). The Euler predictor of `fem.path`."""
+        values move with f). The Euler predictor of `fem.path`.
+
+        When x was just found by a Newton iteration whose last step factorised the tangent (one
+        quadratically convergent update before x: K changes by O(||R||), below 1e-4 relative),
+        that factorisation is used as K(x): one substitution, no assembly and no GMRES. Otherwise
+        K(x) is assembled and solved to 1e-4."""
         m, free = self.model, self.free
         d = np.asarray(direction, dtype=float)
         delta = 1e-6
         x1 = m.apply_dirichlet(x, L[-1] + delta * d[-1])
-        R0, K = self._tangent(x, L[:-1], L[-1])
+        reuse = self._converged_factor is x and self.linear.holds_factor()
+        if reuse:
+            R0 = self._checked_residual(x, L[:-1], L[-1])
+        else:
+            R0, K = self._tangent(x, L[:-1], L[-1])
         R1 = self._checked_residual(x1, L[:-1] + delta * d[:-1], L[-1] + delta * d[-1])
         g = (R1 - R0)[free] / delta
-        merit, _, scale = self._merit(R0, x, L[:-1], L[-1])
         v = np.zeros_like(x)
-        v[free] = -self.linear.solve(K, g, 1e-4, self._weights(R0, scale))
+        if reuse:
+            v[free] = -self.linear.substitute(g)
+        else:
+            scale = self._merit(R0, x, L[:-1], L[-1])[2]
+            v[free] = -self.linear.solve(K, g, 1e-4, self._weights(R0, scale))
         v[m.fixed_dofs] = (x1 - x)[m.fixed_dofs] / delta
         return v
 
@@ -303,6 +319,7 @@ class NewtonSolver:
         d = np.ones_like(P) if direction is None else np.asarray(direction, dtype=float)
         x = m.apply_dirichlet(x, factor)
         history = []
+        self._converged_factor = None
         for it in range(self.opt.max_iter + 1):
             R, K = self._tangent(x, P, factor)
             q = m.pressure_load(x, chamber)
