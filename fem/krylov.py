@@ -38,6 +38,23 @@ class KrylovResult:
     residuals: tuple[float, ...] = ()  # relative residual after each iteration
 
 
+def dot(a: np.ndarray, b: np.ndarray) -> float:
+    """a . b of two vectors by numpy's own loop, not a BLAS call (module docstring)."""
+    return float(np.einsum("i,i->", a, b))
+
+
+def norm(a: np.ndarray) -> float:
+    """||a||_2 of a vector without BLAS (module docstring)."""
+    return float(np.sqrt(np.einsum("i,i->", a, a)))
+
+
+def projected_iterations(k: int, rel: float, rtol: float) -> float:
+    """Iterations to reach rtol at the geometric mean rate of the first k, which reached rel."""
+    if rel >= 1.0:
+        return np.inf
+    return k * np.log(rtol) / np.log(rel)
+
+
 def gmres(
     matvec: Callable[[np.ndarray], np.ndarray],
     precondition: Callable[[np.ndarray], np.ndarray],
@@ -46,13 +63,17 @@ def gmres(
     rtol: float,
     max_iter: int,
     weights: np.ndarray | None = None,
+    abandon: bool = False,
 ) -> KrylovResult:
     """Solve K x = b with x = M^{-1} y (right preconditioning), stopping at
     ||W (b - K x)|| <= rtol ||W b|| or after `max_iter` iterations. `matvec` is v -> K v,
-    `precondition` v -> M^{-1} v, `weights` the diagonal of W (ones when None)."""
+    `precondition` v -> M^{-1} v, `weights` the diagonal of W (ones when None). With `abandon`,
+    the loop also stops (not converged) from the third iteration on when the average rate so far,
+    continued, would need more than `max_iter` iterations (`projected_iterations`): a caller that
+    falls back to a factorisation then wastes fewer iterations."""
     w = np.ones_like(b) if weights is None else weights
     r0 = w * b
-    beta = float(np.sqrt(np.einsum("i,i->", r0, r0)))
+    beta = norm(r0)
     if beta == 0.0:
         return KrylovResult(np.zeros_like(b), 0, 0.0, True)
     V = np.empty((max_iter + 1, b.size))
@@ -68,7 +89,7 @@ def gmres(
             c = np.einsum("ij,j->i", V[:k], u)
             H[:k, j] += c
             u -= np.einsum("i,ij->j", c, V[:k])
-        H[k, j] = float(np.sqrt(np.einsum("i,i->", u, u)))
+        H[k, j] = norm(u)
         if H[k, j] > 0:
             V[k] = u / H[k, j]
         e1 = np.zeros(k + 1)
@@ -77,6 +98,8 @@ def gmres(
         rel = float(np.linalg.norm(e1 - H[: k + 1, :k] @ y)) / beta
         history.append(rel)
         if rel <= rtol or H[k, j] == 0:
+            break
+        if abandon and k >= 3 and projected_iterations(k, rel, rtol) > max_iter:
             break
     x = np.einsum("i,ij->j", y, Z[: y.size])
     return KrylovResult(x, k, rel, rel <= rtol, tuple(history))

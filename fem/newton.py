@@ -48,6 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fem.krylov import dot, norm
 from fem.linsolve import StepSolver
 from fem.model import InvertedElement, SolidModel
 
@@ -73,7 +74,8 @@ class NewtonOptions:
 PREDICTORS = ("tangent", "secant", "none")
 #: Newton iterations try the last factorisation only when GMRES may take this many iterations
 #: within half a factorisation (the predictor's tangent solve, on nearly the same matrix, 2).
-REUSE_MIN_KRYLOV = 6
+#: Measured (docs/DESIGN.md 7.1): a loss at 22k DOFs with 9 allowed, a win at 165k with 11.
+REUSE_MIN_KRYLOV = 10
 
 
 @dataclass(frozen=True)
@@ -215,7 +217,7 @@ class NewtonSolver:
         if not self._q0:
             return 0.0
         Ps = self.model.pressures(P)
-        return float(np.linalg.norm(sum(p * q for p, q in zip(Ps, self._q0))))
+        return norm(sum(p * q for p, q in zip(Ps, self._q0)))
 
     def _merit(self, R, x, P, f):
         """Relative force residual ||R_u(free)|| / force scale, whether the mixed-pressure
@@ -225,11 +227,9 @@ class NewtonSolver:
         fint = R[: m.n_u] + f * m.dead_load[: m.n_u]
         if m.chambers:
             fint = fint + m.pressure_force(x, P)[: m.n_u]
-        scale = max(
-            np.linalg.norm(fint), self._reference_pressure_force(P), abs(f) * self._dead_norm, self._floor
-        )
-        merit = float(np.linalg.norm(R[self.free_u]) / scale)
-        p_ok = (not m.mixed) or np.linalg.norm(R[m.n_u :]) <= self.opt.tol * self._volume
+        scale = max(norm(fint), self._reference_pressure_force(P), abs(f) * self._dead_norm, self._floor)
+        merit = norm(R[self.free_u]) / scale  # fem.krylov.norm: no BLAS threads on long vectors
+        p_ok = (not m.mixed) or norm(R[m.n_u :]) <= self.opt.tol * self._volume
         return merit, p_ok, scale
 
     def _check_progress(self, history):
@@ -262,13 +262,13 @@ class NewtonSolver:
         trial, merit, R = self._trial(x, dx, 1.0, P, f)
         if np.isfinite(merit) and merit < reference:
             return trial
-        s0 = float(dx @ R0[free])
+        s0 = dot(dx, R0[free])
         alpha = 1.0
         for _ in range(self.opt.max_backtracks):
             if R is None or s0 >= 0:
                 alpha *= 0.5
             else:
-                s1 = float(dx @ R[free])
+                s1 = dot(dx, R[free])
                 root = alpha * s0 / (s0 - s1) if s1 != s0 else 0.5 * alpha
                 # at least halve: after k trials the step is no longer than plain bisection's
                 # (a penalty contact that first penetrates decreases only at small steps)

@@ -104,3 +104,22 @@ def test_load_tangent_after_newton_uses_the_last_factorisation():
     fresh = NewtonSolver(model, NewtonOptions()).load_tangent(x.copy(), L, d)
     u = slice(0, model.n_u)
     assert np.linalg.norm(v[u] - fresh[u]) <= 6e-8 * np.linalg.norm(fresh[u])
+
+
+def test_gmres_abandons_a_solve_that_cannot_converge_within_its_iterations():
+    """A preconditioner far from the matrix: the residual falls ~10x more slowly than 20
+    iterations need for 1e-8; with `abandon` GMRES stops at the third iteration and reports no
+    convergence, without it runs all 20. A good preconditioner is never abandoned."""
+    rng = np.random.default_rng(3)
+    n = 300
+    A = sp.diags(np.linspace(1.0, 1e4, n)).tocsr()
+    b = rng.standard_normal(n)
+    full = gmres(lambda v: A @ v, lambda v: v, b, rtol=1e-8, max_iter=20)
+    short = gmres(lambda v: A @ v, lambda v: v, b, rtol=1e-8, max_iter=20, abandon=True)
+    assert not full.converged and full.iterations == 20
+    assert not short.converged and short.iterations == 3
+    assert short.relative_residual > 1e-8
+    near = A + sp.diags(1e-3 * rng.standard_normal(n) * np.linspace(1.0, 1e4, n))
+    inverse = 1.0 / near.diagonal()
+    good = gmres(lambda v: A @ v, lambda v: inverse * v, b, rtol=1e-8, max_iter=20, abandon=True)
+    assert good.converged and good.iterations <= 4
