@@ -14,12 +14,13 @@ two per step).
 Symmetry is known from the load types (`fem.model.SolidModel.symmetric_tangent`), so no matrix
 is tested for it per Newton step. `StepSolver` is what Newton uses: it factorises the current
 tangent, or, when it measures that to be cheaper, runs GMRES on it preconditioned by the last
-factorisation (`fem.krylov`): the factorisation costs ~7-9x a substitution on the default ePSA
-mesh, so a few Krylov iterations on an older factorisation save wall time when they are enough.
-The number of Krylov iterations allowed is half the cost ratio of a factorisation to an
-iteration (`LinearSolver.cost_ratio`, from PARDISO's flop count); when GMRES does not reach the
-asked accuracy within them, the current tangent is factorised (the Krylov time is lost: the rule
-bounds the loss to half a factorisation).
+factorisation (`fem.krylov`): the factorisation costs ~18x a substitution on the default ePSA
+mesh and ~60x at 165k DOFs, so Krylov iterations on an older factorisation save wall time when
+few are enough. The number of Krylov iterations allowed is half the cost ratio of a
+factorisation to an iteration (`LinearSolver.cost_ratio`, from PARDISO's flop count), at most
+`StepSolver.MAX_KRYLOV`; GMRES gives up early when its rate so far cannot reach the asked
+accuracy within them, and the current tangent is then factorised (the Krylov time is lost: the
+rule bounds the loss to half a factorisation).
 """
 
 from __future__ import annotations
