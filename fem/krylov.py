@@ -18,7 +18,7 @@ is x = M^{-1} V y. No restart: the callers cap the iterations far below any memo
 The vector operations are `np.einsum` (numpy's own loops), not BLAS: numpy's OpenBLAS runs a
 dot product of 22k entries on its threads, and on a machine busy with other jobs each call waited
 1-25 ms for them (12 GMRES iterations without the preconditioner: 0.32 s with BLAS dot products,
-0.03 s on one BLAS thread; docs/DESIGN.md section 7.1).
+0.03 s on one BLAS thread; docs/DESIGN.md section 7.2).
 """
 
 from __future__ import annotations

@@ -54,7 +54,7 @@ FLOPS_PER_RATIO = 35.0
 #: KMP_BLOCKTIME. Intel's default, 200 ms, keeps both MKL threads spinning on the 2 cores after
 #: each factorisation while the assembly that follows runs: measured (default mesh, loaded
 #: machine) the process used 0.08-0.11 s of CPU for an assembly right after a factorisation
-#: against 0.045-0.05 s with 0; the factorisation itself took the same time (docs/DESIGN.md 7.1).
+#: against 0.045-0.05 s with 0; the factorisation itself took the same time (docs/DESIGN.md 7.2).
 KMP_BLOCKTIME_MS = "0"
 
 
@@ -185,7 +185,7 @@ class StepSolver:
     weights)` returns X with ||W (K X - B)|| <= rtol ||W B|| per column, by a factorisation of K
     or by GMRES preconditioned with the last factorisation. Counts and times everything."""
 
-    MAX_KRYLOV = 20  # a GMRES attempt costs at most this many substitutions (docs/DESIGN.md 7.1)
+    MAX_KRYLOV = 20  # a GMRES attempt costs at most this many substitutions (docs/DESIGN.md 7.2)
 
     def __init__(self, name: str | None, symmetric: bool, reuse: bool = True) -> None:
         self.direct = LinearSolver(name)

@@ -74,7 +74,7 @@ class NewtonOptions:
 PREDICTORS = ("tangent", "secant", "none")
 #: Newton iterations try the last factorisation only when GMRES may take this many iterations
 #: within half a factorisation (the predictor's tangent solve, on nearly the same matrix, 2).
-#: Measured (docs/DESIGN.md 7.1): a loss at 22k DOFs with 9 allowed, a win at 165k with 11.
+#: Measured (docs/DESIGN.md 7.2): a loss at 22k DOFs with 9 allowed, a win at 165k with 11.
 REUSE_MIN_KRYLOV = 10
 
 
