@@ -74,8 +74,9 @@ class NewtonOptions:
 PREDICTORS = ("tangent", "secant", "none")
 #: Newton iterations try the last factorisation only when GMRES may take this many iterations
 #: within half a factorisation (the predictor's tangent solve, on nearly the same matrix, 2).
-#: Measured (docs/DESIGN.md 7.2): a loss at 22k DOFs with 9 allowed, a win at 165k with 11.
-REUSE_MIN_KRYLOV = 10
+#: Measured (docs/DESIGN.md 7.2): with 9 allowed, a win at 22k DOFs (-18 % wall time) since
+#: GMRES runs without BLAS threads and abandons hopeless attempts; a win at 165k.
+REUSE_MIN_KRYLOV = 6
 
 
 @dataclass(frozen=True)
