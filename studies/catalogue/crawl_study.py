@@ -6,10 +6,10 @@ lower value 0.3); the "inflate" schedule at 100 kPa, 2 s cycles, 2 cycles, the p
 --quick: D in {60, 65, 70} x mu in {0.3, 0.5} (mu outermost, so the mu = 0.3 points, which
 complete a cycle at 70 mm, come first), 4 insertion steps, one cycle, and a wall-time budget of
 QUICK_WALL_S per point: the retraction at mu = 0.5 stalls in cut-backs (docs/DESIGN.md 13), and
-a stall must end as a recorded failure, not as a point that never returns. Each point runs `studies.parts.crawl_files`
-into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json, crawl.png; no VTU) and its
-summary is kept in points/crawl-D..-mu...json, so a stopped study resumes and a diverged point is
-recorded with the last converged state in its reason.
+a stall must end as a recorded failure, not as a point that never returns. Each point runs
+`studies.parts.crawl_files` into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json,
+crawl.png; no VTU) and its summary is kept in points/crawl-D..-mu...json, so a stopped study
+resumes and a diverged point is recorded with the last converged state in its reason.
 
 Figures per point: the stride of each cycle and the steady stride (cycles after the first), the
 speed, and the anchoring slip ratio of the extension phase, |anchoring foot's motion| / (|rear| +
