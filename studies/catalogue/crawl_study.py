@@ -106,6 +106,55 @@ def run_crawl_study(out, *, quick=False, storage=None, workers=1, progress=True,
     return write_study_outputs(spec, folder)
 
 
+def sliding_feet(cycles_csv: Path) -> dict:
+    """Which feet slid (slipping share >= crawl_outputs.SLID_SHARE) in the last cycle's extension
+    and retraction: "rear", "front", "both" or "none"; empty without a completed cycle. The
+    anchoring slip ratio alone cannot tell a foot that anchors from a pair that does not move."""
+    import csv
+
+    if not cycles_csv.exists():
+        return {}
+    with open(cycles_csv, newline="") as fh:
+        last = list(csv.DictReader(fh))[-1]
+    out = {}
+    for phase in ("extend", "retract"):
+        slid = [f for f in ("rear", "front") if last[f"{phase}_{f}_slid"] == "True"]
+        out[f"{phase}_slid"] = {0: "none", 2: "both"}.get(len(slid), slid[0] if slid else "none")
+    return out
+
+
+def _cell(value, fmt: str) -> str:
+    return "-" if value is None or value == "" or value != value else format(value, fmt)
+
+
+def write_markdown(rows, path: Path) -> Path:
+    """summary.md: the study's table for a reader (summary.csv has every column)."""
+    head = (
+        "| D (mm) | mu | status | stride (mm) | speed (mm/s) | Table 2 (mm/s) | analytic, paper's "
+        "friction (mm/s) | analytic, FE friction (mm/s) | FE friction (N) | anchoring slip ratio | "
+        "slid: extend / retract | wall (s) |"
+    )
+    lines = [head, "|" + "---|" * 12]
+    for r in rows:
+        lines.append(
+            f"| {r['pipe_diameter']:g} | {r['mu']:g} | {r['status']} "
+            f"| {_cell(r.get('steady_stride_mm'), '.3f')} "
+            f"| {_cell(r.get('speed_mm_s'), '.3f')} | {_cell(r.get('table2_mm_s'), 'g')} "
+            f"| {_cell(r.get('analytic_paper_friction_mm_s'), '.2f')} "
+            f"| {_cell(r.get('analytic_fe_friction_mm_s'), '.2f')} | {_cell(r.get('fe_friction_n'), '.2f')} "
+            f"| {_cell(r.get('anchoring_slip_ratio'), '.3f')} "
+            f"| {r.get('extend_slid', '-')} / {r.get('retract_slid', '-')} "
+            f"| {_cell(r.get('wall_s'), '.0f')} |"
+        )
+    lines += [""] + [
+        f"- D = {r['pipe_diameter']:g}, mu = {r['mu']:g}: {r['message']}"
+        for r in rows
+        if r["status"] != "completed"
+    ]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
 def write_study_outputs(spec, folder: Path) -> StudyOutcome:
     """summary.csv and crawl-study.png from the stored point files (every grid point, done or not)."""
     from studies.plots.crawl import plot_crawl_study
@@ -116,12 +165,18 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
         path = folder / "points" / f"crawl-{point_stem(params)}.json"
         data = json.loads(path.read_text()) if path.exists() else {"params": params, "message": "not run"}
         status = "completed" if data.get("converged") else ("failed" if path.exists() else "missing")
-        rows.append(dict(params) | {"status": status} | {k: v for k, v in data.items() if k != "params"})
-    written = [write_csv(rows, folder / "summary.csv"), plot_crawl_study(rows, folder / "crawl-study.png")]
+        row = dict(params) | {"status": status} | {k: v for k, v in data.items() if k != "params"}
+        rows.append(row | sliding_feet(folder / "points" / point_stem(params) / "cycles.csv"))
+    written = [
+        write_csv(rows, folder / "summary.csv"),
+        plot_crawl_study(rows, folder / "crawl-study.png"),
+        write_markdown(rows, folder / "summary.md"),
+    ]
     lines = [
         f"D = {r['pipe_diameter']:g} mm, mu = {r['mu']:g}: {r['status']}; "
         f"strides {r.get('strides_mm', '-')} mm, "
-        f"anchoring slip ratio {r.get('anchoring_slip_ratio', float('nan')):.3g}"
+        f"anchoring slip ratio {r.get('anchoring_slip_ratio', float('nan')):.3g}, "
+        f"slid (extend / retract) {r.get('extend_slid', '-')} / {r.get('retract_slid', '-')}"
         for r in rows
     ]
     problems = tuple(

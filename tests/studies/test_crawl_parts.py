@@ -107,6 +107,15 @@ def test_study_tables_keep_every_point_with_its_status(tmp_path):
     jsonio.write(
         tmp_path / "points" / f"crawl-{point_stem(ok)}.json", {"params": ok, "converged": True} | base
     )
+    flags = {
+        f"{ph}_{f}_slid": str(ph + f in ("extendfront", "retractrear"))
+        for ph in ("extend", "retract")
+        for f in ("rear", "front")
+    }
+    (tmp_path / "points" / point_stem(ok) / "cycles.csv").parent.mkdir(parents=True)
+    (tmp_path / "points" / point_stem(ok) / "cycles.csv").write_text(
+        ",".join(flags) + "\n" + ",".join(flags.values()) + "\n"
+    )
     failed = {"params": bad, "converged": False, "message": "stage 'cycle0-seg1' diverged"} | base
     jsonio.write(tmp_path / "points" / f"crawl-{point_stem(bad)}.json", failed)
     outcome = write_study_outputs(spec, tmp_path)
@@ -115,4 +124,10 @@ def test_study_tables_keep_every_point_with_its_status(tmp_path):
     status = [r["status"] for r in rows]
     assert status[:2] == ["completed", "failed"] and set(status[2:]) == {"missing"}
     assert not outcome.ok and any("diverged" in p for p in outcome.problems)
+    assert (rows[0]["extend_slid"], rows[0]["retract_slid"]) == ("front", "rear")  # from cycles.csv
+    assert rows[1]["extend_slid"] == ""  # no cycle: nothing claimed
+    table = (tmp_path / "summary.md").read_text()
+    assert (
+        "| front / rear |" in table and "diverged" in table and table.count("| missing |") == len(points) - 2
+    )
     assert (tmp_path / "crawl-study.png").exists()
