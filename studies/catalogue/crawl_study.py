@@ -146,6 +146,13 @@ def write_markdown(rows, path: Path) -> Path:
             f"| {r.get('extend_slid', '-')} / {r.get('retract_slid', '-')} "
             f"| {_cell(r.get('wall_s'), '.0f')} |"
         )
+    lines += [
+        "",
+        "stride: steady stride (the first cycle's from rest with one cycle); speed = stride / 2 s. "
+        "FE friction: the largest axial wall friction on a foot while the pressures rise: the sliding "
+        "foot's resistance where a foot slid, a lower bound of both feet's where none slid. Anchoring "
+        "slip ratio: |rear| / (|rear| + |front|) motion in the extension (0: the rear anchors).",
+    ]
     lines += [""] + [
         f"- D = {r['pipe_diameter']:g}, mu = {r['mu']:g}: {r['message']}"
         for r in rows
