@@ -46,12 +46,12 @@ def plot_crawl_study(rows, path):
         if not ok:
             continue
         d = [r["pipe_diameter"] for r in ok]
-        line = axes[0].plot(d, [r["speed_mm_s"] for r in ok], "-", label=f"FE, mu = {mu:g}")[0]
-        axes[1].plot(d, [r["anchoring_slip_ratio"] for r in ok], "-", color=line.get_color())
+        line = axes[0].plot(d, [r.get("speed_mm_s", float("nan")) for r in ok], "-", label=f"FE, mu = {mu:g}")[0]
+        axes[1].plot(d, [r.get("anchoring_slip_ratio", float("nan")) for r in ok], "-", color=line.get_color())
         for r in ok:
             face = "none" if r.get("extend_slid") == "none" else line.get_color()
             for ax, key in ((axes[0], "speed_mm_s"), (axes[1], "anchoring_slip_ratio")):
-                ax.plot(r["pipe_diameter"], r[key], "o", color=line.get_color(), mfc=face)
+                ax.plot(r["pipe_diameter"], r.get(key, float("nan")), "o", color=line.get_color(), mfc=face)
     paper = sorted({(r["pipe_diameter"], r.get("table2_mm_s")) for r in rows if r.get("table2_mm_s")})
     if paper:
         axes[0].plot(*zip(*paper), "ks--", ms=4, label="paper, Table 2 (forward)")
