@@ -46,8 +46,10 @@ def plot_crawl_study(rows, path):
         if not ok:
             continue
         d = [r["pipe_diameter"] for r in ok]
-        line = axes[0].plot(d, [r.get("speed_mm_s", float("nan")) for r in ok], "-", label=f"FE, mu = {mu:g}")[0]
-        axes[1].plot(d, [r.get("anchoring_slip_ratio", float("nan")) for r in ok], "-", color=line.get_color())
+        speed = [r.get("speed_mm_s", float("nan")) for r in ok]
+        ratio = [r.get("anchoring_slip_ratio", float("nan")) for r in ok]
+        line = axes[0].plot(d, speed, "-", label=f"FE, mu = {mu:g}")[0]
+        axes[1].plot(d, ratio, "-", color=line.get_color())
         for r in ok:
             face = "none" if r.get("extend_slid") == "none" else line.get_color()
             for ax, key in ((axes[0], "speed_mm_s"), (axes[1], "anchoring_slip_ratio")):
