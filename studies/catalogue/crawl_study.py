@@ -181,8 +181,8 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
     ]
     lines = [
         f"D = {r['pipe_diameter']:g} mm, mu = {r['mu']:g}: {r['status']}; "
-        f"strides {r.get('strides_mm', '-')} mm, "
-        f"anchoring slip ratio {r.get('anchoring_slip_ratio', float('nan')):.3g}, "
+        f"strides {r.get('strides_mm') or '-'} mm, "
+        f"anchoring slip ratio {_cell(r.get('anchoring_slip_ratio'), '.3g')}, "
         f"slid (extend / retract) {r.get('extend_slid', '-')} / {r.get('retract_slid', '-')}"
         for r in rows
     ]

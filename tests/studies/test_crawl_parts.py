@@ -117,6 +117,7 @@ def test_study_tables_keep_every_point_with_its_status(tmp_path):
         ",".join(flags) + "\n" + ",".join(flags.values()) + "\n"
     )
     failed = {"params": bad, "converged": False, "message": "stage 'cycle0-seg1' diverged"} | base
+    failed |= {"steady_stride_mm": None, "anchoring_slip_ratio": None}  # NaN is stored as null
     jsonio.write(tmp_path / "points" / f"crawl-{point_stem(bad)}.json", failed)
     outcome = write_study_outputs(spec, tmp_path)
     rows = list(csv.DictReader(open(tmp_path / "summary.csv")))
