@@ -8,9 +8,10 @@ for the frame titles (time, pressures, the two hub plates' axial displacements).
 Each frame draws the current configuration x = X + u of both feet, cut at the plane y = 0 (the
 half y >= 0 is kept, so the skirts' section against the wall shows), coloured by the axial
 displacement u_z with one colour range over all frames (so a colour means the same displacement
-in every frame), inside the half pipe drawn translucent. The camera is fixed for the whole series
-(parallel projection, looking along +y with the pipe axis horizontal) so that the feet's motion
-along the axis is seen as motion in the picture, not hidden by a camera that follows them.
+in every frame), in front of the far half of the pipe (translucent). The camera is fixed for the
+whole series (parallel projection, looking along +y, the pipe axis horizontal, forward to the
+right) so that the feet's motion along the axis is seen as motion in the picture, not hidden by
+a camera that follows them.
 
 Frames are equally spaced in the GIF while the states are not equally spaced in time (the solver
 refines hard segments): the title states each frame's time. Off screen through pyvista (EGL
