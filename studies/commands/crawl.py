@@ -2,7 +2,8 @@
 
     softcrawl crawl [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3] [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
-                    [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric] --out DIR
+                    [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric]
+                    [--gif | --animation PATH.gif] --out DIR
 
 Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
 friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
@@ -15,7 +16,9 @@ per schedule segment stalled where the actuator force changes sign, 4 pass).
 
 Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the
 paper's Table 2 speed for that diameter and the analytic `robot.loads.crawl_speed`; writes
-states.csv, cycles.csv, summary.json, vtu/ (crawl.pvd with the pipe in pipe.vtu) and crawl.png.
+states.csv, cycles.csv, summary.json, vtu/ (crawl.pvd with the pipe in pipe.vtu) and crawl.png;
+with --gif also crawl.gif (--animation: at PATH), the deformed feet in the pipe, one frame per
+state, drawn from vtu/ off screen (`studies.plots.crawl_animation`; GIF only: MP4 needs ffmpeg).
 Exit code 1 when a stage diverges (the outputs then end at the last converged state).
 """
 
@@ -63,6 +66,9 @@ def register(subparsers) -> None:
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet mirrored: skirts lean forward")
     feet.add_argument("--symmetric", action="store_true", help="front foot mirrored: a symmetric pair")
+    movie = p.add_mutually_exclusive_group()
+    movie.add_argument("--gif", action="store_true", help="also write OUT/crawl.gif of the deformed feet")
+    movie.add_argument("--animation", default=None, metavar="PATH", help="write that GIF at PATH (.gif)")
     p.add_argument("--out", required=True, help="output folder")
     p.set_defaults(func=run)
 
@@ -77,6 +83,7 @@ def run(args) -> int:
 
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
     out = output_folder(args.out)
+    animation = animation_path(args, Path(out))
     feet = "backward" if args.backward else "symmetric" if args.symmetric else "paper"
     steps = args.steps or 4
     setup = CrawlSetup(
@@ -93,4 +100,34 @@ def run(args) -> int:
         setup, schedule, Path(out), quick=args.quick, progress=lambda line: print(line, flush=True)
     )
     print(summary["text"])
+    if animation is not None:
+        write_animation(Path(out), animation)
     return 0 if result.converged else 1
+
+
+def animation_path(args, out):
+    """Where the GIF goes (None without --gif/--animation), checked before the crawl runs."""
+    from pathlib import Path
+
+    from studies.commands.options import CommandLineError, output_file
+
+    if args.animation is None:
+        return out / "crawl.gif" if args.gif else None
+    path = Path(args.animation)
+    if path.suffix.lower() != ".gif":
+        raise CommandLineError("animation", f"{path} must end in .gif (GIF only: MP4 would need ffmpeg)")
+    return output_file(path, "animation")
+
+
+def write_animation(out, path) -> None:
+    """The GIF from out/vtu; a rendering failure (no off-screen OpenGL) costs the GIF, not the crawl."""
+    from studies.commands.options import make_folder
+    from studies.plots.crawl_animation import write_crawl_gif
+
+    make_folder(path.parent, "animation")
+    try:
+        write_crawl_gif(out / "vtu", path, out / "states.csv")
+    except Exception as exc:  # noqa: BLE001 - VTK/EGL errors have no common class; the files are written
+        print(f"crawl: animation not written: {type(exc).__name__}: {exc}")
+        return
+    print(f"crawl: animation {path}")

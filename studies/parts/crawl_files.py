@@ -48,15 +48,19 @@ class _VtuSeries:
 
         path = write_state(self.folder / f"crawl_{index:04d}.vtu", model, x)
         self.entries.append((time_s, path.name))
-        self._pvd()
+        write_pvd(self.folder, self.entries)
 
-    def _pvd(self) -> None:
-        from xml.sax.saxutils import quoteattr
 
-        lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
-        lines += [f'<DataSet timestep="{t:.6g}" file={quoteattr(f)}/>' for t, f in self.entries]
-        lines += ['<DataSet timestep="0" part="1" file="pipe.vtu"/>', "</Collection>", "</VTKFile>"]
-        (self.folder / "crawl.pvd").write_text("\n".join(lines) + "\n")
+def write_pvd(folder: Path, entries) -> Path:
+    """folder/crawl.pvd: the states (time_s, VTU file name) in order, then the pipe as part 1."""
+    from xml.sax.saxutils import quoteattr
+
+    lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
+    lines += [f'<DataSet timestep="{t:.6g}" file={quoteattr(f)}/>' for t, f in entries]
+    lines += ['<DataSet timestep="0" part="1" file="pipe.vtu"/>', "</Collection>", "</VTKFile>"]
+    path = Path(folder) / "crawl.pvd"
+    path.write_text("\n".join(lines) + "\n")
+    return path
 
 
 def compare(result, setup, schedule, pressure_kpa: float) -> dict:

@@ -59,6 +59,7 @@ class CrawlSetup:
     insert_steps: int = 8
     steps: int = 4  # sub-steps per schedule segment
     cycles: int = 1
+    max_wall_s: float | None = None  # give the schedule up after this wall time (None: no limit)
 
     @property
     def mirrored(self) -> tuple[bool, bool]:
@@ -108,8 +109,16 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
     return CrawlModel(model, law, setup, foot_design.tip_radius, links)
 
 
-def _cycle_stages(cm: CrawlModel, schedule: Schedule, cycle: int, steps: int) -> tuple[list, list]:
-    """One Stage per schedule segment; and per stage (t0, t1, P0, P1) for the recorder."""
+class WallBudgetExceeded(Exception):
+    """Raised before a solve attempt once CrawlSetup.max_wall_s has passed (a stall in cut-backs)."""
+
+
+def _cycle_stages(
+    cm: CrawlModel, schedule: Schedule, cycle: int, steps: int, deadline: float
+) -> tuple[list, list]:
+    """One Stage per schedule segment; and per stage (t0, t1, P0, P1) for the recorder. Every
+    solve attempt calls `drive` first, so the wall-time budget is checked there: a stage that
+    grinds in cut-backs (each failed attempt up to 25 Newton iterations) stops within one attempt."""
     actuator = cm.terms["actuator"]
     stages, spans = [], []
     t, P = schedule.times, schedule.pressures_kpa
@@ -117,6 +126,8 @@ def _cycle_stages(cm: CrawlModel, schedule: Schedule, cycle: int, steps: int) ->
         p0, p1 = P[j].copy(), P[j + 1].copy()
 
         def drive(s, p0=p0, p1=p1):
+            if time.perf_counter() > deadline:
+                raise WallBudgetExceeded
             actuator.set_load(*cm.law.stiffness_preload(p0 + s * (p1 - p0)))
 
         stages.append(Stage(f"cycle{cycle}-seg{j}", drive=drive, steps=steps))
@@ -185,10 +196,21 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
         if not res.converged:
             return recorder.result(False, res.message, stats, time.perf_counter() - t0)
         x = res.x
+    deadline = t0 + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
     for cycle in range(setup.cycles):
         recorder.begin_cycle(cycle, x)
-        stages, spans = _cycle_stages(cm, schedule, cycle, setup.steps)
-        res = _run(cm, stages, spans, x, recorder, cycle)
+        stages, spans = _cycle_stages(cm, schedule, cycle, setup.steps, deadline)
+        try:
+            res = _run(cm, stages, spans, x, recorder, cycle)
+        except WallBudgetExceeded:
+            last = recorder.states[-1]
+            message = (
+                f"cycle {cycle + 1}: stopped at the wall-time budget max_wall_s = {setup.max_wall_s:g} s "
+                f"(sub-steps shrinking in cut-backs); last converged: stage {last['stage']!r} at "
+                f"t = {last['time_s']:.4g} s, P = {last['p1_kpa']:.4g} kPa (the Newton iterations of "
+                "this cycle are not counted)"
+            )
+            return recorder.result(False, message, stats, time.perf_counter() - t0)
         stats.append(res)
         if not res.converged:
             return recorder.result(

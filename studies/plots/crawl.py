@@ -32,8 +32,10 @@ def plot_crawl(states, path, title: str = ""):
 
 
 def plot_crawl_study(rows, path):
-    """Steady stride and anchoring slip ratio against pipe diameter, one line per mu; failed
-    points are not drawn (summary.csv has their reasons)."""
+    """Left: speed = stride / cycle time against pipe diameter, one line per mu (hollow markers:
+    no foot slid in the extension), beside Table 2's forward speeds and the analytic crawl_speed
+    with the paper's friction; right: the anchoring slip ratio. Failed and missing points are not
+    drawn (summary.csv and summary.md have their reasons)."""
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for mu in sorted({r["mu"] for r in rows}):
@@ -41,14 +43,36 @@ def plot_crawl_study(rows, path):
             (r for r in rows if r["mu"] == mu and r["status"] == "completed"),
             key=lambda r: r["pipe_diameter"],
         )
+        if not ok:
+            continue
         d = [r["pipe_diameter"] for r in ok]
-        axes[0].plot(d, [r["steady_stride_mm"] for r in ok], "o-", label=f"mu = {mu:g}")
-        axes[1].plot(d, [r["anchoring_slip_ratio"] for r in ok], "o-", label=f"mu = {mu:g}")
-    axes[0].set(
-        xlabel="pipe diameter (mm)", ylabel="stride per cycle (mm)", title="FE crawl, inflate 100 kPa"
+        speed = [r.get("speed_mm_s", float("nan")) for r in ok]
+        ratio = [r.get("anchoring_slip_ratio", float("nan")) for r in ok]
+        line = axes[0].plot(d, speed, "-", label=f"FE, mu = {mu:g}")[0]
+        axes[1].plot(d, ratio, "-", color=line.get_color())
+        for r in ok:
+            face = "none" if r.get("extend_slid") == "none" else line.get_color()
+            for ax, key in ((axes[0], "speed_mm_s"), (axes[1], "anchoring_slip_ratio")):
+                ax.plot(r["pipe_diameter"], r.get(key, float("nan")), "o", color=line.get_color(), mfc=face)
+    paper = sorted({(r["pipe_diameter"], r.get("table2_mm_s")) for r in rows if r.get("table2_mm_s")})
+    if paper:
+        axes[0].plot(*zip(*paper), "ks--", ms=4, label="paper, Table 2 (forward)")
+    analytic = sorted(
+        {
+            (r["pipe_diameter"], r["analytic_paper_friction_mm_s"])
+            for r in rows
+            if "analytic_paper_friction_mm_s" in r
+        }
     )
-    axes[1].set(xlabel="pipe diameter (mm)", ylabel="|anchor motion| / (|rear| + |front|)", title="anchoring")
+    if analytic:
+        axes[0].plot(*zip(*analytic), "k:", label="analytic crawl_speed, paper's 15.3 N")
+    axes[0].set(xlabel="pipe diameter (mm)", ylabel="speed (mm/s)", title="FE crawl, inflate 100 kPa, 2 s")
+    axes[1].set(
+        xlabel="pipe diameter (mm)",
+        ylabel="|rear| / (|rear| + |front|) in extension",
+        title="anchoring (hollow: no foot slid)",
+    )
+    axes[0].legend(fontsize=7, loc="center left")
     for ax in axes:
-        ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
     return save(fig, path)

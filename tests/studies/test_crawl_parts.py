@@ -107,7 +107,17 @@ def test_study_tables_keep_every_point_with_its_status(tmp_path):
     jsonio.write(
         tmp_path / "points" / f"crawl-{point_stem(ok)}.json", {"params": ok, "converged": True} | base
     )
+    flags = {
+        f"{ph}_{f}_slid": str(ph + f in ("extendfront", "retractrear"))
+        for ph in ("extend", "retract")
+        for f in ("rear", "front")
+    }
+    (tmp_path / "points" / point_stem(ok) / "cycles.csv").parent.mkdir(parents=True)
+    (tmp_path / "points" / point_stem(ok) / "cycles.csv").write_text(
+        ",".join(flags) + "\n" + ",".join(flags.values()) + "\n"
+    )
     failed = {"params": bad, "converged": False, "message": "stage 'cycle0-seg1' diverged"} | base
+    failed |= {"steady_stride_mm": None, "anchoring_slip_ratio": None}  # NaN is stored as null
     jsonio.write(tmp_path / "points" / f"crawl-{point_stem(bad)}.json", failed)
     outcome = write_study_outputs(spec, tmp_path)
     rows = list(csv.DictReader(open(tmp_path / "summary.csv")))
@@ -115,4 +125,33 @@ def test_study_tables_keep_every_point_with_its_status(tmp_path):
     status = [r["status"] for r in rows]
     assert status[:2] == ["completed", "failed"] and set(status[2:]) == {"missing"}
     assert not outcome.ok and any("diverged" in p for p in outcome.problems)
+    assert (rows[0]["extend_slid"], rows[0]["retract_slid"]) == ("front", "rear")  # from cycles.csv
+    assert rows[1]["extend_slid"] == ""  # no cycle: nothing claimed
+    table = (tmp_path / "summary.md").read_text()
+    assert (
+        "| front / rear |" in table and "diverged" in table and table.count("| missing |") == len(points) - 2
+    )
     assert (tmp_path / "crawl-study.png").exists()
+
+
+def test_the_wall_time_budget_stops_a_cycle_before_its_next_solve_attempt():
+    """Every solve attempt of a cycle segment calls its stage's drive first (fem.contact_stages);
+    past the deadline drive raises WallBudgetExceeded (run_crawl turns it into a failure that
+    names max_wall_s and the last converged state), before it the pressures are set."""
+    import time
+    from types import SimpleNamespace
+
+    from studies.parts.crawl_model import WallBudgetExceeded, _cycle_stages
+
+    loads = []
+    actuator = SimpleNamespace(set_load=lambda k, f: loads.append((k, f)))
+    cm = SimpleNamespace(terms={"actuator": actuator}, law=AxialLaw())
+    schedule = preset("inflate", 100.0, 2.0)
+    stages, spans = _cycle_stages(cm, schedule, 0, 4, deadline=np.inf)
+    assert len(stages) == len(spans) == 2
+    stages[0].drive(0.5)
+    assert loads == [AxialLaw().stiffness_preload((50.0, 50.0, 50.0))]
+    late, _ = _cycle_stages(cm, schedule, 0, 4, deadline=time.perf_counter() - 1.0)
+    with pytest.raises(WallBudgetExceeded):
+        late[1].drive(0.25)
+    assert len(loads) == 1  # nothing set after the deadline
