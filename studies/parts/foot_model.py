@@ -44,15 +44,29 @@ FACES = {"smooth": ("front", "rim"), "grooved": ("back",)}
 #: Uzawa loop of the foot runs: 10 um of penetration (1/300 of the skirt) is far below the
 #: deformations of interest; each further update costs a solve at ~50k unknowns.
 AUGMENT = {"penetration_tol": 0.01, "max_augment": 2}
+#: eps_T / eps_N of the foot (docs/DESIGN.md section 11).
+TANGENTIAL_RATIO = 1.0
 
 
-def foot_model(mesh, material, design, pipe_radius: float, drag: float, penalty: float | None = None):
-    """The foot on `mesh` (skfem MeshTet2 with the foot's tags), wall clear of the tip."""
+def foot_model(
+    mesh,
+    material,
+    design,
+    pipe_radius: float,
+    drag: float,
+    penalty: float | None = None,
+    tangential_ratio: float = TANGENTIAL_RATIO,
+):
+    """The foot on `mesh` (skfem MeshTet2 with the foot's tags), wall clear of the tip; the
+    tangential penalty is `tangential_ratio` x the normal one."""
     youngs = 9.0 * material.bulk * material.mu / (3.0 * material.bulk + material.mu)
     size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
     eps = penalty if penalty is not None else 10.0 * youngs / size
     wall = CylinderWall(design.tip_radius + 0.5)
-    specs = [ContactSpec(tags, wall, penalty=eps, name=name) for name, tags in FACES.items()]
+    specs = [
+        ContactSpec(tags, wall, penalty=eps, tangential_penalty=tangential_ratio * eps, name=name)
+        for name, tags in FACES.items()
+    ]
     bcs = [Dirichlet("hub_top", (0, 1, 2), (0.0, 0.0, drag))]
     return SolidModel(mesh, material, dirichlet=bcs, contacts=specs)
 
