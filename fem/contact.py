@@ -55,7 +55,9 @@ class ContactSpec:
     tangential_penalty: eps_T (MPa/mm), default eps_N; mu: Coulomb coefficient (>= 0);
     max_initial_penetration: largest penetration (mm) accepted in the reference state (an
     oversized body must be brought in by moving the surface, `fem.contact_stages`);
-    intorder: facet quadrature order; name: labels outputs.
+    intorder: facet quadrature order; name: labels outputs;
+    smoothing: gap band (mm) over which the normal law's kink is rounded (`fem.contact_law`;
+    0, the default: the exact kink).
     """
 
     tags: tuple[str, ...]
@@ -66,6 +68,7 @@ class ContactSpec:
     max_initial_penetration: float = 0.0
     intorder: int = 4
     name: str = "contact"
+    smoothing: float = 0.0
 
     def __post_init__(self):
         tags = (self.tags,) if isinstance(self.tags, str) else tuple(self.tags)
@@ -82,6 +85,8 @@ class ContactSpec:
         object.__setattr__(self, "mu", float(self.mu))
         if not (np.isfinite(self.max_initial_penetration) and self.max_initial_penetration >= 0):
             raise SolverInputError("contact.max_initial_penetration", "must be a number >= 0")
+        if not (np.isfinite(self.smoothing) and self.smoothing >= 0):
+            raise SolverInputError("contact.smoothing", "must be a gap band >= 0 (mm)")
 
     @property
     def eps_t(self) -> float:
@@ -180,6 +185,7 @@ class ContactTerm:
             s.eps_t,
             self.mu,
             with_tangent,
+            s.smoothing,
         )
 
     def arrays(self, x, pressures=None, with_tangent=True):
@@ -202,12 +208,13 @@ class ContactTerm:
         pos = self.positions(x)
         self.stick = pos if self.mu == 0.0 else committed_stick(st, pos, self.stick, self.spec.eps_t)
 
-    def augment(self, x: np.ndarray) -> float:
-        """Uzawa update at a converged state: lambda <- p_N (the friction history is left to
-        `commit`, once the loop at this load is done). Returns the largest penetration (mm) of
-        the state before the update."""
+    def augment(self, x: np.ndarray, relax: float = 1.0) -> float:
+        """Uzawa update at a converged state: lambda <- lambda + relax (p_N - lambda), the full
+        update lambda <- p_N at relax = 1 (the friction history is left to `commit`, once the
+        loop at this load is done). Returns the largest penetration (mm) of the state before the
+        update."""
         st = self.state(x)
-        self.multiplier = st.pressure.copy()
+        self.multiplier = self.multiplier + relax * (st.pressure - self.multiplier)
         return float(max(0.0, -st.gap[st.active].min())) if st.active.any() else 0.0
 
     def set_surface(self, surface) -> None:

@@ -8,6 +8,15 @@ Normal (penalty with an augmented-Lagrangian multiplier lambda >= 0, Uzawa):
     p_N = < lambda + eps_N (-g) >_+,        f_N = p_N n          (force per reference area)
     d f_N / dx = -eps_N n n - p_N C          (active points; zero elsewhere)
 
+Smoothing (optional, `ContactSpec.smoothing` = delta, mm; off by default). With the width
+w = eps_N delta in pressure, the kink of <q>_+ (q = lambda - eps_N g, the trial pressure) is
+rounded to p_N = (q + w/2)^2 / (2 w) for |q| < w / 2; p_N = q above (no offset: the Uzawa loop
+still drives the penetration of pressed points to zero) and 0 below. p_N and dp_N/dq are
+continuous, so a point at the edge of the contact zone no longer switches the stiffness eps_N
+n n (and the slip-normal coupling mu eps_N m n) on and off between Newton iterations: at g = 0
+it has dp_N/dq = 1/2. The price: points within delta / 2 outside the surface carry at most
+eps_N delta / 8 (docs/DESIGN.md section 11).
+
 Friction (penalty regularised Coulomb law, elastic predictor and return mapping). The stick
 point x_s is history, fixed during the Newton iterations of an increment. With v = x - x_s,
 the projector P = I - n n and v_n = n . v, the trial traction is
@@ -18,7 +27,7 @@ the projector P = I - n n and v_n = n . v, the trial traction is
 where |t*| <= mu p_N (1 + SLIP_MARGIN): f_T = t*. Slip otherwise: with m = t* / |t*|
 
     f_T = mu p_N m,
-    d f_T / dx = mu m (d p_N/dx)^T + mu p_N / |t*| (I - m m) d t*/dx,   d p_N/dx = -eps_N n
+    d f_T / dx = mu m (d p_N/dx)^T + mu p_N / |t*| (I - m m) d t*/dx,   d p_N/dx = -eps_N (dp_N/dq) n
 
 The first term is the slip-normal coupling, which is not symmetric; with it Newton converges
 quadratically in slip (dropping it leaves a linearly converging iteration).
@@ -61,18 +70,29 @@ class PointState:
     stiffness: np.ndarray | None  # (n, 3, 3) -d force / dx
 
 
-def evaluate(x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent) -> PointState:
-    """The contact law at points x (n, 3) against `surface` (module docstring)."""
+def normal_pressure(trial: np.ndarray, width: float):
+    """(p_N, dp_N/dq, active) of the trial pressure q = lambda - eps_N g (module docstring): the
+    kink <q>_+ or, with width w > 0, its C1 rounding over |q| < w / 2."""
+    if width <= 0.0:
+        active = trial >= 0.0  # at g = 0 exactly: active with zero pressure (keeps the stiffness)
+        return np.where(active, trial, 0.0), active.astype(float), active
+    ramp = np.clip(trial + 0.5 * width, 0.0, width)
+    p = np.where(trial >= 0.5 * width, trial, ramp * ramp / (2.0 * width))
+    return p, ramp / width, trial > -0.5 * width
+
+
+def evaluate(x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent, smoothing=0.0) -> PointState:
+    """The contact law at points x (n, 3) against `surface` (module docstring); `smoothing` (mm)
+    rounds the normal law's kink over a gap band of that width (0: the exact kink)."""
     g, n, C = surface.project(x)
     trial = multiplier - eps_n * g
-    active = trial >= 0.0  # at g = 0 exactly: active with zero pressure (keeps the stiffness)
-    p = np.where(active, trial, 0.0)
+    p, dp, active = normal_pressure(trial, eps_n * smoothing)
     f_n = p[:, None] * n
     f_t = np.zeros_like(x)
     slip = np.zeros(x.shape[0], dtype=bool)
     K = None
     if with_tangent:
-        K = eps_n * n[:, :, None] * n[:, None, :]
+        K = (eps_n * dp)[:, None, None] * n[:, :, None] * n[:, None, :]
         if C is not None:
             K = K + p[:, None, None] * C
         K[~active] = 0.0
@@ -93,7 +113,7 @@ def evaluate(x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent) -> P
                 dt = dt - eps_t * (v_n[:, None, None] * C + n[:, :, None] * Cv[:, None, :])
             proj = np.eye(3)[None] - m[:, :, None] * m[:, None, :]
             d_slip = (mu * p / safe)[:, None, None] * np.matmul(proj, dt)
-            d_slip += mu * m[:, :, None] * (-eps_n * n)[:, None, :]
+            d_slip += mu * m[:, :, None] * (-(eps_n * dp)[:, None] * n)[:, None, :]
             K = K - np.where(stuck[:, None, None], dt, 0.0) - np.where(slip[:, None, None], d_slip, 0.0)
     return PointState(p, n, g, f_t, active, slip, f_n + f_t, K)
 

@@ -38,6 +38,9 @@ import numpy as np
 from fem.errors import SolverInputError
 from fem.newton import Diverged, NewtonOptions, NewtonSolver
 
+#: Halvings of a Uzawa update whose re-solve diverged before the loop keeps the last solve.
+MAX_RELAXATIONS = 2
+
 
 @dataclass(frozen=True)
 class Stage:
@@ -90,26 +93,49 @@ def _restore(model, snap) -> None:
         c.multiplier, c.stick, c.surface = lam, stick, surface
 
 
+def _multipliers(model):
+    return [c.multiplier.copy() for c in model.contacts]
+
+
+def _set_multipliers(model, values) -> None:
+    for c, lam in zip(model.contacts, values):
+        c.multiplier = lam
+
+
 def _solve_augmented(solver, model, x, P, f, tol, max_augment):
     """Newton at (P, f), then Uzawa updates until the penetration is below tol; returns
-    (x, iterations per solve, residuals of the first solve, last penetration). Raises Diverged.
+    (x, iterations per solve, residuals of the first solve, last penetration). Raises Diverged
+    when the first solve diverges.
 
     The state returned is in equilibrium with the multipliers of its own solve: an update that
     is not followed by a solve (the loop stops) is undone, so that the contact forces reported
-    at x (and the history committed from them) are the ones the residual balanced."""
-    iterations, residuals = [], None
-    for k in range(max_augment + 1):
-        x, record = solver.load_step(x, P, f)
-        iterations.append(record.iterations)
-        residuals = residuals or record.residuals
-        solved = [c.multiplier.copy() for c in model.contacts]
-        penetration = max((c.augment(x) for c in model.contacts), default=0.0)
-        if penetration <= tol or k == max_augment:
-            for c, lam in zip(model.contacts, solved):
-                c.multiplier = lam
+    at x (and the history committed from them) are the ones the residual balanced.
+
+    Relaxed updates. A re-solve after an update lambda <- lambda + w (p_N - lambda) that
+    diverges is undone and retried with w halved (at most MAX_RELAXATIONS times in a
+    row); after that the loop stops at the last converged solve, an equilibrium of the penalty
+    problem with its own multipliers whose penetration (above tol) is returned and reported.
+    Before, such a failure threw away the converged first solve and cut the load step back: in
+    the foot's backward drag most cut-backs came from here (the update moves p_N, hence the
+    Coulomb limit mu p_N, at every point at once; docs/DESIGN.md section 11)."""
+    x, record = solver.load_step(x, P, f)
+    iterations, residuals = [record.iterations], record.residuals
+    relax, failures, updates = 1.0, 0, 0
+    while True:
+        solved = _multipliers(model)
+        penetration = max((c.augment(x, relax) for c in model.contacts), default=0.0)
+        if penetration <= tol or updates == max_augment or failures > MAX_RELAXATIONS:
+            _set_multipliers(model, solved)
             model.commit(x)
             return x, tuple(iterations), residuals, penetration
-    raise AssertionError("unreachable")
+        try:
+            x, record = solver.load_step(x, P, f)
+        except Diverged:
+            _set_multipliers(model, solved)
+            relax, failures = 0.5 * relax, failures + 1
+            continue
+        iterations.append(record.iterations)
+        updates, failures = updates + 1, 0
 
 
 def run_stages(

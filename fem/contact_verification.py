@@ -42,10 +42,10 @@ from fem.verification import CaseResult
 MATERIAL = NeoHookean(mu=1.0, bulk=3.0)  # nu ~ 0.35
 
 
-def press_test(pressure=0.3, penalty=100.0, tolerance=5e-3) -> CaseResult:
+def press_test(pressure=0.3, penalty=100.0, tolerance=5e-3, smoothing=0.0) -> CaseResult:
     a = 1.0
     mesh = box((a, a, 1.0), (3, 3, 2))
-    spec = ContactSpec(("z0",), Plane(), penalty=penalty)
+    spec = ContactSpec(("z0",), Plane(), penalty=penalty, smoothing=smoothing)
     bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1)]
     model = SolidModel(
         mesh, MATERIAL, dirichlet=bcs, dead_loads={"z1": (0, 0, -pressure * a * a)}, contacts=[spec]
@@ -67,10 +67,10 @@ def press_test(pressure=0.3, penalty=100.0, tolerance=5e-3) -> CaseResult:
     )
 
 
-def _drag_block(mu, pressure, penalty, drag=None, shear=None):
+def _drag_block(mu, pressure, penalty, drag=None, shear=None, smoothing=0.0):
     """The block 2 x 1 x 1 (half: y >= 0), follower pressure on z1, on the plane z = 0."""
     mesh = box((2.0, 1.0, 1.0), (4, 2, 2))
-    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu)
+    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu, smoothing=smoothing)
     bcs = [Dirichlet.symmetry("y0", 1)]
     if drag is not None:
         bcs.append(Dirichlet("z1", (0, 1), (drag, 0.0)))
@@ -81,8 +81,8 @@ def _drag_block(mu, pressure, penalty, drag=None, shear=None):
     return model
 
 
-def drag_test(mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, tolerance=5e-3) -> CaseResult:
-    model = _drag_block(0.0, pressure, penalty, drag=drag)
+def drag_test(mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, tolerance=5e-3, smoothing=0.0) -> CaseResult:
+    model = _drag_block(0.0, pressure, penalty, drag=drag, smoothing=smoothing)
     stages = [
         Stage("press", pressure=pressure, steps=2),
         Stage("drag", factor=1.0, friction={0: mu}, steps=4),
@@ -102,13 +102,13 @@ def drag_test(mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, tolerance=5e-3) -> 
     )
 
 
-def stick_test(mu=0.3, pressure=0.02, penalty=100.0, ratio=0.5, tolerance=5e-3) -> CaseResult:
+def stick_test(mu=0.3, pressure=0.02, penalty=100.0, ratio=0.5, tolerance=5e-3, smoothing=0.0) -> CaseResult:
     """Proportional dead load (T, 0, -N) on the top of a 2 x 1 x 0.5 block with nu = 0 (K = 2/3 mu,
     no Poisson slip under the normal load), T = ratio mu N: every point sticks."""
     mesh = box((2.0, 1.0, 0.5), (4, 2, 2))
     normal = pressure * 2.0
     shear = ratio * mu * normal
-    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu)
+    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu, smoothing=smoothing)
     model = SolidModel(
         mesh,
         NeoHookean(mu=1.0, bulk=2.0 / 3.0),
@@ -160,10 +160,14 @@ def _hertz_mesh(radius, hole, thickness, fine):
     return curved(tag_boundaries(mesh, tags), "cylinder")
 
 
-def hertz_test(radius=10.0, hole=2.0, approach=0.06, fine=0.08, penalty=100.0, tolerance=0.05) -> CaseResult:
+def hertz_test(
+    radius=10.0, hole=2.0, approach=0.06, fine=0.08, penalty=100.0, tolerance=0.05, smoothing=0.0
+) -> CaseResult:
     """Plane-strain cylinder on a rigid plane (module docstring); peak pressure against Hertz."""
     mesh = _hertz_mesh(radius, hole, 0.5, fine)
-    spec = ContactSpec(("outer",), Plane((0.0, -radius, 0.0), (0.0, 1.0, 0.0)), penalty=penalty)
+    spec = ContactSpec(
+        ("outer",), Plane((0.0, -radius, 0.0), (0.0, 1.0, 0.0)), penalty=penalty, smoothing=smoothing
+    )
     bcs = [
         Dirichlet("inner", (0, 1), (0.0, -approach)),
         Dirichlet.symmetry("sym", 0),
@@ -212,7 +216,9 @@ def convergence_order(residuals, floor=1e-11) -> float:
     return float(orders[-1]) if orders else float("nan")
 
 
-def newton_test(radius=20.0, mu=0.3, pressure=0.2, penalty=100.0, steps=8, tolerance=1.8) -> CaseResult:
+def newton_test(
+    radius=20.0, mu=0.3, pressure=0.2, penalty=100.0, steps=8, tolerance=1.8, smoothing=0.0
+) -> CaseResult:
     """Sliding on the inside of a cylinder (axis x, under the block), dragged along the axis and
     around it in `steps` increments: the order of convergence in the last increment, a steady
     slide in which no point changes its contact or slip status (the curvature and
@@ -223,7 +229,7 @@ def newton_test(radius=20.0, mu=0.3, pressure=0.2, penalty=100.0, steps=8, toler
     # the wall rises around the flat base: its long edges start 2 um into the wall (the block has
     # no other support in z), its centre line 4 um clear
     wall = CylinderWall(radius, (0.0, 0.5, float(np.sqrt((radius + 0.002) ** 2 - 0.25))), (1.0, 0.0, 0.0))
-    spec = ContactSpec(("z0",), wall, penalty=penalty, max_initial_penetration=0.003)
+    spec = ContactSpec(("z0",), wall, penalty=penalty, max_initial_penetration=0.003, smoothing=smoothing)
     bcs = [Dirichlet("z1", (0, 1), (0.4, 0.3))]
     model = SolidModel(mesh, MATERIAL, dirichlet=bcs, chambers=ChamberSpec(("z1",)), contacts=[spec])
     stages = [
