@@ -114,7 +114,8 @@ class StepMemory:
         self.length, self.direction = None, None
 
     def first_fraction(self, direction, segment_length: float) -> float:
-        if self.length is None or direction is None or segment_length == 0:
+        # a zero-length segment (a repeated target) leaves no direction to compare with
+        if self.length is None or self.direction is None or direction is None or segment_length == 0:
             return 1.0
         if float(np.dot(direction, self.direction)) < 1.0 - 1e-9:
             return 1.0
