@@ -76,6 +76,8 @@ def load_path(
     opt = options or NewtonOptions()
     if opt.predictor not in PREDICTORS:
         raise SolverInputError("predictor", f"{opt.predictor!r} is not one of {PREDICTORS}")
+    if opt.rigid_ratio is not None and not opt.rigid_ratio > 1.0:
+        raise SolverInputError("rigid_ratio", f"must be a ratio > 1 or None, got {opt.rigid_ratio!r}")
     targets = [(P, float(f)) for P, f in targets]
     if not targets:
         raise SolverInputError("targets", "give at least one load target")

@@ -16,6 +16,7 @@ import pytest
 import skfem
 from scipy.spatial.distance import pdist
 
+from fem.errors import SolverInputError
 from fem.model import Dirichlet, SolidModel
 from fem.neohooke import NeoHookean
 from fem.newton import NewtonOptions
@@ -82,6 +83,11 @@ def test_the_stiff_parts_of_a_model():
     assert np.array_equal(parts.parts[0], np.unique(stiff))
     assert StiffParts.of(model, 1e6).parts == []  # nothing that much stiffer
     assert StiffParts.of(_bar(dirichlet_top=True), 100.0).parts == []  # held: left out
+
+
+def test_a_ratio_of_one_or_less_is_refused():
+    with pytest.raises(SolverInputError, match="rigid_ratio"):
+        load_path(_bar(dirichlet_top=False), [(0.0, 1.0)], options=NewtonOptions(rigid_ratio=0.5))
 
 
 def test_the_projection_changes_only_the_start_of_newton():
