@@ -5,7 +5,8 @@
 Sequential path (P2 = 40 and P3 = 60 kPa first, then P1 up to 100 kPa in 10 kPa targets, as the
 ring study; --proportional: straight to (100, 40, 60) kPa in 5 steps). Prints the DOFs, the
 Newton iterations, the model build time, the time per iteration, the share of the linear solve,
-the peak RSS and the final theta, phi and tip. Targets (issue 15, idle 2-core machine): default
+the factorisations (the Newton iterations' and the tangent predictor's, one per sub-step), the
+peak RSS and the final theta, phi and tip. Targets (issue 15, idle 2-core machine): default
 mesh at most 3 minutes and 4 GB.
 """
 
@@ -46,6 +47,10 @@ def main() -> None:
     print(f"  Newton iterations {st.iterations}, path {st.wall_s:.1f} s, {per_it:.2f} s/it")
     share = 100 * st.solve_s / st.wall_s
     print(f"  assembly {st.assembly_s:.1f} s, linear solve {st.solve_s:.1f} s ({share:.0f} %)")
+    print(
+        f"  factorisations {st.factorizations} (Newton's and the predictor's tangents), "
+        f"substitutions {st.substitutions}, GMRES iterations {st.krylov_iterations}"
+    )
     print(f"  total {total:.1f} s, peak RSS {peak_gb:.2f} GB; {run.message}")
     print(
         f"  final P = {tuple(round(p, 2) for p in last.pressures_kpa)} kPa: theta {last.theta_deg:.2f} deg, "

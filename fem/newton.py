@@ -67,6 +67,7 @@ class NewtonOptions:
     max_volume_steps: int = 50  # volume steps of one continuation or volume target (tests: <= 12)
     post_limit_steps: int = 6
     predictor: str = "tangent"  # "tangent" (Euler, Hermite with the last state), "secant", "none"
+    rigid_ratio: float | None = None  # predict parts this much stiffer rigidly (fem.stiff_parts)
     reuse_factor: bool = True  # GMRES on the tangent with the last factorisation when cheaper
     solver: str | None = None
 

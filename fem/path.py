@@ -12,7 +12,10 @@ dx/ds = -K^{-1} dR/ds of the last converged state (`NewtonSolver.load_tangent`; 
 length in L along the segment), bent into the quadratic x(s) = x + s v + s^2 w through the
 previous converged state when that lies on the same load line (`History.hermite`); "secant":
 linear extrapolation of the last two states; "none": the last state. A prediction that inverts
-an element is drawn back towards the last state (`NewtonSolver.load_step`).
+an element is drawn back towards the last state (`NewtonSolver.load_step`). With
+`NewtonOptions.rigid_ratio`, the parts that much stiffer than the softest material move rigidly
+in the prediction (`fem.stiff_parts`: a linear or quadratic extrapolation of a turning stiff
+part stretches it, and the spurious stress costs Newton iterations).
 
 Step size. A sub-step whose Newton iteration diverges is halved; after a converged one the next
 grows or shrinks with the Newton iterations it took (`_growth`: the iteration count measures how
@@ -43,6 +46,7 @@ from fem.errors import SolverInputError
 from fem.model import SolidModel
 from fem.newton import PREDICTORS, Diverged, NewtonOptions, NewtonRecord, NewtonSolver, SolveStats
 from fem.steps import History, LoadShape, PathResult, ReportingList, Step, describe_load, failed, make_step
+from fem.stiff_parts import StiffParts
 
 __all__ = [
     "NewtonOptions",
@@ -72,6 +76,8 @@ def load_path(
     opt = options or NewtonOptions()
     if opt.predictor not in PREDICTORS:
         raise SolverInputError("predictor", f"{opt.predictor!r} is not one of {PREDICTORS}")
+    if opt.rigid_ratio is not None and not opt.rigid_ratio > 1.0:
+        raise SolverInputError("rigid_ratio", f"must be a ratio > 1 or None, got {opt.rigid_ratio!r}")
     targets = [(P, float(f)) for P, f in targets]
     if not targets:
         raise SolverInputError("targets", "give at least one load target")
@@ -83,9 +89,10 @@ def load_path(
     steps = ReportingList(on_step)
     events: list[str] = []
     memory = StepMemory()
+    rigid = StiffParts.of(model, opt.rigid_ratio) if opt.rigid_ratio else None
     for i, target in enumerate(loads):
         try:
-            record, n_sub = _advance(solver, history, target, opt, memory)
+            record, n_sub = _advance(solver, history, target, opt, memory, rigid)
         except Diverged as exc:
             rising = bool(np.any(target[:-1] > history.load[:-1]))
             if not model.chambers or not rising:
@@ -109,7 +116,8 @@ class StepMemory:
         self.length, self.direction = None, None
 
     def first_fraction(self, direction, segment_length: float) -> float:
-        if self.length is None or direction is None or segment_length == 0:
+        # a zero-length segment (a repeated target) leaves no direction to compare with
+        if self.length is None or self.direction is None or direction is None or segment_length == 0:
             return 1.0
         if float(np.dot(direction, self.direction)) < 1.0 - 1e-9:
             return 1.0
@@ -128,8 +136,14 @@ def _growth(iterations: int) -> float:
     return 0.6
 
 
-def _predict(solver: NewtonSolver, history: History, load, direction, opt) -> np.ndarray:
-    """The starting state of Newton's method at `load` (`NewtonOptions.predictor`)."""
+def _predict(solver: NewtonSolver, history: History, load, direction, opt, rigid=None) -> np.ndarray:
+    """The starting state of Newton's method at `load` (`NewtonOptions.predictor`), its stiff
+    parts moved rigidly when `rigid` (a `fem.stiff_parts.StiffParts`) is given."""
+    x = _extrapolate(solver, history, load, direction, opt)
+    return x if rigid is None or x is history.x else rigid.project(history.x, x)
+
+
+def _extrapolate(solver: NewtonSolver, history: History, load, direction, opt) -> np.ndarray:
     if opt.predictor == "none" or direction is None:
         return history.x
     if opt.predictor == "secant":
@@ -143,7 +157,7 @@ def _predict(solver: NewtonSolver, history: History, load, direction, opt) -> np
     return history.hermite(load, direction, history.tangent[1])
 
 
-def _advance(solver: NewtonSolver, history: History, end, opt, memory: StepMemory):
+def _advance(solver: NewtonSolver, history: History, end, opt, memory: StepMemory, rigid=None):
     """From the last converged load to `end` in adaptive sub-steps (grown after easy ones, halved
     after a divergence), each started from the predictor; returns (last Newton record, number of
     sub-steps). Raises Diverged after `max_cutbacks` halvings in a row, below
@@ -163,7 +177,7 @@ def _advance(solver: NewtonSolver, history: History, end, opt, memory: StepMemor
         load = start + (t + h) * span
         try:
             x_new, record = solver.load_step(
-                _predict(solver, history, load, direction, opt), load[:-1], load[-1], start=history.x
+                _predict(solver, history, load, direction, opt, rigid), load[:-1], load[-1], start=history.x
             )
         except Diverged as exc:
             h *= 0.5

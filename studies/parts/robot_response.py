@@ -36,10 +36,13 @@ from fem.path import NewtonOptions, load_path
 from studies.parts.robot_model import RobotModel
 
 THETA_MIN_FOR_D = math.radians(0.5)
-#: Newton options of the robot paths: Newton converges quadratically on the bending robot but
-#: late (observed r_{k+1} ~ 700 r_k^2, quick mesh, P1 ramp at P2 = 40, P3 = 60 kPa), so a load
-#: segment may need more halvings than the default 4 before the sub-steps are small enough.
-ROBOT_NEWTON = NewtonOptions(max_cutbacks=8)
+#: Newton options of the robot paths. The ABS rings and seal heads (mu 1.2e4 x the silicone's)
+#: turn with the bending robot; the predictor's extrapolation stretched them and Newton spent
+#: its first iterations undoing the spurious stress, so the prediction of every part 100 x
+#: stiffer than the softest is a rigid motion (`fem.stiff_parts`; the rubber feet, ~30 x, keep
+#: theirs): quick mesh, Fig. 11 path in 10 kPa targets, 94 -> 54 Newton iterations, the same
+#: states (docs/DESIGN.md section 12). Cut-backs: up to 8 halvings of a segment.
+ROBOT_NEWTON = NewtonOptions(max_cutbacks=8, rigid_ratio=100.0)
 
 
 @dataclass(frozen=True)
