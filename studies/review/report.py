@@ -22,6 +22,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from studies.review import report_robot as R
 from studies.review import report_sections as S
 from studies.review.html import page
 
@@ -33,6 +34,8 @@ SECTIONS = (
     ("table1", "Table 1: the paper's values against rules and evidence", S.table1),
     ("renders", "The Table 1 actuator at 0, 50 and 100 kPa", S.renders),
     ("studies", "Studies: figures and tables", S.studies),
+    ("robot", "The tied robot: Fig. 11 load and FE workspace", R.robot),
+    ("crawl", "Crawling in a pipe: the gait in FE", R.crawl),
     ("material", "Material: the tensile fit and the presets", S.material),
     ("calibration", "Calibration of the body's modulus to the prototype", S.calibration),
     ("verify", "Verification of the solver (softcrawl verify)", S.verify),

@@ -40,8 +40,20 @@ def test_missing_results_name_their_command(tmp_path):
     assert main(["report", "--results", str(empty), "--out", str(tmp_path / "r")]) == 0
     text = (tmp_path / "r" / "index.html").read_text()
     assert text.count('class="missing"') >= 6
-    for command in ("softcrawl study fiber-turns", "softcrawl calibrate", "softcrawl verify", "--render"):
+    commands = ("softcrawl study fiber-turns", "softcrawl calibrate", "softcrawl verify", "--render")
+    for command in (*commands, "softcrawl crawl", "softcrawl study workspace", "softcrawl robot"):
         assert command in text
+
+
+def test_robot_and_crawl_sections_carry_the_committed_figures(report):
+    text = report.read_text()
+    robot = text.split('<section id="robot">')[1].split("</section>")[0]
+    crawl = text.split('<section id="crawl">')[1].split("</section>")[0]
+    assert "robot-table1/robot.png" in robot
+    # the mu = 0.3 cycle of results/crawl: first-cycle stride 15.38 mm at 7.69 mm/s, Table 2 18.3
+    row = crawl.split("forward-70-mu0.3</td>")[1].split("</tr>")[0]
+    assert "15.38" in row and "7.691" in row and "18.3" in row
+    assert crawl.count("data:image/png;base64,") >= 5  # one figure per committed run
 
 
 def test_report_of_a_folder_that_does_not_exist_is_an_input_error(tmp_path, capsys):

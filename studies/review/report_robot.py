@@ -1,0 +1,101 @@
+"""The robot-level sections of the design review (`studies.review.report`): the tied robot at the
+Fig. 11 load, its FE workspace against the constant-curvature model, and the crawl in a pipe.
+
+Each function reads committed results only (no FE solve) and returns HTML, or a note naming the
+command that makes what is missing. The crawl table takes its figures from each run's
+`summary.json` (`studies.parts.crawl_files`): the stride of the first cycle, its speed at the
+schedule's cycle time, and the two references the run itself recorded (Table 2 and the analytic
+`robot.loads.crawl_speed`).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from studies.review.html import csv_rows, esc, figure, markdown, missing, table
+
+ROBOT_TABLE1 = "softcrawl robot --mesh quick --first 0,40,60 --pressures 100,40,60 --out results/robot-table1"
+WORKSPACE = 'softcrawl study workspace --quick --material "ecoflex-00-50@mu=0.0638" --out results/'
+CRAWL = (
+    "softcrawl crawl --quick --cycles 1 --mu-smooth 0.3 --mu-grooved 0.3 --out results/crawl/forward-70-mu0.3"
+)
+
+
+def _last_row(path: Path) -> dict | None:
+    rows = csv_rows(path)
+    return rows[-1] if rows else None
+
+
+def robot(results: Path) -> str:
+    """The Table 1 robot at P = (100, 40, 60) kPa and the FE-vs-CC workspace."""
+    out = []
+    folder = results / "robot-table1"
+    if (folder / "states.csv").exists():
+        out.append(f"<p>Command: <code>{esc(ROBOT_TABLE1)}</code></p>")
+        if (folder / "robot.png").exists():
+            out.append(figure(folder / "robot.png", "robot-table1/robot.png"))
+        last = _last_row(folder / "states.csv")
+        if last:
+            out.append("<p>Last converged state:</p>" + table([last]))
+    else:
+        out.append(missing("The Table 1 robot run", ROBOT_TABLE1))
+    runs = sorted((results / "robot-workspace").glob("*/summary.json"))
+    if not runs:
+        out.append(missing("The FE workspace against the constant-curvature model", WORKSPACE))
+    for path in runs:
+        s = json.loads(path.read_text())
+        name = path.parent.name
+        out.append(f"<h3>Workspace: {esc(name)}</h3>")
+        if s.get("partial"):
+            out.append("<p><b>Partial</b>: the run stopped before the whole grid converged.</p>")
+        rows = [
+            {"quantity": k, "value": s[k]}
+            for k in sorted(s)
+            if isinstance(s[k], (int, float)) and not isinstance(s[k], bool)
+        ]
+        out.append(table(rows))
+        for problem in s.get("problems", []):
+            out.append(f"<p>Problem: {esc(problem)}</p>")
+        if (path.parent / "workspace.png").exists():
+            out.append(figure(path.parent / "workspace.png", f"robot-workspace/{name}/workspace.png"))
+    return "".join(out)
+
+
+def _crawl_row(folder: Path, summary: dict) -> dict:
+    setup, comparison = summary.get("setup", {}), summary.get("comparison", {})
+    return {
+        "run": folder.name,
+        "pipe (mm)": setup.get("pipe_diameter"),
+        "feet": setup.get("feet"),
+        "mu smooth / grooved": f"{setup.get('mu_smooth')} / {setup.get('mu_grooved')}",
+        "schedule": summary.get("schedule", {}).get("name"),
+        "cycles done": len(summary.get("cycles", [])),
+        "stride (mm)": comparison.get("stride_mm"),
+        "speed (mm/s)": comparison.get("speed_mm_s"),
+        "Table 2 (mm/s)": comparison.get("table2_mm_s"),
+        "analytic (mm/s)": comparison.get("analytic_fe_friction_mm_s"),
+        "ended": summary.get("message"),
+    }
+
+
+def crawl(results: Path) -> str:
+    """Every committed crawl run (one row each), its figure, and the crawl study when present."""
+    folder = results / "crawl"
+    runs = sorted(p for p in folder.glob("*/summary.json") if p.parent.name != "points")
+    runs = [p for p in runs if "setup" in json.loads(p.read_text())]
+    if not runs:
+        return missing("The crawl in FE", CRAWL)
+    out = []
+    if (folder / "README.md").exists():
+        out.append(markdown((folder / "README.md").read_text()))
+    out.append(table([_crawl_row(p.parent, json.loads(p.read_text())) for p in runs]))
+    for path in runs:
+        png = path.parent / "crawl.png"
+        if png.exists():
+            out.append(figure(png, f"crawl/{path.parent.name}/crawl.png"))
+    for study in sorted(folder.glob("*/summary.csv")):
+        out.append(f"<h3>Crawl study: {esc(study.parent.name)}</h3>" + table(csv_rows(study)))
+        for png in sorted(study.parent.glob("*.png")):
+            out.append(figure(png, f"crawl/{study.parent.name}/{png.name}"))
+    return "".join(out)
