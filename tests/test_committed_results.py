@@ -34,3 +34,19 @@ def test_study_vtu_column_is_relative_to_the_study_folder():
     for path in RESULTS.glob("*/*/curves.csv"):
         for row in csv.DictReader(open(path)):
             assert not row.get("vtu") or row["vtu"].startswith("vtu/"), (path, row["vtu"])
+
+
+def test_every_results_file_the_readmes_link_exists():
+    """A figure or table that README.md or a results/ README links (`](results/...)` or a relative
+    link inside results/) is committed: a renamed study folder must not leave a broken link."""
+    import re
+
+    readmes = [RESULTS.parent / "README.md", *sorted(RESULTS.rglob("README.md"))]
+    missing = []
+    for readme in readmes:
+        for target in re.findall(r"\]\(([^)#\s]+)\)", readme.read_text()):
+            if "://" in target or not target.endswith((".png", ".gif", ".csv", ".json", ".md")):
+                continue
+            if not (readme.parent / target).exists():
+                missing.append(f"{readme.relative_to(RESULTS.parent)} -> {target}")
+    assert not missing, missing
