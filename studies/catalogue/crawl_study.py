@@ -119,7 +119,7 @@ def sliding_feet(cycles_csv: Path) -> dict:
     out = {}
     for phase in ("extend", "retract"):
         slid = [f for f in ("rear", "front") if last[f"{phase}_{f}_slid"] == "True"]
-        out[f"{phase}_slid"] = {0: "none", 2: "both"}.get(len(slid), slid[0] if slid else "none")
+        out[f"{phase}_slid"] = "both" if len(slid) == 2 else (slid[0] if slid else "none")
     return out
 
 

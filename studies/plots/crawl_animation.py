@@ -79,11 +79,10 @@ def _deformed_half(pv, path: Path):
     return grid.clip(normal=(0, -1, 0), origin=(0, 0, 0), crinkle=False)
 
 
-def _axial_range(pv, paths) -> tuple[float, float]:
-    lo, hi = np.inf, -np.inf
-    for path in paths:
-        uz = np.asarray(pv.read(path).point_data[FIELD])[:, 2]
-        lo, hi = min(lo, float(uz.min())), max(hi, float(uz.max()))
+def _axial_range(grids) -> tuple[float, float]:
+    """One colour range of u_z over every frame's drawn half."""
+    uz = [np.asarray(g.point_data["u_z (mm)"]) for g in grids]
+    lo, hi = min(float(u.min()) for u in uz), max(float(u.max()) for u in uz)
     if hi - lo < 1e-9:  # a series without axial motion: a range the scalar bar can draw
         lo, hi = lo - 0.5, hi + 0.5
     return lo, hi
@@ -115,19 +114,18 @@ def write_crawl_gif(vtu_folder, path, states_csv=None, frame_ms: int = FRAME_MS)
     if not states:
         raise ValueError(f"{vtu_folder}/crawl.pvd lists no state")
     titles = _titles(states_csv)
-    clim = _axial_range(pv, [p for _, p in states])
+    halves = [_deformed_half(pv, vtu) for _, vtu in states]  # each VTU read once
+    clim = _axial_range(halves)
     pl = pv.Plotter(off_screen=True, window_size=WINDOW)
     pl.set_background("white")
-    first = _deformed_half(pv, states[0][1])
-    bounds = np.array(first.bounds, dtype=float)
+    bounds = np.array(halves[0].bounds, dtype=float)
     if pipe_path is not None:
         pipe = pv.read(pipe_path).clip(normal=(0, -1, 0), origin=(0, 0, 0), crinkle=False)
         pl.add_mesh(pipe, color="#9aa5b1", opacity=0.25, show_edges=False, name="pipe")
         bounds = np.array(pipe.bounds, dtype=float)
     _camera(pl, bounds)
     frames = []
-    for k, (time_s, vtu) in enumerate(states):
-        half = first if k == 0 else _deformed_half(pv, vtu)
+    for k, ((time_s, vtu), half) in enumerate(zip(states, halves)):
         pl.add_mesh(
             half,
             scalars="u_z (mm)",

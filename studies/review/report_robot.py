@@ -82,18 +82,17 @@ def _crawl_row(folder: Path, summary: dict) -> dict:
 def crawl(results: Path) -> str:
     """Every committed crawl run (one row each), its figure, and the crawl study when present."""
     folder = results / "crawl"
-    runs = sorted(p for p in folder.glob("*/summary.json") if p.parent.name != "points")
-    runs = [p for p in runs if "setup" in json.loads(p.read_text())]
+    summaries = {p.parent: json.loads(p.read_text()) for p in sorted(folder.glob("*/summary.json"))}
+    runs = {run: s for run, s in summaries.items() if "setup" in s}  # a crawl run, not a study
     if not runs:
         return missing("The crawl in FE", CRAWL)
     out = []
     if (folder / "README.md").exists():
         out.append(markdown((folder / "README.md").read_text()))
-    out.append(table([_crawl_row(p.parent, json.loads(p.read_text())) for p in runs]))
-    for path in runs:
-        png = path.parent / "crawl.png"
-        if png.exists():
-            out.append(figure(png, f"crawl/{path.parent.name}/crawl.png"))
+    out.append(table([_crawl_row(run, summary) for run, summary in runs.items()]))
+    for run in runs:
+        if (run / "crawl.png").exists():
+            out.append(figure(run / "crawl.png", f"crawl/{run.name}/crawl.png"))
     for study in sorted(folder.glob("*/summary.csv")):
         out.append(f"<h3>Crawl study: {esc(study.parent.name)}</h3>" + table(csv_rows(study)))
         for png in sorted(study.parent.glob("*.png")):

@@ -85,6 +85,21 @@ def test_two_free_blocks_pushed_apart_match_the_closed_form():
     assert abs(ground_a.tension(res.x) + ground_b.tension(res.x)) < 1e-8 * F0
 
 
+def _pulled_block(N, k, mu=0.0, preload=0.0):
+    """Block 2 x 1 x 0.5 (half: y >= 0) pressed by the dead load N on the plane z = 0 (penalty
+    100, friction mu), its end face x1 held plane and pulled along x by a ground link of
+    stiffness k and preload `preload`; returns (model, the link)."""
+    model = SolidModel(
+        box((2.0, 1.0, 0.5), (4, 2, 2)),
+        RUBBER,
+        dirichlet=[Dirichlet.symmetry("y0", 1)],
+        dead_loads={"z1": (0.0, 0.0, -N)},
+        contacts=[ContactSpec(("z0",), Plane(), penalty=100.0, mu=mu)],
+        extra_terms=[AxialLink("x1", None, 0, k, preload, name="pull"), EqualDisplacement("x1", 0, 10.0)],
+    )
+    return model, model.terms[-2]  # the link's term (the spec above is its input)
+
+
 @pytest.mark.parametrize("ratio", [0.5, 2.0])
 def test_block_held_by_friction_sticks_below_mu_n_and_slides_above(ratio):
     """Block 2 x 1 x 0.5 pressed by N on a plane with mu, pulled along x by a ground link with
@@ -93,15 +108,7 @@ def test_block_held_by_friction_sticks_below_mu_n_and_slides_above(ratio):
     spring takes the rest, u = (F0 - mu N) / k, with the friction at mu N."""
     mu, N, k = 0.3, 0.04, 0.01
     F0 = ratio * mu * N
-    model = SolidModel(
-        box((2.0, 1.0, 0.5), (4, 2, 2)),
-        RUBBER,
-        dirichlet=[Dirichlet.symmetry("y0", 1)],
-        dead_loads={"z1": (0.0, 0.0, -N)},
-        contacts=[ContactSpec(("z0",), Plane(), penalty=100.0)],
-        extra_terms=[AxialLink("x1", None, 0, k, name="pull"), EqualDisplacement("x1", 0, 10.0)],
-    )
-    pull = model.terms[-2]
+    model, pull = _pulled_block(N, k)
     stages = [
         Stage("press", factor=1.0, steps=2),
         Stage("friction", friction={0: mu}),
@@ -138,18 +145,7 @@ def test_reported_contact_forces_balance_when_the_uzawa_loop_stops_early():
     multipliers of an update that no solve had balanced: 2 N after one pure-penalty step) and
     the friction balances the link."""
     mu, N, k = 0.3, 0.04, 0.01
-    model = SolidModel(
-        box((2.0, 1.0, 0.5), (4, 2, 2)),
-        RUBBER,
-        dirichlet=[Dirichlet.symmetry("y0", 1)],
-        dead_loads={"z1": (0.0, 0.0, -N)},
-        contacts=[ContactSpec(("z0",), Plane(), penalty=100.0, mu=mu)],
-        extra_terms=[
-            AxialLink("x1", None, 0, k, 0.5 * mu * N, name="pull"),
-            EqualDisplacement("x1", 0, 10.0),
-        ],
-    )
-    pull = model.terms[-2]
+    model, pull = _pulled_block(N, k, mu=mu, preload=0.5 * mu * N)
     res = run_stages(model, [Stage("load", factor=1.0)], penetration_tol=1e-12, max_augment=0)
     assert res.converged, res.message
     rep = model.contacts[0].report(res.x)
@@ -162,15 +158,7 @@ def test_a_sliding_block_unloads_back_to_stick():
     slid to and the friction follows the pull (the unloading starts with every point on the
     Coulomb limit: `fem.contact_law.SLIP_MARGIN`; this block unloads with or without it)."""
     mu, N, k = 0.3, 0.04, 1e-4
-    model = SolidModel(
-        box((2.0, 1.0, 0.5), (4, 2, 2)),
-        RUBBER,
-        dirichlet=[Dirichlet.symmetry("y0", 1)],
-        dead_loads={"z1": (0.0, 0.0, -N)},
-        contacts=[ContactSpec(("z0",), Plane(), penalty=100.0)],
-        extra_terms=[AxialLink("x1", None, 0, k, name="pull"), EqualDisplacement("x1", 0, 10.0)],
-    )
-    pull = model.terms[-2]
+    model, pull = _pulled_block(N, k)
     F_slide, F_hold = 1.02 * mu * N, 0.5 * mu * N
     stages = [
         Stage("press", factor=1.0, steps=2),
