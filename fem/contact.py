@@ -57,7 +57,9 @@ class ContactSpec:
     oversized body must be brought in by moving the surface, `fem.contact_stages`);
     intorder: facet quadrature order; name: labels outputs;
     smoothing: gap band (mm) over which the normal law's kink is rounded (`fem.contact_law`;
-    0, the default: the exact kink).
+    0, the default: the exact kink);
+    slip_band: width w of the rounded Coulomb cone, a share of the Coulomb radius mu p_N, in
+    [0, 1) (`fem.contact_law`; 0, the default: the exact cone).
     """
 
     tags: tuple[str, ...]
@@ -69,6 +71,7 @@ class ContactSpec:
     intorder: int = 4
     name: str = "contact"
     smoothing: float = 0.0
+    slip_band: float = 0.0
 
     def __post_init__(self):
         tags = (self.tags,) if isinstance(self.tags, str) else tuple(self.tags)
@@ -87,6 +90,11 @@ class ContactSpec:
             raise SolverInputError("contact.max_initial_penetration", "must be a number >= 0")
         if not (np.isfinite(self.smoothing) and self.smoothing >= 0):
             raise SolverInputError("contact.smoothing", "must be a gap band >= 0 (mm)")
+        if not (np.isfinite(self.slip_band) and 0.0 <= self.slip_band < 1.0):
+            raise SolverInputError(
+                "contact.slip_band",
+                f"must be a share of the Coulomb radius in [0, 1), got {self.slip_band!r}",
+            )
 
     @property
     def eps_t(self) -> float:
@@ -159,6 +167,7 @@ class ContactTerm:
         n = self.X.shape[0]
         self.multiplier = np.zeros(n)
         self.stick = self.X.copy()
+        self._solved = None  # (positions, stick points) of the last commit, for `report`
         g = self.surface.project(self.X)[0]
         limit = spec.max_initial_penetration + 1e-9 * max(space.size, 1.0)
         if g.min() < -limit:
@@ -186,6 +195,7 @@ class ContactTerm:
             self.mu,
             with_tangent,
             s.smoothing,
+            s.slip_band,
         )
 
     def arrays(self, x, pressures=None, with_tangent=True):
@@ -203,10 +213,14 @@ class ContactTerm:
 
     # ------------------------------------------------------------ history
     def commit(self, x: np.ndarray) -> None:
-        """A converged state: update the stick points (never called inside Newton)."""
+        """A converged state: update the stick points (never called inside Newton). With a rounded
+        cone the return to r = 1 lowers the traction of slipping points by up to mu p_N w / 8
+        (`fem.contact_law`); `report` at this x therefore uses the stick points x was solved with
+        (the forces the residual balanced)."""
         st = self.state(x)
         pos = self.positions(x)
-        self.stick = pos if self.mu == 0.0 else committed_stick(st, pos, self.stick, self.spec.eps_t)
+        self._solved = (pos, self.stick)
+        self.stick = pos if self.mu == 0.0 else committed_stick(st, pos, self.stick, self.spec.eps_t, self.mu)
 
     def augment(self, x: np.ndarray, relax: float = 1.0) -> float:
         """Uzawa update at a converged state: lambda <- lambda + relax (p_N - lambda), the full
@@ -224,14 +238,30 @@ class ContactTerm:
     def set_friction(self, mu: float, x: np.ndarray) -> None:
         """Change the friction coefficient; stick points restart at the current positions."""
         self.mu = check_mu(mu)
-        self.stick = self.positions(x)
+        self.stick, self._solved = self.positions(x), None
 
     def reset_multipliers(self) -> None:
         self.multiplier = np.zeros_like(self.multiplier)
 
     # ------------------------------------------------------------ outputs
     def report(self, x: np.ndarray) -> ContactReport:
-        st = self.state(x)
+        """The outputs at x; at the last committed state, with the history it was solved with."""
+        pos = self.positions(x)
+        solved = self._solved
+        stick = solved[1] if solved is not None and np.array_equal(solved[0], pos) else self.stick
+        s = self.spec
+        st = evaluate(
+            pos,
+            self.surface,
+            self.multiplier,
+            stick,
+            s.penalty,
+            s.eps_t,
+            self.mu,
+            False,
+            s.smoothing,
+            s.slip_band,
+        )
         n_f, n_q = self.dA.shape
         dA = self.dA.reshape(-1)
         F = self.space.deformation_gradient(x, self._g_aqJ, self._elem_nodes)  # (3, 3, F, Q)

@@ -39,10 +39,36 @@ foot in full slip whose load then decreases gets the slip tangent, which has no 
 the slip: the first Newton step of the unloading is a free rigid slide that no line search can
 repair at any step size (seen in the crawl, docs/DESIGN.md section 13).
 
+Rounded cone (optional, `ContactSpec.slip_band` = w, a share of the Coulomb radius; off by
+default). With r = |t*| / (mu p_N), the traction is f_T = mu p_N phi(r) m, where phi(r) = min(r, 1)
+is the exact law and its C1 rounding is
+
+    phi(r) = r                               r <= 1 - w/2        (stick: f_T = t*)
+    phi(r) = r - (r - 1 + w/2)^2 / (2 w)     |r - 1| < w/2       (the band)
+    phi(r) = 1                               r >= 1 + w/2        (slip)
+
+so |f_T| <= mu p_N always (the Coulomb limit is not moved; on the band the traction is below the
+stick value by at most mu p_N w / 8) and the tangent is continuous across the cone. On the band
+
+    d f_T / dx = mu (phi - r phi') m (d p_N/dx)^T + phi' m m^T d t*/dx + mu p_N phi / |t*| (I - m m) d t*/dx
+
+(phi' = 1 - (r - 1 + w/2) / w), which is the stick tangent at r = 1 - w/2 and the slip tangent at
+1 + w/2. Why: with the exact cone a point at the Coulomb limit switches between the stick tangent
+eps_T P and the slip tangent (no stiffness along m) from one Newton iteration to the next, and in
+the foot's backward drag two such points flip ten times in a solve without converging
+(docs/DESIGN.md section 11); with the rounded cone the residual is C1 and Newton's local
+convergence holds.
+
 History update, after an increment has converged (never inside Newton): stick points keep x_s;
 slipping points move it so that the elastic part of the tangential spring equals the traction,
-x_s <- x + f_T / eps_T; points out of contact reset it, x_s <- x. The Uzawa update at a
-converged state sets lambda <- p_N (zero where the point has separated).
+x_s <- x + f_T / eps_T; points out of contact reset it, x_s <- x. With the rounded cone the
+return goes to the cone, r <- min(r, 1): points with r > 1 get x_s <- x + mu p_N m / eps_T (the
+same formula at w = 0), the others keep x_s. A point that slid is therefore stored at r = 1 on
+the band, where phi' = 1/2 (a stiffness along the slip for the next increment; at 1 + w/2 it
+would be 0, the free-slide failure SLIP_MARGIN prevents for w = 0), at the price of a one-off
+drop of its traction by at most mu p_N w / 8 at that commit; a point held still is not moved by
+further commits. The Uzawa update at a converged state sets lambda <- p_N (zero where the point
+has separated).
 
 Everything is per point and vectorised over points (n, ...).
 """
@@ -81,9 +107,21 @@ def normal_pressure(trial: np.ndarray, width: float):
     return p, ramp / width, trial > -0.5 * width
 
 
-def evaluate(x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent, smoothing=0.0) -> PointState:
+def cone(r: np.ndarray, band: float):
+    """(phi, phi') of the rounded Coulomb cone at r = |t*| / (mu p_N) (module docstring); band 0:
+    the exact min(r, 1)."""
+    if band <= 0.0:
+        return np.minimum(r, 1.0), (r <= 1.0).astype(float)
+    a = np.clip(r - 1.0 + 0.5 * band, 0.0, band)
+    return np.where(r >= 1.0 + 0.5 * band, 1.0, r - a * a / (2.0 * band)), 1.0 - a / band
+
+
+def evaluate(
+    x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent, smoothing=0.0, slip_band=0.0
+) -> PointState:
     """The contact law at points x (n, 3) against `surface` (module docstring); `smoothing` (mm)
-    rounds the normal law's kink over a gap band of that width (0: the exact kink)."""
+    rounds the normal law's kink over a gap band of that width, `slip_band` (a share of the
+    Coulomb radius) rounds the cone (0: the exact law)."""
     g, n, C = surface.project(x)
     trial = multiplier - eps_n * g
     p, dp, active = normal_pressure(trial, eps_n * smoothing)
@@ -101,24 +139,45 @@ def evaluate(x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent, smoo
         v_n = np.einsum("ni,ni->n", n, v)
         t_trial = -eps_t * (v - v_n[:, None] * n)
         norm = np.linalg.norm(t_trial, axis=1)
-        slip = active & (norm > mu * p * (1.0 + SLIP_MARGIN))
-        stuck = active & ~slip
-        safe = np.where(slip, norm, 1.0)
+        radius = mu * p
+        if slip_band > 0.0:
+            stuck = active & (norm <= radius * (1.0 - 0.5 * slip_band))
+        else:
+            stuck = active & (norm <= radius * (1.0 + SLIP_MARGIN))
+        rounded = active & ~stuck  # on the band or beyond (w = 0: in slip)
+        slip = active & (norm > radius * (1.0 + 0.5 * slip_band) * (1.0 + SLIP_MARGIN))
+        safe = np.where(rounded, norm, 1.0)
         m = t_trial / safe[:, None]
-        f_t = np.where(stuck[:, None], t_trial, 0.0) + np.where(slip[:, None], (mu * p)[:, None] * m, 0.0)
+        r = np.where(rounded & (radius > 0), norm / np.where(radius > 0, radius, 1.0), np.inf)
+        phi, dphi = cone(r, slip_band)
+        f_t = np.where(stuck[:, None], t_trial, 0.0) + np.where(
+            rounded[:, None], (radius * phi)[:, None] * m, 0.0
+        )
         if with_tangent:
             dt = -eps_t * (np.eye(3)[None] - n[:, :, None] * n[:, None, :])
             if C is not None:
                 Cv = np.einsum("nij,nj->ni", C, v)
                 dt = dt - eps_t * (v_n[:, None, None] * C + n[:, :, None] * Cv[:, None, :])
-            proj = np.eye(3)[None] - m[:, :, None] * m[:, None, :]
-            d_slip = (mu * p / safe)[:, None, None] * np.matmul(proj, dt)
-            d_slip += mu * m[:, :, None] * (-(eps_n * dp)[:, None] * n)[:, None, :]
-            K = K - np.where(stuck[:, None, None], dt, 0.0) - np.where(slip[:, None, None], d_slip, 0.0)
+            mm = m[:, :, None] * m[:, None, :]
+            dp_dx = -(eps_n * dp)[:, None] * n
+            coupling = phi - np.where(np.isfinite(r), r, 0.0) * dphi  # r = inf: phi = 1, phi' = 0
+            d_round = (radius * phi / safe)[:, None, None] * np.matmul(np.eye(3)[None] - mm, dt)
+            d_round += (mu * coupling)[:, None, None] * m[:, :, None] * dp_dx[:, None, :]
+            d_round += dphi[:, None, None] * np.matmul(mm, dt)
+            K = K - np.where(stuck[:, None, None], dt, 0.0) - np.where(rounded[:, None, None], d_round, 0.0)
     return PointState(p, n, g, f_t, active, slip, f_n + f_t, K)
 
 
-def committed_stick(state: PointState, x: np.ndarray, stick: np.ndarray, eps_t: float) -> np.ndarray:
-    """The stick points after a converged increment (module docstring)."""
-    out = np.where(state.slip[:, None], x + state.friction / eps_t, stick)
+def committed_stick(
+    state: PointState, x: np.ndarray, stick: np.ndarray, eps_t: float, mu: float
+) -> np.ndarray:
+    """The stick points after a converged increment: the return to the cone r <- min(r, 1)
+    (module docstring; at w = 0 the points in slip)."""
+    v = x - stick
+    t_trial = -eps_t * (v - np.einsum("ni,ni->n", state.normal, v)[:, None] * state.normal)
+    norm = np.linalg.norm(t_trial, axis=1)
+    radius = mu * state.pressure
+    past = state.active & (norm > radius)
+    m = t_trial / np.where(past & (norm > 0), norm, 1.0)[:, None]
+    out = np.where(past[:, None], x + (radius[:, None] * m) / eps_t, stick)
     return np.where(state.active[:, None], out, x)

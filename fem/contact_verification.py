@@ -67,10 +67,10 @@ def press_test(pressure=0.3, penalty=100.0, tolerance=5e-3, smoothing=0.0) -> Ca
     )
 
 
-def _drag_block(mu, pressure, penalty, drag=None, shear=None, smoothing=0.0):
+def _drag_block(mu, pressure, penalty, drag=None, shear=None, smoothing=0.0, slip_band=0.0):
     """The block 2 x 1 x 1 (half: y >= 0), follower pressure on z1, on the plane z = 0."""
     mesh = box((2.0, 1.0, 1.0), (4, 2, 2))
-    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu, smoothing=smoothing)
+    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu, smoothing=smoothing, slip_band=slip_band)
     bcs = [Dirichlet.symmetry("y0", 1)]
     if drag is not None:
         bcs.append(Dirichlet("z1", (0, 1), (drag, 0.0)))
@@ -81,8 +81,10 @@ def _drag_block(mu, pressure, penalty, drag=None, shear=None, smoothing=0.0):
     return model
 
 
-def drag_test(mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, tolerance=5e-3, smoothing=0.0) -> CaseResult:
-    model = _drag_block(0.0, pressure, penalty, drag=drag, smoothing=smoothing)
+def drag_test(
+    mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, tolerance=5e-3, smoothing=0.0, slip_band=0.0
+) -> CaseResult:
+    model = _drag_block(0.0, pressure, penalty, drag=drag, smoothing=smoothing, slip_band=slip_band)
     stages = [
         Stage("press", pressure=pressure, steps=2),
         Stage("drag", factor=1.0, friction={0: mu}, steps=4),
@@ -102,13 +104,15 @@ def drag_test(mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, tolerance=5e-3, smo
     )
 
 
-def stick_test(mu=0.3, pressure=0.02, penalty=100.0, ratio=0.5, tolerance=5e-3, smoothing=0.0) -> CaseResult:
+def stick_test(
+    mu=0.3, pressure=0.02, penalty=100.0, ratio=0.5, tolerance=5e-3, smoothing=0.0, slip_band=0.0
+) -> CaseResult:
     """Proportional dead load (T, 0, -N) on the top of a 2 x 1 x 0.5 block with nu = 0 (K = 2/3 mu,
     no Poisson slip under the normal load), T = ratio mu N: every point sticks."""
     mesh = box((2.0, 1.0, 0.5), (4, 2, 2))
     normal = pressure * 2.0
     shear = ratio * mu * normal
-    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu, smoothing=smoothing)
+    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu, smoothing=smoothing, slip_band=slip_band)
     model = SolidModel(
         mesh,
         NeoHookean(mu=1.0, bulk=2.0 / 3.0),
@@ -217,7 +221,7 @@ def convergence_order(residuals, floor=1e-11) -> float:
 
 
 def newton_test(
-    radius=20.0, mu=0.3, pressure=0.2, penalty=100.0, steps=8, tolerance=1.8, smoothing=0.0
+    radius=20.0, mu=0.3, pressure=0.2, penalty=100.0, steps=8, tolerance=1.8, smoothing=0.0, slip_band=0.0
 ) -> CaseResult:
     """Sliding on the inside of a cylinder (axis x, under the block), dragged along the axis and
     around it in `steps` increments: the order of convergence in the last increment, a steady
@@ -229,7 +233,14 @@ def newton_test(
     # the wall rises around the flat base: its long edges start 2 um into the wall (the block has
     # no other support in z), its centre line 4 um clear
     wall = CylinderWall(radius, (0.0, 0.5, float(np.sqrt((radius + 0.002) ** 2 - 0.25))), (1.0, 0.0, 0.0))
-    spec = ContactSpec(("z0",), wall, penalty=penalty, max_initial_penetration=0.003, smoothing=smoothing)
+    spec = ContactSpec(
+        ("z0",),
+        wall,
+        penalty=penalty,
+        max_initial_penetration=0.003,
+        smoothing=smoothing,
+        slip_band=slip_band,
+    )
     bcs = [Dirichlet("z1", (0, 1), (0.4, 0.3))]
     model = SolidModel(mesh, MATERIAL, dirichlet=bcs, chambers=ChamberSpec(("z1",)), contacts=[spec])
     stages = [

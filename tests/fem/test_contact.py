@@ -5,7 +5,7 @@ import pytest
 
 from fem import contact_verification as cv
 from fem.contact import ContactSpec
-from fem.contact_law import evaluate
+from fem.contact_law import committed_stick, cone, evaluate
 from fem.errors import SolverInputError
 from fem.model import Dirichlet, SolidModel
 from fem.rigid_surfaces import CylinderWall, Plane
@@ -17,11 +17,13 @@ from fem.structured import box
     [Plane(normal=(0.2, 0.1, 1.0)), CylinderWall(5.0, axis=(0.1, 0.0, 1.0))],
     ids=["plane", "cylinder"],
 )
-@pytest.mark.parametrize("smoothing", [0.0, 0.05], ids=["kink", "smoothed"])
-def test_pointwise_tangent_matches_finite_differences(surface, smoothing):
+@pytest.mark.parametrize(
+    "smoothing, slip_band", [(0.0, 0.0), (0.05, 0.0), (0.05, 0.6)], ids=["kink", "smoothed", "rounded-cone"]
+)
+def test_pointwise_tangent_matches_finite_differences(surface, smoothing, slip_band):
     """-df/dx of the law (normal, curvature, stick, slip and slip-normal coupling) against central
     differences at random points in stick, slip and out of contact (and, smoothed, on the
-    rounded band of the normal law)."""
+    rounded band of the normal law; with a rounded cone, on its band)."""
     rng = np.random.default_rng(0)
     x = rng.normal(size=(60, 3)) * 0.3
     if isinstance(surface, CylinderWall):
@@ -30,20 +32,75 @@ def test_pointwise_tangent_matches_finite_differences(surface, smoothing):
         x[:, 1] += 5 * np.sin(th)
     stick = x + rng.normal(size=(60, 3)) * 0.02
     lam = rng.uniform(0, 0.1, 60)
+    if slip_band:  # every third point in contact moved onto the cone's band: r in 1 +- 0.4 w
+        st = evaluate(x, surface, lam, stick, 10.0, 7.0, 0.4, False, smoothing)
+        v = x - stick
+        r = np.linalg.norm(7.0 * _tangential(v, st.normal), axis=1) / (0.4 * np.maximum(st.pressure, 1e-30))
+        pick = np.flatnonzero(st.active & (st.pressure > 1e-3))[::3]
+        target = 1.0 + 0.4 * slip_band * rng.uniform(-1.0, 1.0, pick.size)
+        stick[pick] = x[pick] - v[pick] * (target / r[pick])[:, None]
     args = (surface, lam, stick, 10.0, 7.0, 0.4)
-    st = evaluate(x, *args, True, smoothing)
+    st = evaluate(x, *args, True, smoothing, slip_band)
     assert st.slip.sum() >= 2 and (st.active & ~st.slip).sum() >= 2 and (~st.active).sum() >= 2
     if smoothing:
         q = lam - 10.0 * st.gap
         assert (np.abs(q) < 0.5 * 10.0 * smoothing).sum() >= 3  # points on the rounded band
+    if slip_band:
+        radius = 0.4 * st.pressure[st.active]
+        r = np.linalg.norm(7.0 * _tangential(x - stick, st.normal), axis=1)[st.active] / radius
+        assert (np.abs(r - 1.0) < 0.5 * slip_band).sum() >= 3
+        assert np.all(np.linalg.norm(st.friction, axis=1)[st.active] <= radius * (1.0 + 1e-12))
     h = 1e-6
     for j in range(3):
         d = np.zeros(3)
         d[j] = h
-        fd = -(
-            evaluate(x + d, *args, False, smoothing).force - evaluate(x - d, *args, False, smoothing).force
-        ) / (2 * h)
+        plus = evaluate(x + d, *args, False, smoothing, slip_band).force
+        fd = -(plus - evaluate(x - d, *args, False, smoothing, slip_band).force) / (2 * h)
         assert np.abs(fd - st.stiffness[:, :, j]).max() < 1e-7 * np.abs(st.stiffness).max()
+
+
+def _tangential(v, n):
+    return v - np.einsum("ni,ni->n", n, v)[:, None] * n
+
+
+def test_rounded_cone_is_c1_and_keeps_the_coulomb_limit():
+    """phi(r) of the rounded cone: r below the band, 1 above, value and slope continuous at both
+    edges, 1 - w/8 and slope 1/2 at r = 1 (fem.contact_law docstring)."""
+    w, e = 0.2, 1e-9
+    r = np.array([0.5, 0.9 - e, 0.9 + e, 1.0, 1.1 - e, 1.1 + e, 3.0])
+    phi, dphi = cone(r, w)
+    assert np.allclose(phi, [0.5, 0.9, 0.9, 1.0 - w / 8, 1.0, 1.0, 1.0], atol=1e-8)
+    assert np.allclose(dphi, [1.0, 1.0, 1.0, 0.5, 0.0, 0.0, 0.0], atol=1e-7)
+    assert np.all(np.diff(phi) >= 0) and np.all(phi <= np.minimum(r, 1.0))
+    with pytest.raises(SolverInputError, match="contact.slip_band"):
+        ContactSpec(("z0",), Plane(), penalty=1.0, slip_band=1.0)
+
+
+@pytest.mark.parametrize("slip_band", [0.0, 0.1])
+def test_commit_returns_to_the_cone_and_a_point_held_still_keeps_its_traction(slip_band):
+    """A point in full slip is stored at r = 1 by the commit (its traction at the same position
+    becomes mu p_N (1 - w/8)); further commits at the same position change nothing; a point in
+    stick keeps its stick point."""
+    x = np.array([[0.0, 0.0, -0.01], [0.0, 0.0, -0.01]])
+    stick = np.array([[-0.5, 0.0, 0.0], [-1e-4, 0.0, 0.0]])  # far past the cone; well inside it
+    args = (Plane(), np.zeros(2), 100.0, 100.0, 0.3, False, 0.0, slip_band)
+    first = evaluate(x, args[0], args[1], stick, *args[2:])
+    assert first.slip[0] and not first.slip[1]
+    stored = committed_stick(first, x, stick, 100.0, 0.3)
+    assert np.array_equal(stored[1], stick[1])
+    again = evaluate(x, args[0], args[1], stored, *args[2:])
+    limit = 0.3 * again.pressure[0]
+    assert abs(np.linalg.norm(again.friction[0]) - limit * (1.0 - slip_band / 8)) < 1e-12
+    assert np.allclose(committed_stick(again, x, stored, 100.0, 0.3), stored, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("name", ["drag", "stick", "newton"])
+def test_verification_cases_hold_with_a_rounded_cone(name):
+    """Friction cases with the cone rounded over w = 0.05 of the Coulomb radius, as on the foot:
+    the same tolerances (mu N in full slip 0.5 %, stick 0.5 % at T = mu N / 2, order >= 1.8)."""
+    case = {"drag": cv.drag_test, "stick": cv.stick_test, "newton": cv.newton_test}
+    result = case[name](slip_band=0.05)
+    assert result.passed, (result.error, result.details)
 
 
 def test_history_changes_only_on_commit():
