@@ -35,6 +35,7 @@ from fem.contact_stages import Stage, run_stages
 from fem.equal_displacement import EqualDisplacement
 from fem.model import Dirichlet, SolidModel
 from fem.rigid_surfaces import CylinderWall
+from studies.parts import foot_model
 from studies.parts.crawl_mesh import FEET, attach_tag
 from studies.parts.crawl_outputs import CrawlResult, StateRecorder
 from studies.parts.crawl_schedule import AxialLaw, Schedule
@@ -86,7 +87,14 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
     eps = 10.0 * youngs / size  # as the foot study
     wall = CylinderWall(foot_design.tip_radius + 0.5)
     contacts = [
-        ContactSpec(tuple(f"{foot}:{t}" for t in tags), wall, penalty=eps, name=f"{foot}:{face}")
+        ContactSpec(
+            tuple(f"{foot}:{t}" for t in tags),
+            wall,
+            penalty=eps,
+            name=f"{foot}:{face}",
+            smoothing=foot_model.SMOOTHING,  # the foot study's contact law
+            slip_band=foot_model.SLIP_BAND,
+        )
         for foot in FEET
         for face, tags in FACES
     ]
