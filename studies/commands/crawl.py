@@ -3,7 +3,7 @@
     softcrawl crawl [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3] [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
                     [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric]
-                    [--gif | --animation PATH.gif] --out DIR
+                    [--edge-length MM] [--gif | --animation PATH.gif] --out DIR
 
 Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
 friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
@@ -62,6 +62,8 @@ def register(subparsers) -> None:
                minimum=0.0, maximum=5.0)  # fmt: skip
     add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4",
                minimum=1, maximum=200, integer=True)  # fmt: skip
+    add_number(p, "--edge-length", help="the feet's mesh edge (the mesh-convergence check)", unit="mm",
+               default_text="pytetwild's, 0.05 x the foot's diagonal", minimum=1.0, maximum=20.0)  # fmt: skip
     p.add_argument("--quick", action="store_true", help="fewer insertion steps (4 instead of 8)")
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet mirrored: skirts lean forward")
@@ -94,6 +96,7 @@ def run(args) -> int:
         insert_steps=4 if args.quick else 8,
         steps=steps,
         cycles=args.cycles,
+        edge_length=args.edge_length,
     )
     print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
     result, summary = run_and_write(

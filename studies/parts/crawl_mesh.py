@@ -72,13 +72,14 @@ def two_feet(
     )
 
 
-def crawl_mesh(mirrored: tuple[bool, bool] = (False, False), cache_dir=None):
-    """(foot design, skfem MeshTet2 of the two feet) of the Table 1 robot (`geometry.design`)."""
+def crawl_mesh(mirrored: tuple[bool, bool] = (False, False), cache_dir=None, edge_length=None):
+    """(foot design, skfem MeshTet2 of the two feet) of the Table 1 robot (`geometry.design`);
+    `edge_length` (mm) is the foot's pytetwild edge (None: its default)."""
     from geometry.design import RobotDesign
     from geometry.tetwild import mesh_foot
 
     robot = RobotDesign()
-    foot = mesh_foot(robot.foot, cache_dir=cache_dir)
+    foot = mesh_foot(robot.foot, edge_length=edge_length, cache_dir=cache_dir)
     separation = robot.epsa.length + robot.epsa.seal_head_thickness + robot.foot.hub_thickness
     both = two_feet(foot, separation, robot.foot.hub_thickness, mirrored)
     return robot.foot, both.to_skfem(2)

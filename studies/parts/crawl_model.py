@@ -61,6 +61,7 @@ class CrawlSetup:
     steps: int = 4  # sub-steps per schedule segment
     cycles: int = 1
     max_wall_s: float | None = None  # give the schedule up after this wall time (None: no limit)
+    edge_length: float | None = None  # foot mesh edge (mm; None: the pytetwild default)
 
     @property
     def mirrored(self) -> tuple[bool, bool]:

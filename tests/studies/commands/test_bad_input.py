@@ -48,6 +48,7 @@ CASES: list[tuple[str, str]] = [
     ("crawl --pressure 150 --out OUT", "pressure"),
     ("crawl --cycle-time 0 --out OUT", "cycle-time"),
     ("crawl --mu-smooth -0.1 --out OUT", "mu-smooth"),
+    ("crawl --edge-length 0.2 --out OUT", "edge-length"),
     ("crawl --steps 0 --out OUT", "steps"),
     ("crawl --schedule MISSING --out OUT", "schedule"),
     ("crawl --schedule TEXT --out OUT", "schedule"),
