@@ -18,7 +18,8 @@ from studies.review.html import csv_rows, esc, figure, markdown, missing, table
 ROBOT_TABLE1 = "softcrawl robot --mesh quick --first 0,40,60 --pressures 100,40,60 --out results/robot-table1"
 WORKSPACE = 'softcrawl study workspace --quick --material "ecoflex-00-50@mu=0.0638" --out results/'
 CRAWL = (
-    "softcrawl crawl --quick --cycles 1 --mu-smooth 0.3 --mu-grooved 0.3 --out results/crawl/forward-70-mu0.3"
+    "softcrawl crawl --quick --cycles 2 --mu-smooth 0.3 --mu-grooved 0.3 "
+    "--out results/crawl/forward-70-mu0.3-2cycles"
 )
 
 

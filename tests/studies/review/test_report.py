@@ -50,9 +50,9 @@ def test_robot_and_crawl_sections_carry_the_committed_figures(report):
     robot = text.split('<section id="robot">')[1].split("</section>")[0]
     crawl = text.split('<section id="crawl">')[1].split("</section>")[0]
     assert "robot-table1/robot.png" in robot
-    # the mu = 0.3 cycle of results/crawl: first-cycle stride 15.38 mm at 7.69 mm/s, Table 2 18.3
-    row = crawl.split("forward-70-mu0.3</td>")[1].split("</tr>")[0]
-    assert "15.38" in row and "7.691" in row and "18.3" in row
+    # the mu = 0.3 run of results/crawl: two cycles, steady stride 6.20 mm at 3.10 mm/s, Table 2 18.3
+    row = crawl.split("forward-70-mu0.3-2cycles</td>")[1].split("</tr>")[0]
+    assert "6.2" in row and "3.1" in row and "18.3" in row
     assert crawl.count("data:image/png;base64,") >= 5  # one figure per committed run
 
 
