@@ -91,7 +91,7 @@ class PointState:
     gap: np.ndarray  # (n,)
     friction: np.ndarray  # (n, 3) f_T, MPa
     active: np.ndarray  # (n,) bool
-    slip: np.ndarray  # (n,) bool (active and slipping)
+    slip: np.ndarray  # (n,) bool: active and in full slip (r > 1 + w/2 with a rounded cone)
     force: np.ndarray  # (n, 3) f_N + f_T: the surface's force on the body per reference area
     stiffness: np.ndarray | None  # (n, 3, 3) -d force / dx
 
