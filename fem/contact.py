@@ -184,12 +184,15 @@ class ContactTerm:
         return self.X + np.einsum("afi,afq->fqi", u, self.N).reshape(-1, 3)
 
     def state(self, x: np.ndarray, with_tangent: bool = False):
+        return self._evaluate(self.positions(x), self.stick, with_tangent)
+
+    def _evaluate(self, pos: np.ndarray, stick: np.ndarray, with_tangent: bool):
         s = self.spec
         return evaluate(
-            self.positions(x),
+            pos,
             self.surface,
             self.multiplier,
-            self.stick,
+            stick,
             s.penalty,
             s.eps_t,
             self.mu,
@@ -217,8 +220,8 @@ class ContactTerm:
         cone the return to r = 1 lowers the traction of slipping points by up to mu p_N w / 8
         (`fem.contact_law`); `report` at this x therefore uses the stick points x was solved with
         (the forces the residual balanced)."""
-        st = self.state(x)
         pos = self.positions(x)
+        st = self._evaluate(pos, self.stick, False)
         self._solved = (pos, self.stick)
         self.stick = pos if self.mu == 0.0 else committed_stick(st, pos, self.stick, self.spec.eps_t, self.mu)
 
@@ -249,19 +252,7 @@ class ContactTerm:
         pos = self.positions(x)
         solved = self._solved
         stick = solved[1] if solved is not None and np.array_equal(solved[0], pos) else self.stick
-        s = self.spec
-        st = evaluate(
-            pos,
-            self.surface,
-            self.multiplier,
-            stick,
-            s.penalty,
-            s.eps_t,
-            self.mu,
-            False,
-            s.smoothing,
-            s.slip_band,
-        )
+        st = self._evaluate(pos, stick, False)
         n_f, n_q = self.dA.shape
         dA = self.dA.reshape(-1)
         F = self.space.deformation_gradient(x, self._g_aqJ, self._elem_nodes)  # (3, 3, F, Q)

@@ -94,6 +94,7 @@ class PointState:
     slip: np.ndarray  # (n,) bool: active and in full slip (r > 1 + w/2 with a rounded cone)
     force: np.ndarray  # (n, 3) f_N + f_T: the surface's force on the body per reference area
     stiffness: np.ndarray | None  # (n, 3, 3) -d force / dx
+    trial: np.ndarray  # (n, 3) t*, the elastic trial traction (0 without friction)
 
 
 def normal_pressure(trial: np.ndarray, width: float):
@@ -127,6 +128,7 @@ def evaluate(
     p, dp, active = normal_pressure(trial, eps_n * smoothing)
     f_n = p[:, None] * n
     f_t = np.zeros_like(x)
+    t_trial = np.zeros_like(x)
     slip = np.zeros(x.shape[0], dtype=bool)
     K = None
     if with_tangent:
@@ -165,19 +167,17 @@ def evaluate(
             d_round += (mu * coupling)[:, None, None] * m[:, :, None] * dp_dx[:, None, :]
             d_round += dphi[:, None, None] * np.matmul(mm, dt)
             K = K - np.where(stuck[:, None, None], dt, 0.0) - np.where(rounded[:, None, None], d_round, 0.0)
-    return PointState(p, n, g, f_t, active, slip, f_n + f_t, K)
+    return PointState(p, n, g, f_t, active, slip, f_n + f_t, K, t_trial)
 
 
 def committed_stick(
     state: PointState, x: np.ndarray, stick: np.ndarray, eps_t: float, mu: float
 ) -> np.ndarray:
-    """The stick points after a converged increment: the return to the cone r <- min(r, 1)
-    (module docstring; at w = 0 the points in slip)."""
-    v = x - stick
-    t_trial = -eps_t * (v - np.einsum("ni,ni->n", state.normal, v)[:, None] * state.normal)
-    norm = np.linalg.norm(t_trial, axis=1)
+    """The stick points after a converged increment (`state` evaluated at x with `stick`): the
+    return to the cone r <- min(r, 1) (module docstring; at w = 0 the points in slip)."""
+    norm = np.linalg.norm(state.trial, axis=1)
     radius = mu * state.pressure
     past = state.active & (norm > radius)
-    m = t_trial / np.where(past & (norm > 0), norm, 1.0)[:, None]
+    m = state.trial / np.where(past & (norm > 0), norm, 1.0)[:, None]
     out = np.where(past[:, None], x + (radius[:, None] * m) / eps_t, stick)
     return np.where(state.active[:, None], out, x)

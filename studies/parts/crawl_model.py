@@ -35,11 +35,10 @@ from fem.contact_stages import Stage, run_stages
 from fem.equal_displacement import EqualDisplacement
 from fem.model import Dirichlet, SolidModel
 from fem.rigid_surfaces import CylinderWall
-from studies.parts import foot_model
 from studies.parts.crawl_mesh import FEET, attach_tag
 from studies.parts.crawl_outputs import CrawlResult, StateRecorder
 from studies.parts.crawl_schedule import AxialLaw, Schedule
-from studies.parts.foot_model import AUGMENT, FOOT_NEWTON
+from studies.parts.foot_model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING
 
 #: Halvings of a sub-step before a stage is given up: the unloading of a skirt reverses slip
 #: over part of its contact (points flip between stick and slip), which needs sub-steps down to
@@ -93,8 +92,8 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
             wall,
             penalty=eps,
             name=f"{foot}:{face}",
-            smoothing=foot_model.SMOOTHING,  # the foot study's contact law
-            slip_band=foot_model.SLIP_BAND,
+            smoothing=SMOOTHING,  # the foot study's contact law
+            slip_band=SLIP_BAND,
         )
         for foot in FEET
         for face, tags in FACES
