@@ -24,7 +24,11 @@ secant prediction of the last two converged states (linear in the pseudo-time), 
 drag increment near its slip solution.
 
 Nothing raises on divergence: the result says `converged = False` and names the last converged
-stage and pseudo-time.
+stage and pseudo-time. Two guards end a stage that grinds in ever smaller sub-steps (a limit
+point or a jammed contact: cut-backs alternate with tiny converged sub-steps, so `max_cutbacks`
+in a row is never reached): a sub-step below `min_step_fraction` of the stage's own step, and the
+wall-time budget `max_wall_s`, checked before every solve attempt (each failed attempt costs up
+to `NewtonOptions.max_iter` iterations). Both are off by default.
 """
 
 from __future__ import annotations
@@ -148,10 +152,18 @@ def run_stages(
     max_augment: int = 4,
     max_cutbacks: int = 6,
     on_step: Callable[[StagedStep], None] | None = None,
+    max_wall_s: float | None = None,
+    min_step_fraction: float | None = None,
 ) -> StagedResult:
-    """Follow `stages` from x0 (default: undeformed) at zero pressure and factor 0."""
+    """Follow `stages` from x0 (default: undeformed) at zero pressure and factor 0; give up (not
+    converged) once `max_wall_s` seconds have passed or a sub-step would be smaller than
+    `min_step_fraction` / `stage.steps` (None: no limit)."""
     if penetration_tol <= 0:
         raise SolverInputError("penetration_tol", "must be positive (mm)")
+    if max_wall_s is not None and not max_wall_s > 0:
+        raise SolverInputError("max_wall_s", f"must be a positive time in s or None, got {max_wall_s!r}")
+    if min_step_fraction is not None and not 0 < min_step_fraction < 1:
+        raise SolverInputError("min_step_fraction", f"must be in (0, 1) or None, got {min_step_fraction!r}")
     opt = options or NewtonOptions()
     solver = NewtonSolver(model, opt)
     t0 = time.perf_counter()
@@ -187,6 +199,12 @@ def run_stages(
         while t < 1.0 - 1e-12:
             h = min(h, 1.0 - t)
             s = t + h
+            if max_wall_s is not None and time.perf_counter() - t0 > max_wall_s:
+                return result(
+                    False,
+                    f"stage {stage.name!r} stopped at the wall-time budget max_wall_s = {max_wall_s:g} s "
+                    f"(trying s = {s:.4g} in sub-steps of {h:.3g}); last converged: {last}",
+                )
             snap = _snapshot(model)
             for i, surface_at in stage.surfaces.items():
                 model.contacts[i].set_surface(surface_at(s))
@@ -204,6 +222,12 @@ def run_stages(
                 cuts += 1
                 if cuts > max_cutbacks:
                     return result(False, f"stage {stage.name!r} diverged ({exc}); last converged: {last}")
+                if min_step_fraction is not None and h < min_step_fraction / stage.steps:
+                    return result(
+                        False,
+                        f"stage {stage.name!r} diverged ({exc}) with sub-steps below min_step_fraction = "
+                        f"{min_step_fraction:g} of its step; last converged: {last}",
+                    )
                 continue
             prev = (t, x)
             x, t, P, f, cuts = x_new, s, Ps, fs, 0

@@ -19,6 +19,7 @@ from studies.catalogue.contact_studies import (
     EVALUATORS,
     FOOT,
     FOOT_FRICTION,
+    FOOT_MESHER,
     GRIDS,
     GROOVE,
     QUICK_GRIDS,
@@ -31,7 +32,7 @@ def study_folder(out, name: str, material: str, quick: bool) -> Path:
     return Path(out) / name / (material + ("-quick" if quick else ""))
 
 
-def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=None, mesh_cache=None):
+def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=None):
     from studies.sweeps.spec import SweepSpec
 
     settings = {
@@ -42,7 +43,7 @@ def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=No
         "pressure_kpa": 100.0,
     }
     if name == FOOT:
-        settings |= dict(FOOT_FRICTION) | {"angle": 120.0, "mesh_cache": mesh_cache or str(folder / "mesh")}
+        settings |= dict(FOOT_FRICTION) | {"angle": 120.0, "mesher": FOOT_MESHER}
     if quick and name == GROOVE:
         settings["drag_steps"] = 10
     if quick and name == FOOT:
@@ -77,10 +78,6 @@ def run_contact_study(
     folder.mkdir(parents=True, exist_ok=True)
     spec = contact_spec(name, folder, material, quick, storage)
     jsonio.write(folder / "spec.json", spec.to_dict())
-    if name == FOOT:  # mesh once into the cache: pytetwild differs between calls, workers must not
-        from studies.catalogue.contact_studies import _foot_mesh
-
-        _foot_mesh(spec.settings)
     rows = run_sweep(spec, workers=workers, progress=progress, retry=retry)
     return write_contact_outputs(name, spec, rows, folder)
 
@@ -178,6 +175,11 @@ def _report_lines(name: str, summary) -> list[str]:
                 f"F_fwd = {_fmt(s, 'f_fwd_n')} N, F_bwd = {_fmt(s, 'f_bwd_n')} N, "
                 f"F_bwd / F_fwd = {_fmt(s, 'ratio_bwd_fwd')}, flipped (backward) at "
                 f"{_fmt(s, 'flipped_bwd_at_mm')} mm"
+                + "".join(
+                    f", limit point ({d}) at {s[k]:.3g} mm: a lower bound"
+                    for d, k in (("forward", "limit_fwd_at_mm"), ("backward", "limit_bwd_at_mm"))
+                    if s.get(k) is not None
+                )
             )
     return lines
 

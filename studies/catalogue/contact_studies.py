@@ -139,13 +139,32 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
     return Evaluation(ok=True, values=(r.plateau,), attrs=summary)
 
 
+#: The foot study's mesher: the revolved mesh (`geometry.foot_revolved`, three cells through the
+#: skirt) converges in every pipe of 55-75 mm; the pytetwild mesh (about one cell through the skirt)
+#: stalled at 55 and 75 mm (docs/DESIGN.md section 11). A spec.json without the key predates the
+#: revolved mesh and means pytetwild.
+FOOT_MESHER = "revolved"
+FOOT_MESHERS = ("revolved", "tetwild")
+
+
 def _foot_mesh(settings):
     from geometry.design import FootDesign
-    from geometry.tetwild import mesh_foot
 
     design = FootDesign(angle=float(settings.get("angle", 120.0)))
-    edge = settings.get("edge_length")
-    mesh = mesh_foot(design, edge_length=edge, cache_dir=settings.get("mesh_cache"))
+    mesher = settings.get("mesher", "tetwild")
+    if mesher == "revolved":
+        from geometry.foot_revolved import mesh_foot_revolved
+
+        mesh = mesh_foot_revolved(design)
+    elif mesher == "tetwild":
+        from geometry.tetwild import mesh_foot
+
+        edge = settings.get("edge_length")
+        mesh = mesh_foot(design, edge_length=edge, cache_dir=settings.get("mesh_cache"))
+    else:
+        from studies.sweeps.spec import StudyError
+
+        raise StudyError("mesher", f"{mesher!r} is not a foot mesher: one of {', '.join(FOOT_MESHERS)}")
     return design, mesh.to_skfem(2)
 
 
@@ -179,6 +198,8 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
                 "converged": c.converged,
                 "message": c.message,
                 "flipped_at_mm": c.flipped_at,
+                "limit_point_mm": c.limit_point[0] if c.limit_point else None,
+                "limit_point_n": c.limit_point[1] if c.limit_point else None,
             }
     summary = (
         {
@@ -195,6 +216,8 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
             "ratio_bwd_fwd": r.ratio,
             "flipped_bwd_at_mm": r.backward.flipped_at if r.backward else None,
             "flipped_fwd_at_mm": r.forward.flipped_at if r.forward else None,
+            "limit_bwd_at_mm": r.backward.limit_point[0] if r.backward and r.backward.limit_point else None,
+            "limit_fwd_at_mm": r.forward.limit_point[0] if r.forward and r.forward.limit_point else None,
             "n_dofs": r.n_dofs,
             "wall_s": r.wall_s,
         }

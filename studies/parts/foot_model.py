@@ -24,6 +24,7 @@ the two drags; the anchoring principle needs F_bwd / F_fwd > 1.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -40,6 +41,16 @@ from studies.parts.contact_outputs import face_metrics
 #: backward drag in the 75 mm pipe needed more where the contact zone's edge reorganises).
 FOOT_NEWTON = NewtonOptions(tol=1e-8, max_iter=25, stall_iter=12)
 MAX_CUTBACKS = 8
+#: Wall-time budget of one foot run (insertion and both drags), s. A drag that grinds in ever
+#: smaller sub-steps (a jammed skirt) stops there as a recorded failure with the curve so far,
+#: instead of holding a sweep worker for hours; about 5x an idle run on the default mesh.
+FOOT_MAX_WALL_S = 900.0
+#: A drag stops once its sub-steps fall below this share of its step (1 mm: 1 um), where the
+#: cut-backs alternate with tiny converged sub-steps at a limit point.
+MIN_STEP_FRACTION = 1e-3
+#: A drag that stopped after its resistance fell more than this share below its largest value
+#: has passed a limit point: the skirt snaps (docs/DESIGN.md section 11).
+LIMIT_DROP = 1e-3
 
 FACES = {"smooth": ("front", "rim"), "grooved": ("back",)}
 #: Uzawa loop of the foot runs: 10 um of penetration (1/300 of the skirt) is far below the
@@ -101,10 +112,32 @@ class DragCurve:
     tip_ahead: np.ndarray  # (n,) z_tip - z_hub (mm); > 0: flipped
     grooved_share: np.ndarray  # (n,) share of the normal force on the grooved face
     flipped_at: float | None  # drag (mm) at which the tip first passed the hub top
+    limit_point: tuple[float, float] | None = None  # (drag mm, resistance N), see `limit_point`
 
     @property
     def peak(self) -> float:
         return float(self.resistance.max()) if self.resistance.size else float("nan")
+
+
+def limit_point(drag: np.ndarray, resistance: np.ndarray) -> tuple[float, float] | None:
+    """The maximum a stopped drag passed: (drag, resistance) of the largest sample, refined by the
+    parabola through it and its two neighbours; None unless the last sample lies more than
+    `LIMIT_DROP` below it (the resistance fell: a limit point, beyond which a quasi-static drag
+    under hub displacement control cannot follow a snap of the skirt)."""
+    if resistance.size < 2:
+        return None
+    i = int(np.argmax(resistance))
+    peak = float(resistance[i])
+    if not (i < resistance.size - 1 and resistance[-1] < (1.0 - LIMIT_DROP) * peak):
+        return None
+    if i == 0:
+        return float(drag[0]), peak
+    d, f = drag[i - 1 : i + 2], resistance[i - 1 : i + 2]
+    a, b, c = np.polyfit(d, f, 2)
+    if not a < 0:
+        return float(drag[i]), peak
+    top = float(np.clip(-b / (2 * a), d[0], d[-1]))
+    return top, max(float(np.polyval((a, b, c), top)), peak)
 
 
 @dataclass(frozen=True)
@@ -144,7 +177,7 @@ def _insert_stages(model, design, pipe_radius, mu_smooth, mu_grooved, steps):
     ]
 
 
-def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes, on_state=None):
+def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes, on_state=None, budget=None):
     for term, (lam, stick, surface) in zip(model.contacts, snapshot):
         term.multiplier, term.stick, term.surface = lam.copy(), stick.copy(), surface
     sign = 1.0 if direction == "forward" else -1.0
@@ -169,20 +202,37 @@ def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes,
 
     stage = Stage(direction, factor=sign, steps=steps)
     res = run_stages(
-        model, [stage], x0=x0, options=FOOT_NEWTON, max_cutbacks=MAX_CUTBACKS, on_step=record, **AUGMENT
+        model,
+        [stage],
+        x0=x0,
+        options=FOOT_NEWTON,
+        max_cutbacks=MAX_CUTBACKS,
+        on_step=record,
+        max_wall_s=budget,
+        min_step_fraction=MIN_STEP_FRACTION,
+        **AUGMENT,
     )
     arr = np.array(rows).reshape(-1, 4)
     ahead = arr[:, 2]
     flipped = np.nonzero(ahead > 0)[0]
+    top = None if res.converged else limit_point(arr[:, 0], arr[:, 1])
+    message = res.message
+    if top is not None:
+        message = (
+            f"limit point: the resistance peaked at {top[1]:.4g} N at {top[0]:.3g} mm and fell to "
+            f"{arr[-1, 1]:.4g} N at {arr[-1, 0]:.4g} mm, where the quasi-static drag stopped (the skirt "
+            f"snaps; the resistance after the snap is not computed, F >= {top[1]:.4g} N): {res.message}"
+        )
     return DragCurve(
         direction,
         res.converged,
-        res.message,
+        message,
         arr[:, 0],
         arr[:, 1],
         ahead,
         arr[:, 3],
         float(arr[flipped[0], 0]) if flipped.size else None,
+        top,
     ), res
 
 
@@ -198,12 +248,27 @@ def run_foot(
     insert_steps: int = 8,
     drag_steps: int = 10,
     on_state=None,
+    max_wall_s: float | None = FOOT_MAX_WALL_S,
 ) -> FootResult:
-    """Insert the foot into the pipe and drag it both ways (module docstring)."""
+    """Insert the foot into the pipe and drag it both ways (module docstring); stop, not
+    converged, once `max_wall_s` seconds have passed (None: no limit)."""
+    started = time.perf_counter()
+
+    def budget():
+        return None if max_wall_s is None else max(max_wall_s - (time.perf_counter() - started), 1e-6)
+
     radius = pipe_diameter / 2.0
     model = foot_model(mesh, material, design, radius, drag)
     stages = _insert_stages(model, design, radius, mu_smooth, mu_grooved, insert_steps)
-    res = run_stages(model, stages, options=FOOT_NEWTON, max_cutbacks=MAX_CUTBACKS, **AUGMENT)
+    res = run_stages(
+        model,
+        stages,
+        options=FOOT_NEWTON,
+        max_cutbacks=MAX_CUTBACKS,
+        max_wall_s=budget(),
+        min_step_fraction=MIN_STEP_FRACTION,
+        **AUGMENT,
+    )
     its = {"insert": [s.iterations[0] for s in res.steps]}
     empty = FootResult(pipe_diameter, False, res.message, *([float("nan")] * 4), {}, {}, None, None, 0.0, 0)
     if not res.converged:
@@ -217,7 +282,7 @@ def run_foot(
     hub = model.boundary_nodes("hub_top")
     curves, wall = {}, res.wall_s
     for direction in ("forward", "backward"):
-        curve, r = _drag(model, x0, snapshot, direction, drag, drag_steps, tip, hub, on_state)
+        curve, r = _drag(model, x0, snapshot, direction, drag, drag_steps, tip, hub, on_state, budget())
         curves[direction] = curve
         its[direction] = [s.iterations[0] for s in r.steps]
         wall += r.wall_s

@@ -52,11 +52,15 @@ def plot_foot(points, path, settings):
         D = p["params"]["pipe_diameter"]
         for direction, c in (p.get("curves") or {}).items():
             ls = "-" if direction == "forward" else "--"
-            axes[0].plot(c["drag_mm"], c["resistance_n"], ls, label=f"D = {D:g} mm, {direction}")
+            (line,) = axes[0].plot(c["drag_mm"], c["resistance_n"], ls, label=f"D = {D:g} mm, {direction}")
+            if c.get("limit_point_mm") is not None:  # the drag stopped past this peak (a snap)
+                axes[0].plot(c["limit_point_mm"], c["limit_point_n"], "x", color=line.get_color(), ms=8)
         s = p.get("summary") or {}
         if s.get("ratio_bwd_fwd") is not None and np.isfinite(s.get("ratio_bwd_fwd", np.nan)):
             ratios.append((D, s["ratio_bwd_fwd"], p["status"] == "completed"))
-    axes[0].set(xlabel="hub displacement (mm)", ylabel="resistance (N)", title="drag resistance")
+    axes[0].set(
+        xlabel="hub displacement (mm)", ylabel="resistance (N)", title="drag resistance (x: limit point)"
+    )
     axes[0].legend(fontsize=7)
     done = np.array(sorted((d, r) for d, r, ok in ratios if ok)).reshape(-1, 2)
     partial = np.array(sorted((d, r) for d, r, ok in ratios if not ok)).reshape(-1, 2)

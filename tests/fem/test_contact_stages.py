@@ -3,6 +3,7 @@
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from fem import contact_stages as cs
 from fem.newton import Diverged, NewtonRecord
@@ -61,3 +62,66 @@ def test_converging_resolves_take_full_updates():
     x, its, _, pen = cs._solve_augmented(solver, _model(term), np.zeros(2), 0.0, 1.0, 0.4, 4)
     assert solver.calls == [0.0, 1.0]  # one full update, then the penetration 1/3 < 0.4
     assert term.multiplier[0] == 1.0 and pen < 0.4 and len(its) == 2
+
+
+class _GrindingSolver:
+    """A Newton solver that converges only in sub-steps of at most `h_ok` of the stage, each solve
+    taking `seconds`: the stage shrinks its sub-steps and grinds on."""
+
+    def __init__(self, model, options, h_ok=1e-3, seconds=0.02):
+        self.h_ok, self.seconds, self.iterations, self.assembly_s = h_ok, seconds, 0, 0.0
+        self.linear = SimpleNamespace(seconds=0.0)
+        self.last = 0.0
+
+    def load_step(self, x, P, f):
+        import time
+
+        time.sleep(self.seconds)
+        if f - self.last > self.h_ok + 1e-15:
+            raise Diverged("residual stalls")
+        self.last = f
+        return np.array([f]), NewtonRecord((1.0,) * 8 + (1e-9,), True)  # 8 iterations: no regrowth
+
+
+def _grinding_model():
+    model = SimpleNamespace(contacts=[], chambers=[])
+    model.initial_state = lambda: np.zeros(1)
+    model.commit = lambda x: None
+    return model
+
+
+def test_the_wall_time_budget_stops_a_grinding_stage_with_a_recorded_failure(monkeypatch):
+    import time
+
+    monkeypatch.setattr(cs, "NewtonSolver", _GrindingSolver)
+    stage = cs.Stage("drag", factor=1.0, steps=1)
+    t0 = time.perf_counter()
+    res = cs.run_stages(_grinding_model(), [stage], max_cutbacks=50, max_wall_s=0.5)
+    wall = time.perf_counter() - t0
+    assert not res.converged
+    assert "max_wall_s = 0.5 s" in res.message and "'drag'" in res.message
+    assert 0.5 <= wall < 0.75  # stops within one solve attempt (0.02 s) of the budget
+    assert res.steps and res.steps[-1].factor < 1.0  # the converged sub-steps are kept
+    unlimited = cs.run_stages(_grinding_model(), [cs.Stage("drag", factor=0.01, steps=1)], max_cutbacks=50)
+    assert unlimited.converged  # without a budget the same stage finishes (10 sub-steps of 1e-3)
+
+
+@pytest.mark.parametrize("budget", [0.0, -1.0, float("nan")])
+def test_a_non_positive_budget_names_the_parameter(budget):
+    from fem.errors import SolverInputError
+
+    with pytest.raises(SolverInputError, match="max_wall_s"):
+        cs.run_stages(_grinding_model(), [cs.Stage("drag", factor=1.0)], max_wall_s=budget)
+
+
+def test_the_minimum_sub_step_stops_a_grinding_stage(monkeypatch):
+    monkeypatch.setattr(cs, "NewtonSolver", lambda m, o: _GrindingSolver(m, o, h_ok=1e-3, seconds=0.0))
+    res = cs.run_stages(
+        _grinding_model(), [cs.Stage("drag", factor=1.0, steps=2)], max_cutbacks=50, min_step_fraction=1e-2
+    )
+    # sub-steps of 1e-3 converge but the stage's step is 1/2: 1e-3 < 1e-2 / 2, so it stops at the start
+    assert not res.converged and "min_step_fraction = 0.01" in res.message and not res.steps
+    res = cs.run_stages(
+        _grinding_model(), [cs.Stage("drag", factor=0.01, steps=2)], max_cutbacks=50, min_step_fraction=0.1
+    )
+    assert res.converged  # it converges in sub-steps of 1/16 (factor 6.25e-4), above 0.1 / 2 of the stage

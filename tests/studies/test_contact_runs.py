@@ -52,13 +52,13 @@ def test_foot_in_a_75_mm_pipe(tmp_path):
     """Insertion into the largest pipe and 2 mm of drag each way: the wall's normal force is
     positive, the forward resistance positive, everything converged."""
     from geometry.design import FootDesign
-    from geometry.tetwild import mesh_foot
+    from geometry.foot_revolved import mesh_foot_revolved
     from materials import get_material
     from materials.fem_law import solid_law
     from studies.parts.foot_model import run_foot
 
     design = FootDesign()
-    mesh = mesh_foot(design, cache_dir=tmp_path).to_skfem(2)
+    mesh = mesh_foot_revolved(design).to_skfem(2)
     mat = solid_law(get_material("rubber-70a"))
     r = run_foot(
         mesh, mat, design, 75.0, mu_smooth=0.5, mu_grooved=0.5, drag=2.0, insert_steps=4, drag_steps=2

@@ -1,0 +1,95 @@
+"""The revolved foot mesh (`geometry.foot_revolved`): exact volumes, conforming tets, the foot's tags."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from geometry.design import DesignError, FootDesign
+from geometry.foot import foot_segments, foot_volume
+from geometry.foot_revolved import foot_section, mesh_foot_revolved
+from geometry.tagging import TET_FACES, boundary_facets
+
+
+def _chord_factor(n_theta: int) -> float:
+    """A section swept through n chords of angle D encloses sin(D) / D of the solid of revolution."""
+    step = 2 * math.pi / n_theta
+    return math.sin(step) / step
+
+
+@pytest.mark.parametrize("n_theta", [24, 48])
+def test_volume_is_the_chordal_solid_of_revolution(n_theta):
+    design = FootDesign()
+    mesh = mesh_foot_revolved(design, n_theta=n_theta)
+    assert np.all(mesh.tet_volumes() > 0)
+    # exact (not a discretisation error): each prism is {(rho cos(D/2), y, z): |y| <= rho sin(D/2)}
+    assert mesh.volume() == pytest.approx(foot_volume(design) * _chord_factor(n_theta), rel=1e-10)
+
+
+def test_planar_tags_have_the_chordal_area_and_every_tag_is_present():
+    design = FootDesign()
+    mesh = mesh_foot_revolved(design, n_theta=36)
+    exact = {}
+    for s in foot_segments(design):
+        exact[s.tag] = exact.get(s.tag, 0.0) + s.area()
+    assert set(mesh.facets) == set(exact)
+    for tag in ("hub_top", "hub_bottom"):  # annuli: polygon area = sin(D)/D x the circle's
+        assert mesh.area(tag) == pytest.approx(exact[tag] * _chord_factor(36), rel=1e-10)
+    for tag, area in exact.items():  # cones and cylinders: within the chordal error
+        assert mesh.area(tag) == pytest.approx(area, rel=2e-2)
+
+
+def test_the_mesh_conforms_and_every_boundary_facet_has_one_tag():
+    mesh = mesh_foot_revolved(FootDesign(), n_theta=24)
+    faces = np.sort(mesh.tets[:, TET_FACES].reshape(-1, 3), axis=1)
+    _, counts = np.unique(faces, axis=0, return_counts=True)
+    assert counts.max() == 2  # no face is shared by three tets (no overlap)
+    boundary, _ = boundary_facets(mesh.tets)
+    tagged = np.vstack(list(mesh.facets.values()))
+    assert len(tagged) == len(boundary)
+    assert len(np.unique(np.sort(tagged, axis=1), axis=0)) == len(boundary)
+
+
+@pytest.mark.parametrize("layers", [2, 3, 4])
+def test_cells_through_the_skirt(layers):
+    design = FootDesign()
+    xy, tris = foot_section(design, thickness_layers=layers)
+    # nodes on the rim (the skirt's end cross-section): layers + 1, or + 2 where d = t - h splits a cell
+    a = math.radians(design.angle / 2)
+    u = np.array([math.sin(a), -math.cos(a)])
+    tip = np.array([design.hub_radius, 0.0]) + design.front_face_length * u
+    on_rim = np.abs((xy - tip) @ u) < 1e-9
+    assert layers + 1 <= on_rim.sum() <= layers + 2
+    mesh = mesh_foot_revolved(design, n_theta=24, thickness_layers=layers)
+    assert len(mesh.facets["rim"]) == 2 * (on_rim.sum() - 1) * 24
+
+
+def test_grooves_are_cut_to_their_depth():
+    design = FootDesign(groove_height=1.5)
+    mesh = mesh_foot_revolved(design, n_theta=24)
+    a = math.radians(design.angle / 2)
+    n = np.array([math.cos(a), math.sin(a)])
+    back = mesh.facets["back"]
+    rz = np.column_stack([np.hypot(mesh.points[:, 0], mesh.points[:, 1]), mesh.points[:, 2]])
+    depth = (-(rz - np.array([design.hub_radius, 0.0])) @ n)[back]  # d from the front face's line
+    t, h = design.skirt_thickness, design.groove_height
+    assert depth.min() == pytest.approx(t - h, abs=1e-9)
+    assert depth.max() == pytest.approx(t, abs=1e-9)
+    bottoms = np.all(np.abs(depth - (t - h)) < 1e-9, axis=1)  # facets on the groove bottoms
+    lands = np.all(np.abs(depth - t) < 1e-9, axis=1)
+    assert bottoms.sum() > 0 and lands.sum() > 0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"n_theta": 8}, "n_theta"),
+        ({"thickness_layers": 0}, "thickness_layers"),
+        ({"cell_size": -1.0}, "cell_size"),
+    ],
+)
+def test_bad_settings_name_the_parameter(kwargs, name):
+    with pytest.raises(DesignError, match=name):
+        mesh_foot_revolved(FootDesign(), **kwargs)

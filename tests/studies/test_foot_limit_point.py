@@ -1,0 +1,26 @@
+"""`studies.parts.foot_model.limit_point`: a stopped drag whose resistance passed a maximum."""
+
+import numpy as np
+import pytest
+
+from studies.parts.foot_model import LIMIT_DROP, limit_point
+
+
+def test_the_peak_of_a_parabola_is_found_between_the_samples():
+    d = np.array([0.25, 0.5, 0.75, 1.0, 1.25])
+    f = 100.0 - 40.0 * (d - 0.8) ** 2  # peak 100 N at 0.8 mm, between the samples 0.75 and 1.0
+    top = limit_point(d, f)
+    assert top is not None
+    assert top[0] == pytest.approx(0.8, abs=1e-9) and top[1] == pytest.approx(100.0, abs=1e-9)
+
+
+def test_a_rising_or_flat_curve_has_no_limit_point():
+    d = np.linspace(0.25, 2.0, 8)
+    assert limit_point(d, 10 * d) is None  # still rising where it stopped
+    f = np.full(8, 20.0)
+    f[-1] = 20.0 * (1 - 0.5 * LIMIT_DROP)  # a plateau within the threshold: no peak was passed
+    assert limit_point(d, f) is None
+
+
+def test_a_fall_after_the_first_sample_reports_that_sample():
+    assert limit_point(np.array([1.0, 2.0]), np.array([5.0, 3.0])) == (1.0, 5.0)
