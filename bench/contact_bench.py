@@ -1,12 +1,14 @@
 """Contact benchmarks (issue 16): a groove-segment case, a whole-foot insertion plus a 10 mm drag,
 Newton iterations per increment and the share of the contact terms in an iteration.
 
-    python bench/contact_bench.py [--skip-foot] [--pipe 65] [--mesh-cache DIR]
+    python bench/contact_bench.py [--skip-foot] [--pipe 65] [--mesher revolved|tetwild] [--mesh-cache DIR]
 
 Targets: the groove case (h = 1 mm, mu = 0.3, 100 kPa, 5 mm drag) at most 60 s, the foot
 (insertion into a 65 mm pipe, 10 mm forward drag) at most 3 minutes on an idle 2-core machine.
 Prints wall times, Newton iterations per increment, and per Newton iteration: the full assembly,
 the contact terms' share of it (`ContactTerm.arrays`, residual and tangent), and the linear solve.
+The foot is meshed as in `softcrawl study foot` (the revolved mesh, `geometry.foot_revolved`);
+`--mesher tetwild` runs the pytetwild mesh of the earlier results.
 """
 
 from __future__ import annotations
@@ -54,16 +56,14 @@ def groove_case() -> None:
     print(f"  plateau / mu N = {r.plateau_over_mu_n:.5f}, N error vs p A = {r.normal_error:.1e}")
 
 
-def foot_case(pipe: float, mesh_cache) -> None:
-    from geometry.design import FootDesign
-    from geometry.tetwild import mesh_foot
+def foot_case(pipe: float, mesher: str, mesh_cache) -> None:
     from materials import get_material
     from materials.fem_law import solid_law
+    from studies.catalogue.contact_studies import _foot_mesh
     from studies.parts import foot_model as fm
 
-    design = FootDesign()
     t0 = time.perf_counter()
-    mesh = mesh_foot(design, cache_dir=mesh_cache).to_skfem(2)
+    design, mesh = _foot_mesh({"mesher": mesher, "mesh_cache": mesh_cache})
     t_mesh = time.perf_counter() - t0
     mat = solid_law(get_material("rubber-70a"))
     model = fm.foot_model(mesh, mat, design, pipe / 2, 10.0)
@@ -78,9 +78,7 @@ def foot_case(pipe: float, mesh_cache) -> None:
     full, contact = contact_share(model, drag.x if drag.steps else res.x, repeat=2)
     its = [s.iterations[0] for s in res.steps + drag.steps]
     solves = res.newton_iterations + drag.newton_iterations
-    print(
-        f"foot in a {pipe:g} mm pipe: mesh {t_mesh:.1f} s (cached after the first run), {model.n_dofs} dofs"
-    )
+    print(f"foot in a {pipe:g} mm pipe, {mesher} mesh: {t_mesh:.1f} s to mesh, {model.n_dofs} dofs")
     print(
         f"  insertion + 10 mm forward drag: {wall:.1f} s (target 180 s), "
         f"converged {res.converged and drag.converged}"
@@ -104,11 +102,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--skip-foot", action="store_true")
     ap.add_argument("--pipe", type=float, default=65.0, help="pipe diameter (mm)")
-    ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache folder")
+    ap.add_argument("--mesher", default="revolved", choices=("revolved", "tetwild"), help="the foot's mesh")
+    ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache folder (--mesher tetwild)")
     args = ap.parse_args()
     groove_case()
     if not args.skip_foot:
-        foot_case(args.pipe, args.mesh_cache)
+        foot_case(args.pipe, args.mesher, args.mesh_cache)
 
 
 if __name__ == "__main__":

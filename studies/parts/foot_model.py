@@ -1,6 +1,7 @@
 r"""The whole grooved foot in a pipe (paper Fig. 10(b), Fig. 4): insertion, forward and backward drag.
 
-Model. The foot of `geometry.foot` (pytetwild mesh, P2-P1, Shore 70A rubber), hub top face held
+Model. The foot of `geometry.foot` (any tagged mesh: the study's is the revolved mesh of
+`geometry.foot_revolved`; P2-P1, Shore 70A rubber), hub top face held
 by the actuators: fully prescribed, (0, 0, factor * drag). The pipe wall is a rigid
 `CylinderWall` on the robot axis. Two contact terms act on it, each with its own friction
 coefficient: the smooth front face with the rim (mu_smooth) and the grooved back face
@@ -19,7 +20,9 @@ the motion (sum of both faces' friction, z component), the normal force and cont
 face, the tip's axial position relative to the hub top. The skirt has flipped when its tip
 (mean of the rim nodes) passes in front of the hub top (z_tip > z_hub): the grooved back face
 then looks outward, against the wall (Fig. 4). F_fwd and F_bwd are the largest resistances of
-the two drags; the anchoring principle needs F_bwd / F_fwd > 1.
+the two drags; the anchoring principle needs F_bwd / F_fwd > 1. A drag that stops (a sub-step
+below `MIN_STEP_FRACTION` of its step, or the run's wall-time budget) after its resistance passed
+a maximum reports that limit point (`limit_point`): its peak is then a lower bound of F.
 """
 
 from __future__ import annotations
@@ -49,7 +52,7 @@ FOOT_MAX_WALL_S = 900.0
 #: cut-backs alternate with tiny converged sub-steps at a limit point.
 MIN_STEP_FRACTION = 1e-3
 #: A drag that stopped after its resistance fell more than this share below its largest value
-#: has passed a limit point: the skirt snaps (docs/DESIGN.md section 11).
+#: has passed a limit point (docs/DESIGN.md section 11); its largest resistance is a lower bound.
 LIMIT_DROP = 1e-3
 
 FACES = {"smooth": ("front", "rim"), "grooved": ("back",)}
@@ -122,8 +125,8 @@ class DragCurve:
 def limit_point(drag: np.ndarray, resistance: np.ndarray) -> tuple[float, float] | None:
     """The maximum a stopped drag passed: (drag, resistance) of the largest sample, refined by the
     parabola through it and its two neighbours; None unless the last sample lies more than
-    `LIMIT_DROP` below it (the resistance fell: a limit point, beyond which a quasi-static drag
-    under hub displacement control cannot follow a snap of the skirt)."""
+    `LIMIT_DROP` below it (the resistance fell: the drag passed a limit point, and a quasi-static
+    drag under hub displacement control stops where the path snaps back)."""
     if resistance.size < 2:
         return None
     i = int(np.argmax(resistance))
@@ -220,8 +223,9 @@ def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes,
     if top is not None:
         message = (
             f"limit point: the resistance peaked at {top[1]:.4g} N at {top[0]:.3g} mm and fell to "
-            f"{arr[-1, 1]:.4g} N at {arr[-1, 0]:.4g} mm, where the quasi-static drag stopped (the skirt "
-            f"snaps; the resistance after the snap is not computed, F >= {top[1]:.4g} N): {res.message}"
+            f"{arr[-1, 1]:.4g} N at {arr[-1, 0]:.4g} mm, where the quasi-static drag stopped (under hub "
+            f"displacement control it cannot follow the path past a snap; the resistance beyond is not "
+            f"computed, F >= {top[1]:.4g} N): {res.message}"
         )
     return DragCurve(
         direction,
