@@ -13,6 +13,7 @@ Modules (one job each):
     tetwild       pytetwild meshing of one part + disk cache: mesh_epsa, mesh_seal_head, mesh_foot,
                   mesh_ring
     swept         structured (swept) tetrahedral mesh of the ePSA, lean for P2 elements
+    foot_revolved structured (revolved) tetrahedral mesh of the foot, cells through the skirt
     assembly      the robot assembled from part meshes (regions, interface tags), robot surfaces
 
 Only ``geometry.design`` is imported eagerly (numpy/pyvista/pytetwild load on first use).

@@ -94,7 +94,8 @@ def foot_section(
     layer = t / thickness_layers
     back_depth = h if design.n_grooves else 0.0
     d_front = np.linspace(0.0, t - back_depth, _divisions(t - back_depth, layer) + 1)
-    d_all = np.concatenate([d_front, np.linspace(t - back_depth, t, _divisions(back_depth, layer) + 1)[1:]])
+    d_back = np.linspace(t - back_depth, t, _divisions(back_depth, layer) + 1)[1:] if back_depth else []
+    d_all = np.concatenate([d_front, d_back])
     eta_all, eta_groove = d_all / t, d_front / t
 
     Lb = design.back_face_length

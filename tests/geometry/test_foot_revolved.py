@@ -19,11 +19,22 @@ def _chord_factor(n_theta: int) -> float:
     return math.sin(step) / step
 
 
-@pytest.mark.parametrize("n_theta", [24, 48])
-def test_volume_is_the_chordal_solid_of_revolution(n_theta):
-    design = FootDesign()
+@pytest.mark.parametrize(
+    ("n_theta", "params"),
+    [
+        (24, {}),
+        (48, {}),
+        (24, {"n_grooves": 0}),
+        (24, {"angle": 90.0, "hub_thickness": 4.5}),
+        (24, {"angle": 180.0}),
+        (24, {"groove_height": 0.4, "n_grooves": 3, "skirt_thickness": 2.0}),
+    ],
+)
+def test_volume_is_the_chordal_solid_of_revolution(n_theta, params):
+    design = FootDesign(**params)
     mesh = mesh_foot_revolved(design, n_theta=n_theta)
     assert np.all(mesh.tet_volumes() > 0)
+    assert mesh.quality()["min_quality"] > 0.05  # no slivers (the default mesh: 0.12)
     # exact (not a discretisation error): each prism is {(rho cos(D/2), y, z): |y| <= rho sin(D/2)}
     assert mesh.volume() == pytest.approx(foot_volume(design) * _chord_factor(n_theta), rel=1e-10)
 
