@@ -97,6 +97,14 @@ def register(subparsers) -> None:
         )
         sp.add_argument("--no-cache", action="store_true", help="always mesh anew")
         sp.add_argument("--no-png", action="store_true", help="skip the PNG render")
+        if kind == "foot":
+            sp.add_argument(
+                "--mesher",
+                default="tetwild",
+                choices=("tetwild", "revolved"),
+                help="tetwild (default) or revolved: the foot study's structured mesh, three cells "
+                "through the skirt (geometry.foot_revolved; no --edge-length, no cache)",
+            )
         _add_design_options(sp, kind, classes)
         sp.set_defaults(func=run)
 
@@ -171,8 +179,20 @@ def run(args: argparse.Namespace) -> int:
         output_folder(args.cache_dir, "cache-dir")
     cache = False if args.no_cache else args.cache_dir
     t0 = time.perf_counter()
+    revolved = getattr(args, "mesher", "tetwild") == "revolved"
+    if revolved and args.edge_length is not None:
+        from studies.commands.options import CommandLineError
+
+        raise CommandLineError(
+            "edge-length", "the revolved foot mesh has no edge length (geometry.foot_revolved)"
+        )
     with _progress_lines("geometry"):  # the mesher's log lines: what it meshes, not a cache hit
-        mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
+        if revolved:
+            from geometry.foot_revolved import mesh_foot_revolved
+
+            mesh = mesh_foot_revolved(design)
+        else:
+            mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
     seconds = time.perf_counter() - t0
     make_folder(out)
     mesh.write(out / "mesh.vtu")

@@ -16,6 +16,7 @@ from studies.cli import main
         (["mesh", "robot", "--epsa.chamber_radius", "9"], "epsa.chamber_radius"),
         (["mesh", "robot", "--foot.angle", "190"], "foot.angle"),
         (["mesh", "epsa", "--edge-length", "-1"], "edge-length"),
+        (["mesh", "foot", "--mesher", "revolved", "--edge-length", "3"], "edge-length"),
     ],
 )
 def test_invalid_parameter(argv, parameter, tmp_path, capsys):
@@ -36,3 +37,12 @@ def test_unknown_or_malformed_parameter(argv, word, tmp_path, capsys):
     assert main(argv + ["--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and word in err
+
+
+def test_the_revolved_foot_mesh_from_the_cli(tmp_path):
+    import json
+
+    assert main(["mesh", "foot", "--mesher", "revolved", "--no-png", "--out", str(tmp_path / "o")]) == 0
+    summary = json.loads((tmp_path / "o" / "mesh.json").read_text())
+    assert summary["n_tets"] == 15552  # the foot study's mesh (48 sectors, 3 cells through the skirt)
+    assert (tmp_path / "o" / "mesh.vtu").exists()
