@@ -46,11 +46,16 @@ if TYPE_CHECKING:
 FOOT_N_THETA = 96
 
 
+def skirt_directions(design: FootDesign) -> tuple[np.ndarray, np.ndarray]:
+    """(u, n) in the (rho, z) plane: the skirt's direction and its front face's outward normal."""
+    a = math.radians(design.angle / 2)
+    return np.array([math.sin(a), -math.cos(a)]), np.array([math.cos(a), math.sin(a)])
+
+
 def foot_profile(design: FootDesign) -> tuple[np.ndarray, list[str]]:
     """Closed CCW (rho, z) polygon of the foot section and the tag of each edge (edge i: v_i -> v_i+1)."""
     a = math.radians(design.angle / 2)
-    u = np.array([math.sin(a), -math.cos(a)])
-    n = np.array([math.cos(a), math.sin(a)])
+    u, n = skirt_directions(design)
     t, h, w = design.skirt_thickness, design.groove_height, design.groove_width
     r_hub, t_hub, r_b = design.hub_radius, design.hub_thickness, design.bore_radius
     F0 = np.array([r_hub, 0.0])

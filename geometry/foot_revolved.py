@@ -80,9 +80,10 @@ def foot_section(
     design: FootDesign, thickness_layers: int = THICKNESS_LAYERS, cell_size: float = CELL_SIZE
 ) -> tuple[np.ndarray, np.ndarray]:
     """Triangulated (rho, z) section of the foot: nodes (n, 2) and triangles (m, 3), counter-clockwise."""
+    from geometry.foot import skirt_directions
+
     a = math.radians(design.angle / 2)
-    u = np.array([math.sin(a), -math.cos(a)])
-    n = np.array([math.cos(a), math.sin(a)])
+    u, n = skirt_directions(design)
     t, h, w = design.skirt_thickness, design.groove_height, design.groove_width
     r_hub, t_hub, r_b = design.hub_radius, design.hub_thickness, design.bore_radius
     F0 = np.array([r_hub, 0.0])
