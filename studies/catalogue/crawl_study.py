@@ -5,8 +5,9 @@ and the grooved face: `studies.catalogue.contact_studies` states why 0.5 and the
 lower value 0.3); the "inflate" schedule at 100 kPa, 2 s cycles, 2 cycles, the paper's feet.
 --quick: D in {60, 65, 70} x mu in {0.3, 0.5} (mu outermost, so the mu = 0.3 points, which
 complete a cycle at 70 mm, come first), 4 insertion steps, one cycle, and a wall-time budget of
-QUICK_WALL_S per point: the retraction at mu = 0.5 stalls in cut-backs (docs/DESIGN.md 13), and
-a stall must end as a recorded failure, not as a point that never returns. Each point runs
+QUICK_WALL_S per point (DEFAULT_WALL_S without --quick), insertion included: a stall in
+cut-backs (the retraction at mu = 0.5 before the rounded cone, docs/DESIGN.md 13) must end as a
+recorded failure, not as a point that never returns. Each point runs
 `studies.parts.crawl_files` into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json,
 crawl.png; no VTU) and its summary is kept in points/crawl-D..-mu...json, so a stopped study
 resumes and a diverged point is recorded with the last converged state in its reason.
@@ -29,6 +30,9 @@ GRID = {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0), "mu": (0.3, 0.5)}
 QUICK_GRID = {"mu": (0.3, 0.5), "pipe_diameter": (60.0, 65.0, 70.0)}
 #: 20 min: the whole mu = 0.3 cycle at 70 mm took 506 s with 3-4 FE jobs on the 2 cores.
 QUICK_WALL_S = 1200.0
+#: 1 h for a default point (8 insertion steps, two cycles): a stall in the insertion or a cycle
+#: ends as a recorded failure instead of holding a worker indefinitely.
+DEFAULT_WALL_S = 3600.0
 EVALUATOR = "studies.catalogue.crawl_study:evaluate_crawl"
 
 
@@ -57,7 +61,7 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
         insert_steps=4 if quick else 8,
         steps=4,
         cycles=int(settings.get("cycles", 2)),
-        max_wall_s=QUICK_WALL_S if quick else None,
+        max_wall_s=QUICK_WALL_S if quick else DEFAULT_WALL_S,
     )
     folder = Path(settings["out_dir"]) / "points" / point_stem(params)
     result, summary = run_and_write(setup, preset("inflate", 100.0, 2.0), folder, quick=quick, vtu=False)

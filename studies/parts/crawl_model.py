@@ -144,8 +144,9 @@ def _cycle_stages(
     return stages, spans
 
 
-def _run(cm, stages, spans, x0, recorder, cycle):
-    """run_stages with the recorder on every converged sub-step."""
+def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf):
+    """run_stages with the recorder on every converged sub-step, stopped (not converged) at the
+    wall-clock `deadline` (time.perf_counter() seconds)."""
     names = [s.name for s in stages]
 
     def on_step(step):
@@ -154,8 +155,16 @@ def _run(cm, stages, spans, x0, recorder, cycle):
         phase = "setup" if cycle < 0 else ("extend" if rise > 0 else "retract" if rise < 0 else "hold")
         recorder.record(step, cycle, t0 + step.s * (t1 - t0), p0 + step.s * (p1 - p0), phase)
 
+    budget = None if not np.isfinite(deadline) else max(deadline - time.perf_counter(), 1e-6)
     return run_stages(
-        cm.model, stages, x0=x0, options=FOOT_NEWTON, max_cutbacks=MAX_CUTBACKS, on_step=on_step, **AUGMENT
+        cm.model,
+        stages,
+        x0=x0,
+        options=FOOT_NEWTON,
+        max_cutbacks=MAX_CUTBACKS,
+        on_step=on_step,
+        max_wall_s=budget,
+        **AUGMENT,
     )
 
 
@@ -163,6 +172,7 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
     """Insert, switch friction on, follow `schedule` for `setup.cycles` cycles (module docstring)."""
     setup, model = cm.setup, cm.model
     t0 = time.perf_counter()
+    deadline = t0 + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
     recorder = StateRecorder(cm, on_state)
     r0 = cm.tip_radius + 0.5
     radius = setup.pipe_diameter / 2.0
@@ -173,7 +183,7 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
     insert = Stage(
         "insert", surfaces={i: wall_at for i in range(len(model.contacts))}, steps=setup.insert_steps
     )
-    res = _run(cm, [insert], [(0.0, 0.0, np.zeros(3), np.zeros(3))], None, recorder, -1)
+    res = _run(cm, [insert], [(0.0, 0.0, np.zeros(3), np.zeros(3))], None, recorder, -1, deadline)
     stats = [res]
     if not res.converged:
         return recorder.result(False, res.message, stats, time.perf_counter() - t0)
@@ -185,7 +195,15 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
         i: (setup.mu_smooth if c.spec.name.endswith("smooth") else setup.mu_grooved)
         for i, c in enumerate(model.contacts)
     }
-    res = _run(cm, [Stage("friction", friction=mu)], [(0.0, 0.0, np.zeros(3), np.zeros(3))], x, recorder, -1)
+    res = _run(
+        cm,
+        [Stage("friction", friction=mu)],
+        [(0.0, 0.0, np.zeros(3), np.zeros(3))],
+        x,
+        recorder,
+        -1,
+        deadline,
+    )
     stats.append(res)
     if not res.converged:
         return recorder.result(False, res.message, stats, time.perf_counter() - t0)
@@ -199,12 +217,11 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
             drive=lambda s: actuator.set_load(*cm.law.stiffness_preload(s * start)),
             steps=setup.steps,
         )
-        res = _run(cm, [ramp], [(0.0, 0.0, np.zeros(3), start)], x, recorder, -1)
+        res = _run(cm, [ramp], [(0.0, 0.0, np.zeros(3), start)], x, recorder, -1, deadline)
         stats.append(res)
         if not res.converged:
             return recorder.result(False, res.message, stats, time.perf_counter() - t0)
         x = res.x
-    deadline = t0 + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
     for cycle in range(setup.cycles):
         recorder.begin_cycle(cycle, x)
         stages, spans = _cycle_stages(cm, schedule, cycle, setup.steps, deadline)

@@ -155,3 +155,22 @@ def test_the_wall_time_budget_stops_a_cycle_before_its_next_solve_attempt():
     with pytest.raises(WallBudgetExceeded):
         late[1].drive(0.25)
     assert len(loads) == 1  # nothing set after the deadline
+
+
+def test_the_setup_stages_get_the_remaining_wall_time(monkeypatch):
+    """The insertion, friction and start stages run under the same budget as the cycles
+    (`run_stages(max_wall_s=...)`), so a stalled insertion ends as a recorded failure too."""
+    import time
+    from types import SimpleNamespace
+
+    from fem.contact_stages import Stage
+    from studies.parts import crawl_model
+
+    seen = []
+    monkeypatch.setattr(crawl_model, "run_stages", lambda *a, **k: seen.append(k["max_wall_s"]))
+    cm = SimpleNamespace(model=None)
+    span = [(0.0, 0.0, np.zeros(3), np.zeros(3))]
+    crawl_model._run(cm, [Stage("insert")], span, None, None, -1, time.perf_counter() + 100.0)
+    crawl_model._run(cm, [Stage("insert")], span, None, None, -1)
+    crawl_model._run(cm, [Stage("insert")], span, None, None, -1, time.perf_counter() - 1.0)
+    assert 99.0 < seen[0] <= 100.0 and seen[1] is None and seen[2] == pytest.approx(1e-6)
