@@ -102,7 +102,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--skip-foot", action="store_true")
     ap.add_argument("--pipe", type=float, default=65.0, help="pipe diameter (mm)")
-    ap.add_argument("--mesher", default="revolved", choices=("revolved", "tetwild"), help="the foot's mesh")
+    from studies.catalogue.contact_studies import FOOT_MESHER, FOOT_MESHERS
+
+    ap.add_argument("--mesher", default=FOOT_MESHER, choices=FOOT_MESHERS, help="the foot's mesh")
     ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache folder (--mesher tetwild)")
     args = ap.parse_args()
     groove_case()

@@ -70,6 +70,7 @@ def _add_design_options(parser, kind: str, classes: dict) -> None:
 def register(subparsers) -> None:
     from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
     from geometry.tetwild import MAX_EDGE_LENGTH, MIN_EDGE_LENGTH
+    from studies.catalogue.contact_studies import FOOT_MESHERS
     from studies.commands.options import add_number
 
     classes = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
@@ -101,7 +102,7 @@ def register(subparsers) -> None:
             sp.add_argument(
                 "--mesher",
                 default="tetwild",
-                choices=("tetwild", "revolved"),
+                choices=FOOT_MESHERS,
                 help="tetwild (default) or revolved: the foot study's structured mesh, three cells "
                 "through the skirt (geometry.foot_revolved; no --edge-length, no cache)",
             )

@@ -123,24 +123,18 @@ class DragCurve:
 
 
 def limit_point(drag: np.ndarray, resistance: np.ndarray) -> tuple[float, float] | None:
-    """The maximum a stopped drag passed: (drag, resistance) of the largest sample, refined by the
-    parabola through it and its two neighbours; None unless the last sample lies more than
-    `LIMIT_DROP` below it (the resistance fell: the drag passed a limit point, and a quasi-static
-    drag under hub displacement control stops where the path snaps back)."""
+    """The maximum a stopped drag passed: (drag, resistance) of its largest computed state; None
+    unless the last state lies more than `LIMIT_DROP` below it (the resistance fell: the drag
+    passed a limit point, and a quasi-static drag under hub displacement control stops where the
+    path snaps back). The value is an equilibrium that was computed, so it is a lower bound of the
+    resistance; the true maximum lies between that state's neighbours and was not interpolated."""
     if resistance.size < 2:
         return None
     i = int(np.argmax(resistance))
     peak = float(resistance[i])
     if not (i < resistance.size - 1 and resistance[-1] < (1.0 - LIMIT_DROP) * peak):
         return None
-    if i == 0:
-        return float(drag[0]), peak
-    d, f = drag[i - 1 : i + 2], resistance[i - 1 : i + 2]
-    a, b, c = np.polyfit(d, f, 2)
-    if not a < 0:
-        return float(drag[i]), peak
-    top = float(np.clip(-b / (2 * a), d[0], d[-1]))
-    return top, max(float(np.polyval((a, b, c), top)), peak)
+    return float(drag[i]), peak
 
 
 @dataclass(frozen=True)
@@ -222,7 +216,7 @@ def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes,
     message = res.message
     if top is not None:
         message = (
-            f"limit point: the resistance peaked at {top[1]:.4g} N at {top[0]:.3g} mm and fell to "
+            f"limit point: the largest resistance, {top[1]:.4g} N at {top[0]:.4g} mm, fell to "
             f"{arr[-1, 1]:.4g} N at {arr[-1, 0]:.4g} mm, where the quasi-static drag stopped (under hub "
             f"displacement control it cannot follow the path past a snap; the resistance beyond is not "
             f"computed, F >= {top[1]:.4g} N): {res.message}"
