@@ -3,8 +3,9 @@ r"""`softcrawl study crawl`: stride and anchoring of the FE crawl over pipe diam
 Grid: pipe diameter D in {55, 60, 65, 70, 75} mm x mu in {0.3, 0.5} (the same mu on the smooth
 and the grooved face: `studies.catalogue.contact_studies` states why 0.5 and the groove study's
 lower value 0.3); the "inflate" schedule at 100 kPa, 2 s cycles, 2 cycles, the paper's feet.
+The feet: the revolved mesh (`studies.parts.crawl_mesh`), 48 sectors.
 --quick: D in {60, 65, 70} x mu in {0.3, 0.5} (mu outermost, so the mu = 0.3 points, which
-complete a cycle at 70 mm, come first), 4 insertion steps, one cycle, and a wall-time budget of
+complete a cycle at 70 mm, come first), 4 insertion steps, 24 sectors, one cycle, and a wall-time budget of
 QUICK_WALL_S per point (DEFAULT_WALL_S without --quick), insertion included: a stall in
 cut-backs (the retraction at mu = 0.5 before the rounded cone, docs/DESIGN.md 13) must end as a
 recorded failure, not as a point that never returns. Each point runs
@@ -47,6 +48,7 @@ def anchoring_slip_ratio(cycle: dict) -> float:
 
 def evaluate_crawl(params: dict, fixed: dict, settings: dict):
     from studies.parts.crawl_files import run_and_write
+    from studies.parts.crawl_mesh import QUICK_SECTORS
     from studies.parts.crawl_model import CrawlSetup
     from studies.parts.crawl_outputs import steady_stride
     from studies.parts.crawl_schedule import preset
@@ -62,6 +64,7 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
         steps=4,
         cycles=int(settings.get("cycles", 2)),
         max_wall_s=QUICK_WALL_S if quick else DEFAULT_WALL_S,
+        sectors=QUICK_SECTORS if quick else None,
     )
     folder = Path(settings["out_dir"]) / "points" / point_stem(params)
     result, summary = run_and_write(setup, preset("inflate", 100.0, 2.0), folder, quick=quick, vtu=False)

@@ -3,16 +3,20 @@
     softcrawl crawl [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3] [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
                     [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric]
-                    [--edge-length MM] [--gif | --animation PATH.gif] --out DIR
+                    [--mesher revolved|tetwild] [--sectors N] [--layers N] [--edge-length MM]
+                    [--gif | --animation PATH.gif] --out DIR
 
 Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
 friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
 ePSAs act between the hubs through their axial law (the paper's prototype statics, eqs. 19-24;
 bending is not modelled). --backward: both feet mirrored (skirts lean forward, the paper's
 backward motion by the initial contact faces); --symmetric: only the front foot mirrored (the
-pair is symmetric under z -> -z: a check, it should not advance). --quick: 4 insertion steps
-instead of 8 (the foot mesh cannot be coarsened: fTetWild keeps the skirt's own size; 2 sub-steps
-per schedule segment stalled where the actuator force changes sign, 4 pass).
+pair is symmetric under z -> -z: a check, it should not advance). The feet's mesh: the revolved
+foot (48 sectors, 3 cells through the skirt; --sectors and --layers refine it) or, with --mesher
+tetwild, pytetwild's (--edge-length; the mesh of the crawl results computed before the revolved
+one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh, 24 sectors unless
+--sectors is given (2 sub-steps per schedule segment stalled where the actuator force changes
+sign, 4 pass, so --steps keeps 4).
 
 Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the
 paper's Table 2 speed for that diameter and the analytic `robot.loads.crawl_speed`; writes
@@ -27,6 +31,7 @@ from __future__ import annotations
 import argparse
 
 from studies.catalogue.contact_studies import FOOT_FRICTION
+from studies.parts.crawl_mesh import CRAWL_MESHERS, QUICK_SECTORS
 from studies.parts.crawl_schedule import GAITS
 
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
@@ -62,9 +67,16 @@ def register(subparsers) -> None:
                minimum=0.0, maximum=5.0)  # fmt: skip
     add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4",
                minimum=1, maximum=200, integer=True)  # fmt: skip
-    add_number(p, "--edge-length", help="the feet's mesh edge (the mesh-convergence check)", unit="mm",
+    p.add_argument(
+        "--mesher", default="revolved", choices=CRAWL_MESHERS, help="the feet's mesher (default revolved)"
+    )
+    add_number(p, "--sectors", help="revolved feet: sectors around the axis", default_text="48, --quick 24",
+               minimum=12, maximum=256, integer=True)  # fmt: skip
+    add_number(p, "--layers", help="revolved feet: cells through the skirt", default_text="3",
+               minimum=1, maximum=12, integer=True)  # fmt: skip
+    add_number(p, "--edge-length", help="tetwild feet: the mesh edge", unit="mm",
                default_text="pytetwild's, 0.05 x the foot's diagonal", minimum=1.0, maximum=20.0)  # fmt: skip
-    p.add_argument("--quick", action="store_true", help="fewer insertion steps (4 instead of 8)")
+    p.add_argument("--quick", action="store_true", help=f"4 insertion steps, {QUICK_SECTORS} sectors")
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet mirrored: skirts lean forward")
     feet.add_argument("--symmetric", action="store_true", help="front foot mirrored: a symmetric pair")
@@ -83,12 +95,14 @@ def run(args) -> int:
     from studies.parts.crawl_model import CrawlSetup
     from studies.parts.crawl_schedule import preset, read_csv
 
+    mesh = mesh_settings(args)  # before any folder is made
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
     out = output_folder(args.out)
     animation = animation_path(args, Path(out))
     feet = "backward" if args.backward else "symmetric" if args.symmetric else "paper"
     steps = args.steps or 4
     setup = CrawlSetup(
+        **mesh,
         pipe_diameter=args.pipe_diameter,
         mu_smooth=args.mu_smooth,
         mu_grooved=args.mu_grooved,
@@ -96,7 +110,6 @@ def run(args) -> int:
         insert_steps=4 if args.quick else 8,
         steps=steps,
         cycles=args.cycles,
-        edge_length=args.edge_length,
     )
     print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
     result, summary = run_and_write(
@@ -106,6 +119,21 @@ def run(args) -> int:
     if animation is not None:
         write_animation(Path(out), animation)
     return 0 if result.converged else 1
+
+
+def mesh_settings(args) -> dict:
+    """The CrawlSetup mesh fields of the command line; a setting of the other mesher is an error."""
+    from studies.commands.options import CommandLineError
+
+    if args.mesher == "revolved":
+        if args.edge_length is not None:
+            raise CommandLineError("edge-length", "refines the tetwild feet: add --mesher tetwild")
+        sectors = args.sectors if args.sectors is not None else (QUICK_SECTORS if args.quick else None)
+        return {"mesher": "revolved", "sectors": sectors, "thickness_layers": args.layers}
+    for name, value in (("sectors", args.sectors), ("layers", args.layers)):
+        if value is not None:
+            raise CommandLineError(name, "refines the revolved feet, not --mesher tetwild")
+    return {"mesher": "tetwild", "edge_length": args.edge_length}
 
 
 def animation_path(args, out):

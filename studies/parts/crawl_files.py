@@ -152,7 +152,7 @@ def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool 
     from studies.sweeps.tables import write_csv
 
     folder.mkdir(parents=True, exist_ok=True)
-    design, mesh = crawl_mesh(setup.mirrored, edge_length=setup.edge_length)
+    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     cm = build(mesh, solid_law(get_material(MATERIAL), hyperelastic_only=True), design, setup)
     series = None
     if vtu:

@@ -1,6 +1,6 @@
-"""The crawl's checks that can fail (issue 17), on the whole two-feet model (103,640 DOFs): 4-25
-minutes each on a loaded 2-core machine, so all slow. 70 mm pipe, insertion in 4 steps, mu = 0.5
-on both faces (FOOT_FRICTION), the paper's prototype axial law.
+"""The crawl's checks that can fail (issue 17), on the whole two-feet model of --quick (revolved
+feet, 24 sectors, 81,984 DOFs): minutes each on a 2-core machine, so all slow. 70 mm pipe,
+insertion in 4 steps, mu = 0.5 on both faces (FOOT_FRICTION), the paper's prototype axial law.
 
 - symmetric feet (rear foot as on the robot, front foot mirrored: the pair is symmetric under
   z -> -z about the centre, same mu on both faces) do not advance over a whole inflate cycle:
@@ -21,6 +21,7 @@ import functools
 import numpy as np
 import pytest
 
+from studies.parts.crawl_mesh import QUICK_SECTORS
 from studies.parts.crawl_schedule import Schedule, preset
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(7200)]
@@ -34,8 +35,10 @@ def _crawl(feet: str, schedule: Schedule, steps: int = 4):
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import CrawlSetup, build, run_crawl
 
-    setup = CrawlSetup(pipe_diameter=70.0, feet=feet, insert_steps=4, steps=steps, cycles=1)
-    design, mesh = crawl_mesh(setup.mirrored)
+    setup = CrawlSetup(
+        pipe_diameter=70.0, feet=feet, insert_steps=4, steps=steps, cycles=1, sectors=QUICK_SECTORS
+    )
+    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     cm = build(mesh, _material({"material": "rubber-70a"}), design, setup)
     return run_crawl(cm, schedule)
 
@@ -91,8 +94,16 @@ def test_a_whole_cycle_at_mu_03_anchors_as_in_fig4():
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import CrawlSetup, build, run_crawl
 
-    setup = CrawlSetup(pipe_diameter=70.0, mu_smooth=0.3, mu_grooved=0.3, insert_steps=4, steps=4, cycles=1)
-    design, mesh = crawl_mesh(setup.mirrored)
+    setup = CrawlSetup(
+        pipe_diameter=70.0,
+        mu_smooth=0.3,
+        mu_grooved=0.3,
+        insert_steps=4,
+        steps=4,
+        cycles=1,
+        sectors=QUICK_SECTORS,
+    )
+    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     res = run_crawl(build(mesh, _material({"material": "rubber-70a"}), design, setup), preset("inflate"))
     _check_balance(res)
     c = res.cycles[0]

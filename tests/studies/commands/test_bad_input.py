@@ -49,6 +49,12 @@ CASES: list[tuple[str, str]] = [
     ("crawl --cycle-time 0 --out OUT", "cycle-time"),
     ("crawl --mu-smooth -0.1 --out OUT", "mu-smooth"),
     ("crawl --edge-length 0.2 --out OUT", "edge-length"),
+    ("crawl --edge-length 3 --out OUT", "edge-length"),  # a tetwild setting on the revolved feet
+    ("crawl --mesher tetwild --sectors 32 --out OUT", "sectors"),
+    ("crawl --mesher tetwild --layers 2 --out OUT", "layers"),
+    ("crawl --sectors 8 --out OUT", "sectors"),
+    ("crawl --layers 0 --out OUT", "layers"),
+    ("crawl --mesher gmsh --out OUT", "mesher"),
     ("crawl --steps 0 --out OUT", "steps"),
     ("crawl --schedule MISSING --out OUT", "schedule"),
     ("crawl --schedule TEXT --out OUT", "schedule"),
