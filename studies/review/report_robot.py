@@ -18,8 +18,7 @@ from studies.review.html import csv_rows, esc, figure, markdown, missing, table
 ROBOT_TABLE1 = "softcrawl robot --mesh quick --first 0,40,60 --pressures 100,40,60 --out results/robot-table1"
 WORKSPACE = 'softcrawl study workspace --quick --material "ecoflex-00-50@mu=0.0638" --out results/'
 CRAWL = (
-    "softcrawl crawl --quick --cycles 2 --mu-smooth 0.3 --mu-grooved 0.3 "
-    "--out results/crawl/forward-70-mu0.3-2cycles"
+    "softcrawl crawl --cycles 2 --mu-smooth 0.3 --mu-grooved 0.3 --out results/crawl/forward-70-mu0.3-2cycles"
 )
 
 
@@ -63,12 +62,22 @@ def robot(results: Path) -> str:
     return "".join(out)
 
 
+def feet_mesh(setup: dict) -> str:
+    """The feet's mesh of a crawl run's setup; runs from before the mesher field were pytetwild's."""
+    if setup.get("mesher", "tetwild") == "tetwild":
+        edge = setup.get("edge_length")
+        return "pytetwild" + (f", {edge:g} mm edge" if edge else "")
+    sectors, layers = setup.get("sectors") or 48, setup.get("thickness_layers") or 3
+    return f"revolved, {sectors} sectors, {layers} cells"
+
+
 def _crawl_row(folder: Path, summary: dict) -> dict:
     setup, comparison = summary.get("setup", {}), summary.get("comparison", {})
     return {
         "run": folder.name,
         "pipe (mm)": setup.get("pipe_diameter"),
         "feet": setup.get("feet"),
+        "feet mesh": feet_mesh(setup),
         "mu smooth / grooved": f"{setup.get('mu_smooth')} / {setup.get('mu_grooved')}",
         "schedule": summary.get("schedule", {}).get("name"),
         "cycles done": len(summary.get("cycles", [])),

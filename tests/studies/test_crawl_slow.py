@@ -54,7 +54,7 @@ def test_symmetric_feet_do_not_advance():
     _check_balance(res)
     deltas = [s["delta_mm"] for s in res.states if s["cycle"] > 0]
     swing = max(deltas) - min(deltas)
-    assert swing > 0.5  # the actuators moved the feet apart (1.16 mm seen)
+    assert swing > 0.5  # the actuators moved the feet apart (1.16 mm seen on the pytetwild feet)
     assert abs(res.strides[0]) < 0.01 * swing
 
 
@@ -64,8 +64,8 @@ def test_extension_anchors_one_foot_and_slides_the_other(feet, sign):
     _check_balance(res)
     end = res.states[-1]
     slider, anchor = ("front", "rear") if sign > 0 else ("rear", "front")
-    assert sign * end[f"{slider}_u_mm"] > 5.0  # 10.8 mm seen
-    assert abs(end[f"{anchor}_u_mm"]) < 0.1 * abs(end[f"{slider}_u_mm"])  # 0.45 mm seen
+    assert sign * end[f"{slider}_u_mm"] > 5.0  # 10.8 mm seen (pytetwild feet)
+    assert abs(end[f"{anchor}_u_mm"]) < 0.1 * abs(end[f"{slider}_u_mm"])  # 0.45 mm seen (pytetwild feet)
     assert end[f"{slider}_slip_share"] > 0.95
 
 
@@ -77,7 +77,8 @@ def test_extension_converges_in_the_step_size():
 
 
 def test_paper_feet_complete_an_inflate_cycle_forward():
-    """results/crawl/rubber-70a-quick, D70-mu0.5: stride 5.11 mm, front +10.07, rear +0.16 mm."""
+    """results/crawl/rubber-70a-quick, D70-mu0.5 (pytetwild feet): stride 5.11 mm, front +10.07,
+    rear +0.16 mm."""
     res = _crawl("paper", preset("inflate"))
     _check_balance(res)
     c = res.cycles[0]
@@ -88,8 +89,8 @@ def test_paper_feet_complete_an_inflate_cycle_forward():
 
 def test_a_whole_cycle_at_mu_03_anchors_as_in_fig4():
     """mu = 0.3 on both faces: the front foot slides out while the rear anchors, then the rear is
-    pulled after it while the front anchors (results/crawl/forward-70-mu0.3-2cycles, cycle 1:
-    +24.25 / +6.51 mm)."""
+    pulled after it while the front anchors (24 sectors, `softcrawl crawl --quick --cycles 1
+    --mu-smooth 0.3 --mu-grooved 0.3`: front +24.69, rear +7.27 mm in cycle 1)."""
     from studies.catalogue.contact_studies import _material
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import CrawlSetup, build, run_crawl

@@ -50,9 +50,12 @@ def test_robot_and_crawl_sections_carry_the_committed_figures(report):
     robot = text.split('<section id="robot">')[1].split("</section>")[0]
     crawl = text.split('<section id="crawl">')[1].split("</section>")[0]
     assert "robot-table1/robot.png" in robot
-    # the mu = 0.3 run of results/crawl: two cycles, steady stride 6.20 mm at 3.10 mm/s, Table 2 18.3
+    # the mu = 0.3 run of results/crawl on the revolved feet: two cycles, steady stride 7.78 mm at
+    # 3.89 mm/s, Table 2 18.3; the same run on the pytetwild feet: 6.20 mm at 3.10 mm/s
     row = crawl.split("forward-70-mu0.3-2cycles</td>")[1].split("</tr>")[0]
-    assert "6.2" in row and "3.1" in row and "18.3" in row
+    assert "7.78" in row and "3.89" in row and "18.3" in row and "revolved, 48 sectors" in row
+    old = crawl.split("forward-70-mu0.3-2cycles-tetwild</td>")[1].split("</tr>")[0]
+    assert "6.2" in old and "3.1" in old and "pytetwild" in old
     assert crawl.count("data:image/png;base64,") >= 5  # one figure per committed run
 
 
