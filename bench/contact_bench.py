@@ -102,7 +102,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--skip-foot", action="store_true")
     ap.add_argument("--pipe", type=float, default=65.0, help="pipe diameter (mm)")
-    from studies.catalogue.contact_studies import FOOT_MESHER, FOOT_MESHERS
+    from geometry.foot_meshers import FOOT_MESHERS
+    from studies.catalogue.contact_studies import FOOT_MESHER
 
     ap.add_argument("--mesher", default=FOOT_MESHER, choices=FOOT_MESHERS, help="the foot's mesh")
     ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache folder (--mesher tetwild)")

@@ -145,27 +145,16 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
 #: drags stalled without one, and two meshes were 5 % apart (docs/DESIGN.md section 11). A
 #: spec.json without the key predates the revolved mesh and means pytetwild.
 FOOT_MESHER = "revolved"
-FOOT_MESHERS = ("revolved", "tetwild")
 
 
 def _foot_mesh(settings):
     from geometry.design import FootDesign
+    from geometry.foot_meshers import mesh_foot_with
 
     design = FootDesign(angle=float(settings.get("angle", 120.0)))
     mesher = settings.get("mesher", "tetwild")
-    if mesher == "revolved":
-        from geometry.foot_revolved import mesh_foot_revolved
-
-        mesh = mesh_foot_revolved(design)
-    elif mesher == "tetwild":
-        from geometry.tetwild import mesh_foot
-
-        edge = settings.get("edge_length")
-        mesh = mesh_foot(design, edge_length=edge, cache_dir=settings.get("mesh_cache"))
-    else:
-        from studies.sweeps.spec import StudyError
-
-        raise StudyError("mesher", f"{mesher!r} is not a foot mesher: one of {', '.join(FOOT_MESHERS)}")
+    edge = settings.get("edge_length") if mesher == "tetwild" else None
+    mesh = mesh_foot_with(design, mesher, edge_length=edge, cache_dir=settings.get("mesh_cache"))
     return design, mesh.to_skfem(2)
 
 

@@ -30,8 +30,9 @@ from __future__ import annotations
 
 import argparse
 
+from geometry.foot_meshers import FOOT_MESHERS
 from studies.catalogue.contact_studies import FOOT_FRICTION
-from studies.parts.crawl_mesh import CRAWL_MESHERS, QUICK_SECTORS
+from studies.parts.crawl_mesh import QUICK_SECTORS
 from studies.parts.crawl_schedule import GAITS
 
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
@@ -68,7 +69,7 @@ def register(subparsers) -> None:
     add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4",
                minimum=1, maximum=200, integer=True)  # fmt: skip
     p.add_argument(
-        "--mesher", default="revolved", choices=CRAWL_MESHERS, help="the feet's mesher (default revolved)"
+        "--mesher", default="revolved", choices=FOOT_MESHERS, help="the feet's mesher (default revolved)"
     )
     add_number(p, "--sectors", help="revolved feet: sectors around the axis", default_text="48, --quick 24",
                minimum=12, maximum=256, integer=True)  # fmt: skip

@@ -69,8 +69,8 @@ def _add_design_options(parser, kind: str, classes: dict) -> None:
 
 def register(subparsers) -> None:
     from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
+    from geometry.foot_meshers import FOOT_MESHERS
     from geometry.tetwild import MAX_EDGE_LENGTH, MIN_EDGE_LENGTH
-    from studies.catalogue.contact_studies import FOOT_MESHERS
     from studies.commands.options import add_number
 
     classes = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
@@ -188,10 +188,10 @@ def run(args: argparse.Namespace) -> int:
             "edge-length", "the revolved foot mesh has no edge length (geometry.foot_revolved)"
         )
     with _progress_lines("geometry"):  # the mesher's log lines: what it meshes, not a cache hit
-        if revolved:
-            from geometry.foot_revolved import mesh_foot_revolved
+        if args.kind == "foot":
+            from geometry.foot_meshers import mesh_foot_with
 
-            mesh = mesh_foot_revolved(design)
+            mesh = mesh_foot_with(design, args.mesher, edge_length=args.edge_length, cache_dir=cache)
         else:
             mesh = MESHERS[args.kind](design, edge_length=args.edge_length, cache_dir=cache)
     seconds = time.perf_counter() - t0

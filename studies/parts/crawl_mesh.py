@@ -8,7 +8,7 @@ keeps its place and its skirt leans forward (+z); reflected tets and facets are 
 positively and outward oriented, and the curved-surface descriptions (for the P2 nodes' snapping)
 are reflected with them.
 
-Meshers (`CRAWL_MESHERS`). "revolved" (the default): `geometry.foot_revolved`, the foot study's
+Meshers (`geometry.foot_meshers`). "revolved" (the default): `geometry.foot_revolved`, the foot study's
 structured mesh, every vertex and P2 midside node on the exact surfaces, refined by its sectors
 and its cells through the skirt; "tetwild": `geometry.tetwild.mesh_foot` (pytetwild, refined by
 its edge length), the mesh of the crawl results computed before the revolved mesh existed
@@ -78,46 +78,20 @@ def two_feet(
     )
 
 
-CRAWL_MESHERS = ("revolved", "tetwild")
 #: Sectors of the revolved feet in the --quick crawl and crawl study (82k DOFs against 164k at the
 #: default 48); their stride against the default mesh's: docs/DESIGN.md section 13.
 QUICK_SECTORS = 24
 
 
-def foot_mesh(design, mesher: str = "revolved", sectors=None, thickness_layers=None, edge_length=None,
-              cache_dir=None) -> TaggedMesh:  # fmt: skip
-    """One foot by `mesher` (module docstring): `sectors` and `thickness_layers` refine the revolved
-    mesh (None: its defaults), `edge_length` (mm) the pytetwild one (None: its default); a setting
-    of the other mesher is an error that names it."""
-    from geometry.design import DesignError
-
-    if mesher == "revolved":
-        if edge_length is not None:
-            raise DesignError("edge_length", "refines the tetwild mesh; the revolved one takes sectors")
-        from geometry import foot_revolved as fr
-
-        return fr.mesh_foot_revolved(
-            design,
-            n_theta=fr.N_THETA if sectors is None else sectors,
-            thickness_layers=fr.THICKNESS_LAYERS if thickness_layers is None else thickness_layers,
-        )
-    if mesher == "tetwild":
-        for name, value in (("sectors", sectors), ("thickness_layers", thickness_layers)):
-            if value is not None:
-                raise DesignError(name, "refines the revolved mesh, not pytetwild's")
-        from geometry.tetwild import mesh_foot
-
-        return mesh_foot(design, edge_length=edge_length, cache_dir=cache_dir)
-    raise DesignError("mesher", f"{mesher!r} is not a crawl foot mesher: one of {', '.join(CRAWL_MESHERS)}")
-
-
 def crawl_mesh(mirrored: tuple[bool, bool] = (False, False), cache_dir=None, **mesh_options):
     """(foot design, skfem MeshTet2 of the two feet) of the Table 1 robot (`geometry.design`);
-    `mesh_options` go to `foot_mesh` (mesher, sectors, thickness_layers, edge_length)."""
+    `mesh_options` go to `geometry.foot_meshers.mesh_foot_with` (mesher, sectors, thickness_layers,
+    edge_length)."""
     from geometry.design import RobotDesign
+    from geometry.foot_meshers import mesh_foot_with
 
     robot = RobotDesign()
-    foot = foot_mesh(robot.foot, cache_dir=cache_dir, **mesh_options)
+    foot = mesh_foot_with(robot.foot, cache_dir=cache_dir, **mesh_options)
     separation = robot.epsa.length + robot.epsa.seal_head_thickness + robot.foot.hub_thickness
     both = two_feet(foot, separation, robot.foot.hub_thickness, mirrored)
     return robot.foot, both.to_skfem(2)

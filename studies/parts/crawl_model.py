@@ -68,7 +68,7 @@ class CrawlSetup:
     steps: int = 4  # sub-steps per schedule segment
     cycles: int = 1
     max_wall_s: float | None = None  # give the schedule up after this wall time (None: no limit)
-    mesher: str = "revolved"  # the feet's mesher (studies.parts.crawl_mesh.CRAWL_MESHERS)
+    mesher: str = "revolved"  # the feet's mesher (geometry.foot_meshers.FOOT_MESHERS)
     sectors: int | None = None  # revolved: sectors around the axis (None: 48)
     thickness_layers: int | None = None  # revolved: cells through the skirt (None: 3)
     edge_length: float | None = None  # tetwild: foot mesh edge (mm; None: the pytetwild default)

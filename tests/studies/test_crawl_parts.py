@@ -91,28 +91,6 @@ def test_two_feet_keep_orientation_and_tags(mirrored):
     assert attach_tag("rear", True) == "rear:hub_bottom" and attach_tag("front", True) == "front:hub_top"
 
 
-def test_the_crawl_feet_mesher_takes_its_own_settings_only():
-    """The revolved feet are refined by sectors and layers, pytetwild's by the edge length; a
-    setting of the other mesher, or an unknown mesher, is an error that names it."""
-    from geometry.design import DesignError, FootDesign
-    from studies.parts.crawl_mesh import QUICK_SECTORS, foot_mesh
-
-    design = FootDesign()
-    coarse = foot_mesh(design, sectors=QUICK_SECTORS)
-    finer = foot_mesh(design, sectors=2 * QUICK_SECTORS, thickness_layers=4)
-    assert len(finer.tets) > 2 * len(coarse.tets)
-    assert coarse.tet_volumes().sum() == pytest.approx(finer.tet_volumes().sum(), rel=0.01)
-    for kwargs, name in [
-        ({"edge_length": 3.0}, "edge_length"),
-        ({"mesher": "tetwild", "sectors": 32}, "sectors"),
-        ({"mesher": "tetwild", "thickness_layers": 2}, "thickness_layers"),
-        ({"mesher": "gmsh"}, "mesher"),
-    ]:
-        with pytest.raises(DesignError) as err:
-            foot_mesh(design, **kwargs)
-        assert err.value.parameter == name
-
-
 def test_study_tables_keep_every_point_with_its_status(tmp_path):
     """summary.csv from the stored point files: a completed, a failed (with its reason) and a
     missing point all appear; the outcome names the ones that did not complete."""
