@@ -85,9 +85,22 @@ class Discretisation:
         """Scalar P2 nodes (vertices and edge midpoints) of boundary `tag`."""
         return self.basis.get_dofs(self.boundary(tag)).flatten()
 
-    def facet_basis(self, facets: np.ndarray, intorder: int = 4) -> skfem.FacetBasis:
-        """The P2 basis on the given boundary facets (the facet's element, traced)."""
-        return skfem.FacetBasis(self.mesh, skfem.ElementTetP2(), facets=facets, intorder=intorder)
+    def facet_basis(self, facets: np.ndarray, intorder: int = 4, parameter: str = "tag") -> skfem.FacetBasis:
+        """The P2 basis on the given boundary facets (the facet's element, traced).
+
+        scikit-fem places the facet's quadrature points in its element by inverting the element's
+        isoparametric map (Newton, to 1e-12). On curved P2 elements that are too coarse for their
+        curvature (a revolved foot with fewer than 24 sectors) that inversion does not converge;
+        this is an error naming `parameter` (refine the mesh), not scikit-fem's bare Exception.
+        """
+        try:
+            return skfem.FacetBasis(self.mesh, skfem.ElementTetP2(), facets=facets, intorder=intorder)
+        except Exception as exc:  # scikit-fem raises a plain Exception from MappingIsoparametric.invF
+            raise SolverInputError(
+                parameter,
+                f"the facet quadrature points could not be placed in their curved P2 elements ({exc}); "
+                "the elements are too coarse for the surface's curvature: refine the mesh",
+            ) from exc
 
     def displacement(self, x: np.ndarray) -> np.ndarray:
         """Nodal displacements, shape (3, n_nodes)."""

@@ -71,8 +71,10 @@ def register(subparsers) -> None:
     p.add_argument(
         "--mesher", default="revolved", choices=FOOT_MESHERS, help="the feet's mesher (default revolved)"
     )
+    # At least 24: below it scikit-fem cannot place the contact faces' quadrature points in the
+    # curved P2 tets of the skirt (fem.discretisation.Discretisation.facet_basis; 20 sectors failed).
     add_number(p, "--sectors", help="revolved feet: sectors around the axis", default_text="48, --quick 24",
-               minimum=12, maximum=256, integer=True)  # fmt: skip
+               minimum=24, maximum=256, integer=True)  # fmt: skip
     add_number(p, "--layers", help="revolved feet: cells through the skirt", default_text="3",
                minimum=1, maximum=12, integer=True)  # fmt: skip
     add_number(p, "--edge-length", help="tetwild feet: the mesh edge", unit="mm",

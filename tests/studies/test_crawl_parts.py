@@ -174,3 +174,35 @@ def test_the_setup_stages_get_the_remaining_wall_time(monkeypatch):
     crawl_model._run(cm, [Stage("insert")], span, None, None, -1)
     crawl_model._run(cm, [Stage("insert")], span, None, None, -1, time.perf_counter() - 1.0)
     assert 99.0 < seen[0] <= 100.0 and seen[1] is None and seen[2] == pytest.approx(1e-6)
+
+
+def _contact_area(mirrored, sectors: int, tag: str) -> float:
+    """Reference area of one contact face of the two revolved feet, through fem.contact.ContactTerm."""
+    from fem.contact import ContactSpec, ContactTerm
+    from fem.discretisation import Discretisation
+    from fem.rigid_surfaces import CylinderWall
+    from studies.parts.crawl_mesh import crawl_mesh
+
+    _, mesh = crawl_mesh(mirrored, mesher="revolved", sectors=sectors)
+    term = ContactTerm(Discretisation(mesh), ContactSpec((tag,), CylinderWall(40.0), penalty=1.0))
+    assert term.nodes.shape == (6, len(term.facets))
+    return float(term.dA.sum())
+
+
+def test_mirrored_revolved_feet_take_contact_on_every_face():
+    """A mirrored foot's contact faces build (their P2 shape functions that vanish on a facet did
+    so only to 1.2e-12 after the reflection, once above the old 1e-12 cut: `--symmetric` and
+    `--backward` on the revolved feet failed with "expected six P2 nodes"), and the reflection
+    keeps every face's area."""
+    for face in ("back", "front", "rim"):
+        plain = _contact_area((False, False), 24, f"front:{face}")
+        assert _contact_area((False, True), 24, f"front:{face}") == pytest.approx(plain, rel=1e-10)
+
+
+def test_contact_faces_too_coarse_to_map_are_an_input_error():
+    """16 sectors: scikit-fem's inverse isoparametric map does not converge on the skirt's faces;
+    the error names the contact tags instead of scikit-fem's bare Exception."""
+    from fem.errors import SolverInputError
+
+    with pytest.raises(SolverInputError, match="contact.tags.*refine the mesh"):
+        _contact_area((False, False), 16, "rear:back")

@@ -27,10 +27,12 @@ from studies.parts.crawl_schedule import Schedule, preset
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(7200)]
 
 EXTEND = Schedule("extend", np.array([0.0, 1.0]), np.array([[0.0] * 3, [100.0] * 3]), "0 -> 100 kPa")
+#: The cache below is keyed by a schedule's name: a Schedule holds arrays, so it cannot be hashed.
+SCHEDULES = {"extend": EXTEND, "inflate": preset("inflate")}
 
 
 @functools.cache
-def _crawl(feet: str, schedule: Schedule, steps: int = 4):
+def _crawl(feet: str, schedule_name: str, steps: int = 4):
     from studies.catalogue.contact_studies import _material
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import CrawlSetup, build, run_crawl
@@ -40,7 +42,7 @@ def _crawl(feet: str, schedule: Schedule, steps: int = 4):
     )
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     cm = build(mesh, _material({"material": "rubber-70a"}), design, setup)
-    return run_crawl(cm, schedule)
+    return run_crawl(cm, SCHEDULES[schedule_name])
 
 
 def _check_balance(res):
@@ -50,7 +52,7 @@ def _check_balance(res):
 
 
 def test_symmetric_feet_do_not_advance():
-    res = _crawl("symmetric", preset("inflate"))
+    res = _crawl("symmetric", "inflate")
     _check_balance(res)
     deltas = [s["delta_mm"] for s in res.states if s["cycle"] > 0]
     swing = max(deltas) - min(deltas)
@@ -60,7 +62,7 @@ def test_symmetric_feet_do_not_advance():
 
 @pytest.mark.parametrize("feet, sign", [("paper", 1.0), ("backward", -1.0)])
 def test_extension_anchors_one_foot_and_slides_the_other(feet, sign):
-    res = _crawl(feet, EXTEND)
+    res = _crawl(feet, "extend")
     _check_balance(res)
     end = res.states[-1]
     slider, anchor = ("front", "rear") if sign > 0 else ("rear", "front")
@@ -70,7 +72,7 @@ def test_extension_anchors_one_foot_and_slides_the_other(feet, sign):
 
 
 def test_extension_converges_in_the_step_size():
-    coarse, fine = _crawl("paper", EXTEND, 4), _crawl("paper", EXTEND, 8)
+    coarse, fine = _crawl("paper", "extend", 4), _crawl("paper", "extend", 8)
     _check_balance(fine)
     a, b = coarse.states[-1]["centre_u_mm"], fine.states[-1]["centre_u_mm"]
     assert abs(a - b) < 0.05 * abs(b)
@@ -79,7 +81,7 @@ def test_extension_converges_in_the_step_size():
 def test_paper_feet_complete_an_inflate_cycle_forward():
     """results/crawl/rubber-70a-quick, D70-mu0.5 (pytetwild feet): stride 5.11 mm, front +10.07,
     rear +0.16 mm."""
-    res = _crawl("paper", preset("inflate"))
+    res = _crawl("paper", "inflate")
     _check_balance(res)
     c = res.cycles[0]
     assert c["extend_front_slid"] and not c["extend_rear_slid"]

@@ -53,6 +53,7 @@ CASES: list[tuple[str, str]] = [
     ("crawl --mesher tetwild --sectors 32 --out OUT", "sectors"),
     ("crawl --mesher tetwild --layers 2 --out OUT", "layers"),
     ("crawl --sectors 8 --out OUT", "sectors"),
+    ("crawl --sectors 20 --out OUT", "sectors"),  # a valid mesh, but too coarse for the contact faces
     ("crawl --layers 0 --out OUT", "layers"),
     ("crawl --mesher gmsh --out OUT", "mesher"),
     ("crawl --steps 0 --out OUT", "steps"),
