@@ -79,8 +79,8 @@ def test_extension_converges_in_the_step_size():
 
 
 def test_paper_feet_complete_an_inflate_cycle_forward():
-    """results/crawl/rubber-70a-quick, D70-mu0.5 (pytetwild feet): stride 5.11 mm, front +10.07,
-    rear +0.16 mm."""
+    """results/crawl/rubber-70a-quick, D70-mu0.5 (24 sectors): stride 5.35 mm, front +10.53,
+    rear +0.18 mm."""
     res = _crawl("paper", "inflate")
     _check_balance(res)
     c = res.cycles[0]
