@@ -1,13 +1,14 @@
 r"""What the crawl records (`studies.parts.crawl_model`): per converged state and per cycle.
 
 Per state: time, the three pressures, the actuator's stiffness, preload and force T (N, > 0
-pushing the hubs apart), the hub-to-hub change Delta and the ePSA length l0 + Delta (the axial
-law has no chamber volume), and per foot: the axial displacement of its hub plate from the
-reference (mm), the wall's normal force and axial friction force on it (N), the slipping share
-of its contact area, the skirt tip's lead over the hub top along the skirt's opening direction
-(mm; > 0: the skirt has flipped, as in `studies.parts.foot_model`), the ground spring's force;
-and the axial momentum balance: the sum of the wall's axial friction forces and the ground
-springs' forces on both feet (0 at equilibrium, within the Newton tolerance).
+pushing the hubs apart), the hub-to-hub change Delta, the ePSA length l0 + Delta and each
+chamber's volume, estimated at the Table 1 chamber radius (`AxialLaw.chamber_volume`), and per
+foot: the axial displacement of its hub plate from the reference (mm), the wall's normal force and
+axial friction force on it (N), the slipping share of its contact area, the skirt tip's lead over
+the hub top along the skirt's opening direction (mm; > 0: the skirt has flipped, as in
+`studies.parts.foot_model`), the ground spring's force; and the axial momentum balance: the sum of
+the wall's axial friction forces and the ground springs' forces on both feet (0 at equilibrium,
+within the Newton tolerance).
 
 Per cycle: each foot's advance and the stride (advance of the centre, the mean of the two hub
 plates), speed = stride / cycle time; for each phase (extend: pressures rising, retract: falling)
@@ -79,6 +80,7 @@ class StateRecorder:
             "actuator_force_n": act.tension(x),
             "delta_mm": act.extension(x),
             "epsa_length_mm": cm.law.l0 + act.extension(x),
+            "chamber_volume_mm3": cm.law.chamber_volume(act.extension(x)),
             "newton": int(step.iterations[0]),
             "penetration_mm": float(step.penetration),
         }

@@ -28,8 +28,9 @@ two hubs (bending is not modelled: a gait's unequal pressures act through their 
 
 Delta the change of the hub-to-hub distance from the as-inserted robot. f_p(0) (-0.18 N per
 actuator, the intercept of the fitted line) is removed so that the robot as built is free of
-force at zero pressure. "Chamber volume" has no meaning in this axial law; the outputs give the
-ePSA length l0 + Delta instead.
+force at zero pressure. The axial law keeps no chamber radius, so the outputs give the ePSA length
+l0 + Delta and, as an estimate, each chamber's volume pi r0^2 (l_c + Delta) at the Table 1
+radius r0 (`AxialLaw.chamber_volume`; the radial growth under pressure is left out).
 """
 
 from __future__ import annotations
@@ -196,3 +197,14 @@ class AxialLaw:
     @property
     def l0(self) -> float:
         return float(self._actuator().l0)
+
+    def chamber_volume(self, delta_mm: float) -> float:
+        """One ePSA's chamber volume (mm^3) at the hub-to-hub change delta: pi r0^2 (l_c + delta),
+        the Table 1 chamber (`geometry.design.EPSADesign`, r0 = 3 mm, l_c = 90 mm) lengthened by
+        delta at its radius. An estimate: the axial law keeps no radius, so the chamber's radial
+        growth under pressure (held small by the winding) is left out, and the end caps are taken
+        as not stretching."""
+        from geometry.design import EPSADesign
+
+        epsa = EPSADesign()
+        return epsa.chamber_volume + math.pi * epsa.chamber_radius**2 * float(delta_mm)

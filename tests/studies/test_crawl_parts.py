@@ -42,6 +42,13 @@ def test_axial_law_is_eq3_summed_over_three_actuators():
     assert table2(70.0, "forward") == 18.3 and table2(72.0, "forward") is None
 
 
+def test_chamber_volume_is_the_table1_chamber_lengthened_by_delta():
+    """pi r0^2 (l_c + Delta): 3 mm radius, 90 mm chamber (100 mm body, two 5 mm end caps)."""
+    law = AxialLaw()
+    assert law.chamber_volume(0.0) == pytest.approx(np.pi * 3.0**2 * 90.0, rel=1e-12)
+    assert law.chamber_volume(25.0) - law.chamber_volume(0.0) == pytest.approx(np.pi * 9.0 * 25.0, rel=1e-12)
+
+
 def test_user_csv_schedule(tmp_path):
     good = tmp_path / "s.csv"
     good.write_text("time_s,P1_kpa,P2_kpa,P3_kpa\n0,0,0,0\n1,50,60,70\n2,0,0,0\n")
