@@ -95,7 +95,9 @@ class Discretisation:
         """
         try:
             return skfem.FacetBasis(self.mesh, skfem.ElementTetP2(), facets=facets, intorder=intorder)
-        except Exception as exc:  # scikit-fem raises a plain Exception from MappingIsoparametric.invF
+        except Exception as exc:
+            if type(exc) is not Exception:  # scikit-fem's invF raises a plain Exception; others pass
+                raise
             raise SolverInputError(
                 parameter,
                 f"the facet quadrature points could not be placed in their curved P2 elements ({exc}); "

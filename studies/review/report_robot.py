@@ -67,7 +67,9 @@ def feet_mesh(setup: dict) -> str:
     if setup.get("mesher", "tetwild") == "tetwild":
         edge = setup.get("edge_length")
         return "pytetwild" + (f", {edge:g} mm edge" if edge else "")
-    sectors, layers = setup.get("sectors") or 48, setup.get("thickness_layers") or 3
+    from geometry.foot_revolved import N_THETA, THICKNESS_LAYERS
+
+    sectors, layers = setup.get("sectors") or N_THETA, setup.get("thickness_layers") or THICKNESS_LAYERS
     return f"revolved, {sectors} sectors, {layers} cells"
 
 

@@ -21,6 +21,7 @@ import functools
 import numpy as np
 import pytest
 
+from studies.catalogue.contact_studies import FOOT_FRICTION
 from studies.parts.crawl_mesh import QUICK_SECTORS
 from studies.parts.crawl_schedule import Schedule, preset
 
@@ -32,13 +33,21 @@ SCHEDULES = {"extend": EXTEND, "inflate": preset("inflate")}
 
 
 @functools.cache
-def _crawl(feet: str, schedule_name: str, steps: int = 4):
+def _crawl(feet: str, schedule_name: str, steps: int = 4, mu: float | None = None):
+    """The --quick crawl in the 70 mm pipe, mu on both faces (None: FOOT_FRICTION); cached by its
+    arguments."""
     from studies.catalogue.contact_studies import _material
     from studies.parts.crawl_mesh import crawl_mesh
     from studies.parts.crawl_model import CrawlSetup, build, run_crawl
 
     setup = CrawlSetup(
-        pipe_diameter=70.0, feet=feet, insert_steps=4, steps=steps, cycles=1, sectors=QUICK_SECTORS
+        pipe_diameter=70.0,
+        feet=feet,
+        **(FOOT_FRICTION if mu is None else {"mu_smooth": mu, "mu_grooved": mu}),
+        insert_steps=4,
+        steps=steps,
+        cycles=1,
+        sectors=QUICK_SECTORS,
     )
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     cm = build(mesh, _material({"material": "rubber-70a"}), design, setup)
@@ -93,21 +102,7 @@ def test_a_whole_cycle_at_mu_03_anchors_as_in_fig4():
     """mu = 0.3 on both faces: the front foot slides out while the rear anchors, then the rear is
     pulled after it while the front anchors (24 sectors, `softcrawl crawl --quick --cycles 1
     --mu-smooth 0.3 --mu-grooved 0.3`: front +24.69, rear +7.27 mm in cycle 1)."""
-    from studies.catalogue.contact_studies import _material
-    from studies.parts.crawl_mesh import crawl_mesh
-    from studies.parts.crawl_model import CrawlSetup, build, run_crawl
-
-    setup = CrawlSetup(
-        pipe_diameter=70.0,
-        mu_smooth=0.3,
-        mu_grooved=0.3,
-        insert_steps=4,
-        steps=4,
-        cycles=1,
-        sectors=QUICK_SECTORS,
-    )
-    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
-    res = run_crawl(build(mesh, _material({"material": "rubber-70a"}), design, setup), preset("inflate"))
+    res = _crawl("paper", "inflate", mu=0.3)
     _check_balance(res)
     c = res.cycles[0]
     assert c["extend_front_slid"] and not c["extend_rear_slid"]
