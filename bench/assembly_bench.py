@@ -1,7 +1,7 @@
 """Time the parts of one assembly on the solver benchmark's ~19k-DOF tube (bench/solver_bench.py).
 
-    PYTHONPATH=. python bench/assembly_bench.py [--repeat 7] [--state state.npy]
-    SOFTCRAWL_THREADS=1 PYTHONPATH=. python bench/assembly_bench.py    # assembly on one thread
+    python bench/assembly_bench.py [--repeat 7] [--state state.npy]
+    SOFTCRAWL_THREADS=1 python bench/assembly_bench.py    # assembly on one thread
 
 The state is the converged one at 4 kPa (saved to --state and reused, so runs compare on the same
 x). Each part is timed best-of --repeat, round robin (the machine is shared: the minimum is
@@ -43,8 +43,8 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--state", default=None, help="npy file of the state (created if missing)")
     args = ap.parse_args(argv)
-    from fem.linsolve import LinearSolver
-    from fem.path import load_path
+    from softcrawl.fem.linsolve import LinearSolver
+    from softcrawl.fem.path import load_path
 
     model = build_model()
     P = 0.004

@@ -33,9 +33,9 @@ def contact_share(model, x, repeat: int = 3) -> tuple[float, float]:
 
 
 def groove_case() -> None:
-    from materials import get_material
-    from materials.fem_law import solid_law
-    from studies.parts import groove_model as gm
+    from softcrawl.materials import get_material
+    from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.parts import groove_model as gm
 
     mat = solid_law(get_material("rubber-70a"))
     seg = gm.GrooveSegment(groove_height=1.0)
@@ -57,10 +57,10 @@ def groove_case() -> None:
 
 
 def foot_case(pipe: float, mesher: str, mesh_cache) -> None:
-    from materials import get_material
-    from materials.fem_law import solid_law
-    from studies.catalogue.contact_studies import _foot_mesh
-    from studies.parts import foot_model as fm
+    from softcrawl.materials import get_material
+    from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.catalogue.contact_studies import _foot_mesh
+    from softcrawl.studies.parts import foot_model as fm
 
     t0 = time.perf_counter()
     design, mesh = _foot_mesh({"mesher": mesher, "mesh_cache": mesh_cache})
@@ -102,8 +102,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--skip-foot", action="store_true")
     ap.add_argument("--pipe", type=float, default=65.0, help="pipe diameter (mm)")
-    from geometry.foot_meshers import FOOT_MESHERS
-    from studies.catalogue.contact_studies import FOOT_MESHER
+    from softcrawl.geometry.foot_meshers import FOOT_MESHERS
+    from softcrawl.studies.catalogue.contact_studies import FOOT_MESHER
 
     ap.add_argument("--mesher", default=FOOT_MESHER, choices=FOOT_MESHERS, help="the foot's mesh")
     ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache folder (--mesher tetwild)")

@@ -10,9 +10,9 @@ per Newton iteration, the linear-solve and assembly shares of the path, the path
 times, the peak RSS, and the length at 100 kPa (the result every configuration must agree on to
 the solver tolerance).
 
-    PYTHONPATH=. python bench/epsa_bench.py                   # default mesh (22k DOFs)
-    PYTHONPATH=. python bench/epsa_bench.py --mesh-size 2.5   # refined: ~170k DOFs
-    PYTHONPATH=. python bench/epsa_bench.py --compare         # + the solver settings before issue 18
+    python bench/epsa_bench.py                   # default mesh (22k DOFs)
+    python bench/epsa_bench.py --mesh-size 2.5   # refined: ~170k DOFs
+    python bench/epsa_bench.py --compare         # + the solver settings before issue 18
 
 Configurations: "default" (`NewtonOptions()`: tangent predictor, adaptive steps, the last
 factorisation reused where that is cheaper), "no reuse" (a factorisation per Newton iteration),
@@ -48,10 +48,10 @@ DEFAULT_RUN = ("default", "no reuse", "mkl spin")
 def run_ramp(mesh_size, options, queue):
     options = dict(options)
     os.environ.update(options.pop("env", {}))  # before MKL is loaded
-    from fem.path import NewtonOptions, load_path
-    from fem.post import actuator_length
-    from geometry.design import EPSADesign
-    from studies.parts.epsa_model import MeshSettings, build_model
+    from softcrawl.fem.path import NewtonOptions, load_path
+    from softcrawl.fem.post import actuator_length
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_model import MeshSettings, build_model
 
     t0 = time.perf_counter()
     design = EPSADesign()

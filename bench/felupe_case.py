@@ -46,7 +46,7 @@ linear solver call; the rest of ``newton_s`` is partitioning of the system
 and bookkeeping.  ``wall_s`` = FElupe setup (regions, fields, boundaries) +
 all Newton iterations, i.e. everything except building the P2 mesh.
 
-Run standalone (``PYTHONPATH=. python bench/felupe_case.py``) to solve a small structured
+Run standalone (``python bench/felupe_case.py``) to solve a small structured
 mesh and print the result together with the analytic plane-strain error.
 """
 
@@ -385,7 +385,7 @@ if __name__ == "__main__":
     for key, value in result.items():
         print(f"{key:>20}: {value}")
 
-    from fem.analytic import tube_inner_stretch  # the project's closed form (run with PYTHONPATH=.)
+    from softcrawl.fem.analytic import tube_inner_stretch  # the project's closed form
 
     a = tube_inner_stretch(0.03, 0.02, 3.0, 9.0) * 3.0
     ua, uh = a - 3.0, result["inner_radius_mm"] - 3.0

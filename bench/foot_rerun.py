@@ -2,7 +2,7 @@
 tables and plot from the stored points (the study's own evaluator and the settings of its
 spec.json; the other diameters keep their stored results).
 
-    PYTHONPATH=. python bench/foot_rerun.py results/foot/rubber-70a 55 75 [--mesh-cache DIR]
+    python bench/foot_rerun.py results/foot/rubber-70a 55 75 [--mesh-cache DIR]
 
 Used for issue 16's convergence fixes (docs/DESIGN.md section 11), where a full rerun of the
 five pipes did not fit the time available; the README of the folder says which points predate
@@ -24,8 +24,8 @@ def main() -> None:
     ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache (default FOLDER/mesh)")
     ap.add_argument("--no-vtu", action="store_true", help="write no VTU series")
     args = ap.parse_args()
-    from studies.catalogue.contact_runs import rebuild_outputs
-    from studies.catalogue.contact_studies import evaluate_foot
+    from softcrawl.studies.catalogue.contact_runs import rebuild_outputs
+    from softcrawl.studies.catalogue.contact_studies import evaluate_foot
 
     folder = Path(args.folder)
     settings = json.loads((folder / "spec.json").read_text())["settings"]

@@ -1,7 +1,7 @@
 """The cost of a strain-stiffening law: Neo-Hookean against Yeoh (and Gent) in the same kernel.
 
-    PYTHONPATH=. python bench/law_bench.py [--repeat 5]           # assembly on the ~19k-DOF tube
-    PYTHONPATH=. python bench/law_bench.py --epsa                 # + Table 1 ePSA ramps 0-100 kPa
+    python bench/law_bench.py [--repeat 5]           # assembly on the ~19k-DOF tube
+    python bench/law_bench.py --epsa                 # + Table 1 ePSA ramps 0-100 kPa
 
 Assembly: best-of --repeat of `Solid.stress` and `Solid.element_tangent` at the same state (the
 bench tube of bench/solver_bench.py at 4 kPa) with each law (same initial shear modulus). --epsa:
@@ -33,9 +33,9 @@ def best_of(fn, repeat):
 def assembly(repeat: int) -> None:
     from assembly_bench import build_model
 
-    from fem.laws import Gent, Yeoh
-    from fem.path import load_path
-    from fem.solid import Solid
+    from softcrawl.fem.laws import Gent, Yeoh
+    from softcrawl.fem.path import load_path
+    from softcrawl.fem.solid import Solid
 
     model = build_model()
     x = load_path(model, [(0.004, 0.0)]).steps[-1].x
@@ -56,8 +56,8 @@ def assembly(repeat: int) -> None:
 
 
 def epsa_ramps() -> None:
-    from geometry.design import EPSADesign
-    from studies.parts.epsa_response import simulate_epsa
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
 
     for material in ("ecoflex-00-50", "ecoflex-00-50-yeoh") * 2:
         load = os.getloadavg()[0]

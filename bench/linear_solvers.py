@@ -15,8 +15,8 @@ large-strain state). Candidates:
 
 scikit-umfpack ships no wheel (it builds against SuiteSparse headers) and is not a candidate.
 
-    PYTHONPATH=. python bench/linear_solvers.py                    # default mesh (22k DOFs)
-    PYTHONPATH=. python bench/linear_solvers.py --mesh-size 5,3.3,2.5
+    python bench/linear_solvers.py                    # default mesh (22k DOFs)
+    python bench/linear_solvers.py --mesh-size 5,3.3,2.5
 """
 
 from __future__ import annotations
@@ -36,9 +36,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 def newton_matrix(mesh_size):
     """(model, K, b) of the Table 1 ePSA: converged at 20 kPa, tangent and residual at 40 kPa."""
-    from fem.path import load_path
-    from geometry.design import EPSADesign
-    from studies.parts.epsa_model import MeshSettings, build_model
+    from softcrawl.fem.path import load_path
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_model import MeshSettings, build_model
 
     design = EPSADesign()
     model, _, _ = build_model(design, "ecoflex-00-50", MeshSettings.from_size(mesh_size, design), False)
@@ -48,7 +48,7 @@ def newton_matrix(mesh_size):
 
 
 def pardiso(K, b):
-    from fem.linsolve import LinearSolver, _pardiso_handle
+    from softcrawl.fem.linsolve import LinearSolver, _pardiso_handle
 
     ls = LinearSolver("pardiso")
     t = time.perf_counter()
@@ -68,7 +68,7 @@ def pardiso(K, b):
 def amg_gmres(model, K, b):
     from krylov_amg import BlockPreconditioner
 
-    from fem.krylov import gmres
+    from softcrawl.fem.krylov import gmres
 
     tracemalloc.start()
     t = time.perf_counter()
@@ -90,7 +90,7 @@ def amg_gmres(model, K, b):
 
 
 def superlu(K, b):
-    from fem.linsolve import LinearSolver
+    from softcrawl.fem.linsolve import LinearSolver
 
     ls = LinearSolver("superlu")
     t = time.perf_counter()

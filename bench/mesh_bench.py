@@ -1,6 +1,6 @@
 """Time pytetwild meshing of the Table 1 ePSA at the default density (no cache).
 
-    PYTHONPATH=. python bench/mesh_bench.py [--repeat 2] [--edge-length L]
+    python bench/mesh_bench.py [--repeat 2] [--edge-length L]
 
 Prints, per run, the wall time of the whole mesh_epsa call (surface, pytetwild, tagging, snapping),
 the tet count (it varies between identical pytetwild calls) and the acceptance figures.
@@ -20,9 +20,9 @@ def main() -> None:
     parser.add_argument("--edge-length", type=float, default=None)
     args = parser.parse_args()
 
-    from geometry.design import EPSADesign
-    from geometry.tagging import distance_to_surface
-    from geometry.tetwild import mesh_epsa
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.geometry.tagging import distance_to_surface
+    from softcrawl.geometry.tetwild import mesh_epsa
 
     design = EPSADesign()
     print(f"cpus={os.cpu_count()} load={os.getloadavg()[0]:.2f} design={design.short_hash()}")

@@ -24,10 +24,10 @@ import scipy.sparse.linalg as spla
 
 
 def main() -> None:
-    from fem.linsolve import LinearSolver
-    from fem.path import load_path
-    from studies.parts.robot_model import build_robot_model
-    from studies.parts.robot_response import ROBOT_NEWTON
+    from softcrawl.fem.linsolve import LinearSolver
+    from softcrawl.fem.path import load_path
+    from softcrawl.studies.parts.robot_model import build_robot_model
+    from softcrawl.studies.parts.robot_response import ROBOT_NEWTON
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh", default="quick")
@@ -60,7 +60,7 @@ def main() -> None:
     free = model.free_dofs
     scale = np.linalg.norm(b)
     r = 1.0
-    from fem.solid import InvertedElement
+    from softcrawl.fem.solid import InvertedElement
 
     try:
         while r >= 1e-8 and its < 40:

@@ -55,11 +55,11 @@ def main() -> None:
     ap.add_argument("--rigid-ratio", type=float, default=None, help="NewtonOptions.rigid_ratio (0: off)")
     args = ap.parse_args()
 
-    import materials.presets as presets
-    from fem import newton
-    from studies.catalogue.robot_studies import LOAD_CASES_KPA
-    from studies.parts.robot_model import build_robot_model
-    from studies.parts.robot_response import ROBOT_NEWTON, simulate_robot
+    import softcrawl.materials.presets as presets
+    from softcrawl.fem import newton
+    from softcrawl.studies.catalogue.robot_studies import LOAD_CASES_KPA
+    from softcrawl.studies.parts.robot_model import build_robot_model
+    from softcrawl.studies.parts.robot_response import ROBOT_NEWTON, simulate_robot
 
     if args.abs_modulus is not None:
         base = presets.PRESETS["abs"]

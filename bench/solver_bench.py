@@ -36,7 +36,7 @@ MESHES = {"~20k DOF": (5, 8, 16), "finer": (7, 11, 22)}  # radial, around, along
 
 
 def linear_mesh(cells):
-    from fem.structured import tube_sector
+    from softcrawl.fem.structured import tube_sector
 
     m = tube_sector(
         A, B, height=LENGTH, n_radial=cells[0], n_angle=cells[1], n_height=cells[2], quadratic=False
@@ -45,7 +45,7 @@ def linear_mesh(cells):
 
 
 def analytic_inner_radius():
-    from fem.analytic import tube_inner_stretch
+    from softcrawl.fem.analytic import tube_inner_stretch
 
     return tube_inner_stretch(MU, PRESSURES[-1], A, B) * A
 
@@ -54,9 +54,9 @@ def tube_model(points, tets):
     """The softcrawl model of the benchmark tube on the given linear mesh (midside nodes curved)."""
     import skfem
 
-    from fem.model import ChamberSpec, Dirichlet, SolidModel
-    from fem.neohooke import NeoHookean
-    from fem.structured import curved, tag_boundaries
+    from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.fem.structured import curved, tag_boundaries
 
     mesh = skfem.MeshTet(points.T, tets.T)
     tol = 1e-6
@@ -89,8 +89,8 @@ def tube_model(points, tets):
 
 
 def run_softcrawl(points, tets, queue):
-    from fem.path import load_path
-    from fem.reference_models import mean_radius
+    from softcrawl.fem.path import load_path
+    from softcrawl.fem.reference_models import mean_radius
 
     t0 = time.perf_counter()
     model = tube_model(points, tets)

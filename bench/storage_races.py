@@ -12,7 +12,7 @@ on 127.0.0.1, see tests/studies/sweeps/pg_server.py), N processes released toget
 
 each without the lock, then with the engine's lock (`studies.sweeps.locks`).
 
-    PYTHONPATH=. python bench/storage_races.py [--processes 4] [--repeats 10]
+    python bench/storage_races.py [--processes 4] [--repeats 10]
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ def _quiet():
 def _storage(url):
     import optuna
 
-    from studies.sweeps.storage import _SqliteConnect, sqlite_path
+    from softcrawl.studies.sweeps.storage import _SqliteConnect, sqlite_path
 
     db = sqlite_path(url)
     kwargs = {"creator": _SqliteConnect(str(db))} if db else None
@@ -46,7 +46,7 @@ def _storage(url):
 
 
 def _lock(url):
-    from studies.sweeps.storage import _make_locks
+    from softcrawl.studies.sweeps.storage import _make_locks
 
     return _make_locks(url, "race")[1]
 
@@ -54,7 +54,7 @@ def _lock(url):
 def _schema(url, barrier, out, locked=False):
     _quiet()
     if locked:
-        from studies.sweeps.storage import _make_locks
+        from softcrawl.studies.sweeps.storage import _make_locks
 
         schema_lock = _make_locks(url, "race")[0]
     barrier.wait()

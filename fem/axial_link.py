@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.errors import SolverInputError
+from softcrawl.fem.errors import SolverInputError
 
 
 def _finite(value, parameter: str, minimum: float | None = None) -> float:

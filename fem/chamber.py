@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.discretisation import Discretisation, element_first
-from fem.neohooke import cofactor3, det3
+from softcrawl.fem.discretisation import Discretisation, element_first
+from softcrawl.fem.neohooke import cofactor3, det3
 
 
 @dataclass(frozen=True)

@@ -30,11 +30,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem.contact_law import committed_stick, evaluate
-from fem.discretisation import Discretisation, element_first
-from fem.errors import SolverInputError
-from fem.neohooke import cofactor3
-from fem.rigid_surfaces import CylinderWall, Plane
+from softcrawl.fem.contact_law import committed_stick, evaluate
+from softcrawl.fem.discretisation import Discretisation, element_first
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.neohooke import cofactor3
+from softcrawl.fem.rigid_surfaces import CylinderWall, Plane
 
 
 def _positive(value, parameter: str) -> float:

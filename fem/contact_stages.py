@@ -39,8 +39,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem.errors import SolverInputError
-from fem.newton import Diverged, NewtonOptions, NewtonSolver
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.newton import Diverged, NewtonOptions, NewtonSolver
 
 #: Halvings of a Uzawa update whose re-solve diverged before the loop keeps the last solve.
 MAX_RELAXATIONS = 2

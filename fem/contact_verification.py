@@ -30,14 +30,14 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from fem.contact import ContactSpec
-from fem.contact_stages import Stage, run_stages
-from fem.model import ChamberSpec, Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.newton import NewtonOptions
-from fem.rigid_surfaces import CylinderWall, Plane
-from fem.structured import box, curved, tag_boundaries
-from fem.verification import CaseResult
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.newton import NewtonOptions
+from softcrawl.fem.rigid_surfaces import CylinderWall, Plane
+from softcrawl.fem.structured import box, curved, tag_boundaries
+from softcrawl.fem.verification import CaseResult
 
 MATERIAL = NeoHookean(mu=1.0, bulk=3.0)  # nu ~ 0.35
 

@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem.newton import Diverged
-from fem.steps import History, PathResult, describe_load, failed, make_step
+from softcrawl.fem.newton import Diverged
+from softcrawl.fem.steps import History, PathResult, describe_load, failed, make_step
 
 
 def volume_continuation(solver, shape, history: History, remaining, steps, events, opt, t0) -> PathResult:

@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from fem.discretisation import Discretisation
-from fem.errors import SolverInputError
+from softcrawl.fem.discretisation import Discretisation
+from softcrawl.fem.errors import SolverInputError
 
 
 def dead_load_vector(space: Discretisation, dead_loads) -> np.ndarray:

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.discretisation import Discretisation
-from fem.errors import SolverInputError
+from softcrawl.fem.discretisation import Discretisation
+from softcrawl.fem.errors import SolverInputError
 
 
 @dataclass(frozen=True)

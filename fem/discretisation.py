@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from fem.errors import SolverInputError
+from softcrawl.fem.errors import SolverInputError
 
 FORMULATIONS = ("p2p1", "p2")
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.errors import SolverInputError
+from softcrawl.fem.errors import SolverInputError
 
 
 @dataclass(frozen=True)

@@ -38,7 +38,7 @@ import numpy as np
 import skfem
 from scipy.spatial import cKDTree
 
-from fem.errors import SolverInputError
+from softcrawl.fem.errors import SolverInputError
 
 
 @dataclass(frozen=True)

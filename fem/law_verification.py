@@ -20,11 +20,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem import tube_theory as tt
-from fem.case_result import CaseResult
-from fem.laws import Gent, Yeoh
-from fem.path import load_path, volume_path
-from fem.reference_models import mean_radius, tube_model
+from softcrawl.fem import tube_theory as tt
+from softcrawl.fem.case_result import CaseResult
+from softcrawl.fem.laws import Gent, Yeoh
+from softcrawl.fem.path import load_path, volume_path
+from softcrawl.fem.reference_models import mean_radius, tube_model
 
 INNER, OUTER = 3.0, 9.0
 #: Strongly stiffening laws for the plane-strain cases (K/mu = 1000).

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.errors import SolverInputError
-from fem.neohooke import IsochoricI1Law, NeoHookean
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.neohooke import IsochoricI1Law, NeoHookean
 
 
 @dataclass(frozen=True, kw_only=True)

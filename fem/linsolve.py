@@ -36,7 +36,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fem.krylov import gmres
+from softcrawl.fem.krylov import gmres
 
 SOLVERS = ("pardiso", "superlu")
 

@@ -30,17 +30,17 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from fem import sheets
-from fem.chamber import Chamber, ChamberSpec
-from fem.contact import ContactTerm
-from fem.dead_load import body_force_vector, dead_load_vector
-from fem.dirichlet import Constraints, Dirichlet
-from fem.discretisation import FORMULATIONS, Discretisation
-from fem.errors import SolverInputError
-from fem.fibers import FiberLines, element_arrays, embed, fiber_state, segment_dofs, segment_forces
-from fem.linsolve import SYMMETRY_TOL
-from fem.pattern import Pattern
-from fem.solid import InvertedElement, Solid
+from softcrawl.fem import sheets
+from softcrawl.fem.chamber import Chamber, ChamberSpec
+from softcrawl.fem.contact import ContactTerm
+from softcrawl.fem.dead_load import body_force_vector, dead_load_vector
+from softcrawl.fem.dirichlet import Constraints, Dirichlet
+from softcrawl.fem.discretisation import FORMULATIONS, Discretisation
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.fibers import FiberLines, element_arrays, embed, fiber_state, segment_dofs, segment_forces
+from softcrawl.fem.linsolve import SYMMETRY_TOL
+from softcrawl.fem.pattern import Pattern
+from softcrawl.fem.solid import InvertedElement, Solid
 
 __all__ = ["FORMULATIONS", "ChamberSpec", "Dirichlet", "InvertedElement", "SolidModel"]
 

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.errors import SolverInputError
+from softcrawl.fem.errors import SolverInputError
 
 
 class IsochoricI1Law:

@@ -57,9 +57,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.krylov import dot, norm
-from fem.linsolve import StepSolver
-from fem.model import InvertedElement, SolidModel
+from softcrawl.fem.krylov import dot, norm
+from softcrawl.fem.linsolve import StepSolver
+from softcrawl.fem.model import InvertedElement, SolidModel
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -41,12 +41,21 @@ import time
 
 import numpy as np
 
-from fem.continuation import parabola_peak, volume_continuation
-from fem.errors import SolverInputError
-from fem.model import SolidModel
-from fem.newton import PREDICTORS, Diverged, NewtonOptions, NewtonRecord, NewtonSolver, SolveStats
-from fem.steps import History, LoadShape, PathResult, ReportingList, Step, describe_load, failed, make_step
-from fem.stiff_parts import StiffParts
+from softcrawl.fem.continuation import parabola_peak, volume_continuation
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.model import SolidModel
+from softcrawl.fem.newton import PREDICTORS, Diverged, NewtonOptions, NewtonRecord, NewtonSolver, SolveStats
+from softcrawl.fem.steps import (
+    History,
+    LoadShape,
+    PathResult,
+    ReportingList,
+    Step,
+    describe_load,
+    failed,
+    make_step,
+)
+from softcrawl.fem.stiff_parts import StiffParts
 
 __all__ = [
     "NewtonOptions",

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.model import SolidModel
-from fem.neohooke import cauchy_stress, principal_stretches, von_mises
+from softcrawl.fem.model import SolidModel
+from softcrawl.fem.neohooke import cauchy_stress, principal_stretches, von_mises
 
 
 def deformed_nodes(model: SolidModel, x: np.ndarray) -> np.ndarray:

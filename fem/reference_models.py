@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem import analytic
-from fem.model import ChamberSpec, Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import load_path
-from fem.structured import sphere_octant, tube_sector
+from softcrawl.fem import analytic
+from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import load_path
+from softcrawl.fem.structured import sphere_octant, tube_sector
 
 MU = 0.03  # MPa, Ecoflex 00-50 default (docs/DESIGN.md section 3)
 

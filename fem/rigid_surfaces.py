@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from fem.errors import SolverInputError
+from softcrawl.fem.errors import SolverInputError
 
 
 def _unit(v, parameter: str) -> np.ndarray:

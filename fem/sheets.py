@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import skfem
 
-from fem.errors import SolverInputError
+from softcrawl.fem.errors import SolverInputError
 
 
 @dataclass(frozen=True)

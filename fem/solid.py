@@ -49,11 +49,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fem.discretisation import Discretisation
-from fem.errors import SolverInputError
-from fem.neohooke import IsochoricI1Law, cofactor3, det3
-from fem.parallel import for_chunks
-from fem.pattern import Mirrored
+from softcrawl.fem.discretisation import Discretisation
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.neohooke import IsochoricI1Law, cofactor3, det3
+from softcrawl.fem.parallel import for_chunks
+from softcrawl.fem.pattern import Mirrored
 
 #: Elements per chunk of the volume assembly (`fem.parallel.for_chunks`): small enough for the
 #: temporaries of a chunk (~10 kB per element) to stay in a core's cache.

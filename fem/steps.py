@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem.errors import SolverInputError
-from fem.model import SolidModel
-from fem.newton import NewtonRecord, SolveStats
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.model import SolidModel
+from softcrawl.fem.newton import NewtonRecord, SolveStats
 
 
 @dataclass(frozen=True)

@@ -36,14 +36,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem import analytic
-from fem.case_result import CaseResult
-from fem.law_verification import CASES as LAW_CASES
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import NewtonOptions, load_path, volume_path
-from fem.reference_models import MU, mean_radius, sphere_inner_stretch, sphere_model, tube_model
-from fem.structured import box
+from softcrawl.fem import analytic
+from softcrawl.fem.case_result import CaseResult
+from softcrawl.fem.law_verification import CASES as LAW_CASES
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import NewtonOptions, load_path, volume_path
+from softcrawl.fem.reference_models import MU, mean_radius, sphere_inner_stretch, sphere_model, tube_model
+from softcrawl.fem.structured import box
 
 
 def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
@@ -142,7 +142,7 @@ def dead_load_test(stretch=1.5, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
 
 
 def sheet_bar_test(stretch=1.5, stiffness=0.1, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
-    from fem.sheets import FiberSheet
+    from softcrawl.fem.sheets import FiberSheet
 
     size = (2.0, 2.0, 4.0)
     mat = NeoHookean.nearly_incompressible(MU, k_over_mu)
@@ -183,7 +183,7 @@ def sheet_tube_test(
     pressures_over_mu=(0.5, 1.0), stiffness=2.0, inner=3.0, outer=9.0, n_radial=6, n_angle=8, tolerance=5e-3
 ) -> CaseResult:
     """Errors relative to the radial displacement (the part the sheet changes)."""
-    from fem.sheets import FiberSheet
+    from softcrawl.fem.sheets import FiberSheet
 
     def hoop(X):
         return np.vstack([-X[1], X[0], np.zeros(X.shape[1])])

@@ -38,10 +38,10 @@ from xml.sax.saxutils import quoteattr
 import meshio
 import numpy as np
 
-from fem import sheets as sheet_mod
-from fem.fibers import fiber_state, segment_forces
-from fem.model import SolidModel
-from fem.post import element_fields
+from softcrawl.fem import sheets as sheet_mod
+from softcrawl.fem.fibers import fiber_state, segment_forces
+from softcrawl.fem.model import SolidModel
+from softcrawl.fem.post import element_fields
 
 #: VTK component names of the arrays that have more than one component.
 VECTOR = ("X", "Y", "Z")

@@ -19,7 +19,7 @@ Modules (one job each):
 Only ``geometry.design`` is imported eagerly (numpy/pyvista/pytetwild load on first use).
 """
 
-from geometry.design import (
+from softcrawl.geometry.design import (
     ACTUATOR_ANGLES_DEG,
     DesignError,
     EPSADesign,
@@ -47,15 +47,15 @@ __all__ = [
 
 def __getattr__(name: str) -> object:
     if name == "TaggedMesh":
-        from geometry.tagged_mesh import TaggedMesh
+        from softcrawl.geometry.tagged_mesh import TaggedMesh
 
         return TaggedMesh
     if name in ("mesh_epsa", "mesh_foot", "mesh_ring"):
-        from geometry import tetwild
+        from softcrawl.geometry import tetwild
 
         return getattr(tetwild, name)
     if name == "mesh_robot":
-        from geometry.assembly import mesh_robot
+        from softcrawl.geometry.assembly import mesh_robot
 
         return mesh_robot
     raise AttributeError(name)

@@ -30,7 +30,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
 
-from geometry.design_base import (
+from softcrawl.checks import brief
+from softcrawl.geometry.design_base import (
     ACTUATOR_ANGLES_DEG,
     MAX_DIMENSION,
     MAX_FEATURE_COUNT,
@@ -41,9 +42,8 @@ from geometry.design_base import (
     derived_part,
     spec,
 )
-from geometry.design_files import read_design_file
-from geometry.errors import DesignError
-from softcrawl.checks import brief
+from softcrawl.geometry.design_files import read_design_file
+from softcrawl.geometry.errors import DesignError
 
 __all__ = [
     "ACTUATOR_ANGLES_DEG",

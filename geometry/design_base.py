@@ -17,9 +17,9 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any, ClassVar, Self
 
-from geometry.design_files import read_design_file, to_toml
-from geometry.errors import DesignError
 from softcrawl.checks import brief, number
+from softcrawl.geometry.design_files import read_design_file, to_toml
+from softcrawl.geometry.errors import DesignError
 
 #: Angular positions psi_i of the three actuators on the circle of radius d (degrees).
 ACTUATOR_ANGLES_DEG: tuple[float, float, float] = (90.0, 210.0, 330.0)

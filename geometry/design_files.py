@@ -10,7 +10,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from geometry.errors import DesignError
+from softcrawl.geometry.errors import DesignError
 
 #: Largest design file read (bytes). A design is a few hundred bytes; anything near this size is
 #: not a design file, and reading it whole would only cost memory.

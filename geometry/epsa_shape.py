@@ -27,9 +27,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from geometry.design import EPSADesign
-from geometry.surfaces import flipped, merge, revolve_profile, subdivide_profile
-from geometry.tagging import RevolvedSegment
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.geometry.surfaces import flipped, merge, revolve_profile, subdivide_profile
+from softcrawl.geometry.tagging import RevolvedSegment
 
 if TYPE_CHECKING:
     import pyvista as pv

@@ -36,9 +36,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from geometry.design import FootDesign
-from geometry.surfaces import revolve_profile, subdivide_profile
-from geometry.tagging import RevolvedSegment
+from softcrawl.geometry.design import FootDesign
+from softcrawl.geometry.surfaces import revolve_profile, subdivide_profile
+from softcrawl.geometry.tagging import RevolvedSegment
 
 if TYPE_CHECKING:
     import pyvista as pv

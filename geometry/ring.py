@@ -19,9 +19,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from geometry.design import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, RingDesign
-from geometry.surfaces import triangle_polydata
-from geometry.tagging import RevolvedSegment
+from softcrawl.geometry.design import ACTUATOR_ANGLES_DEG, MIN_LIGAMENT, RingDesign
+from softcrawl.geometry.surfaces import triangle_polydata
+from softcrawl.geometry.tagging import RevolvedSegment
 
 if TYPE_CHECKING:
     import pyvista as pv

@@ -42,10 +42,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import Delaunay
 
-from geometry.design import DesignError, RobotDesign
-from geometry.swept import boundary_faces, cross_section, levels
-from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import RevolvedSegment, curved_surface_meta
+from softcrawl.geometry.design import DesignError, RobotDesign
+from softcrawl.geometry.swept import boundary_faces, cross_section, levels
+from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.geometry.tagging import RevolvedSegment, curved_surface_meta
 
 _LOCAL_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 

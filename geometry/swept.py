@@ -27,10 +27,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from geometry.design import DesignError, EPSADesign
-from geometry.epsa_shape import epsa_segments, fiber_helices
-from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import curved_surface_meta
+from softcrawl.geometry.design import DesignError, EPSADesign
+from softcrawl.geometry.epsa_shape import epsa_segments, fiber_helices
+from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.geometry.tagging import curved_surface_meta
 
 
 def cross_section(

@@ -32,8 +32,8 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from geometry.design import DesignError, EPSADesign, FootDesign, RingDesign
-from geometry.epsa_shape import (
+from softcrawl.geometry.design import DesignError, EPSADesign, FootDesign, RingDesign
+from softcrawl.geometry.epsa_shape import (
     DEFAULT_N_THETA,
     epsa_segments,
     epsa_surface,
@@ -41,8 +41,8 @@ from geometry.epsa_shape import (
     seal_head_segments,
     seal_head_surface,
 )
-from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import (
+from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.geometry.tagging import (
     RevolvedSegment,
     boundary_facets,
     classify_facets,
@@ -269,7 +269,7 @@ def mesh_foot(
     n_theta: int | None = None,
 ) -> TaggedMesh:
     """The grooved flexible foot (region ``foot``), hub top face at z = 0, see ``geometry.foot``."""
-    from geometry.foot import FOOT_N_THETA, foot_segments, foot_surface
+    from softcrawl.geometry.foot import FOOT_N_THETA, foot_segments, foot_surface
 
     design = design or FootDesign()
     n_theta = n_theta or FOOT_N_THETA
@@ -291,7 +291,7 @@ def mesh_ring(
     design: RingDesign | None = None, edge_length: float | None = None, cache_dir: CacheDir = None
 ) -> TaggedMesh:
     """The connecting ring (region ``ring``), z in [-t/2, t/2], see ``geometry.ring``."""
-    from geometry.ring import ring_segments, ring_surface
+    from softcrawl.geometry.ring import ring_segments, ring_surface
 
     design = design or RingDesign()
     surface = ring_surface(design)

@@ -23,7 +23,7 @@ import importlib
 import os
 import sys
 
-from studies.commands import COMMAND_MODULES
+from softcrawl.studies.commands import COMMAND_MODULES
 
 #: Exit codes (see the module docstring).
 EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL, EXIT_INTERRUPTED = 2, 1, 70, 130
@@ -43,9 +43,9 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name in COMMAND_MODULES:
         try:
-            module = importlib.import_module(f"studies.commands.{name}")
+            module = importlib.import_module(f"softcrawl.studies.commands.{name}")
         except ModuleNotFoundError as exc:
-            if exc.name == f"studies.commands.{name}":
+            if exc.name == f"softcrawl.studies.commands.{name}":
                 continue
             raise
         module.register(sub)

@@ -1,33 +1,67 @@
-"""The package layering of docs/DESIGN.md section 1, checked on the source: who may import whom,
-no import cycles between modules, no module over 400 lines, and no pyvista or optuna in `fem`."""
+"""The package layering of docs/DESIGN.md ("Layout"), checked on the source: who may import whom,
+no import cycles between modules, no module over 400 lines, no pyvista or optuna in `fem`, and
+every module loaded under one name only."""
 
 import ast
+import importlib
+import pkgutil
+import sys
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("softcrawl", "geometry", "fem", "materials", "robot", "studies")
-#: The project packages each package may import (besides itself).
-ALLOWED = {
-    "softcrawl": set(),
-    "geometry": {"softcrawl"},
-    "fem": {"softcrawl"},
-    "materials": {"softcrawl", "fem"},
-    "robot": {"softcrawl"},
-    "studies": set(PACKAGES),
+#: Layer -> (folder, module prefix). `softcrawl.core` is the package root's own modules (errors,
+#: checks, files, jsonio, units); the root's `__init__` (the public API) may import everything.
+LAYERS = {
+    "softcrawl.core": (ROOT / "softcrawl", "softcrawl"),
+    "softcrawl.analytic": (ROOT / "softcrawl" / "analytic", "softcrawl.analytic"),
+    "softcrawl.materials": (ROOT / "softcrawl" / "materials", "softcrawl.materials"),
+    "softcrawl.geometry": (ROOT / "geometry", "softcrawl.geometry"),
+    "softcrawl.fem": (ROOT / "fem", "softcrawl.fem"),
+    "softcrawl.studies": (ROOT / "studies", "softcrawl.studies"),
 }
-#: Third-party packages a package must not import.
-FORBIDDEN = {"fem": {"pyvista", "optuna", "matplotlib"}}
+PACKAGES = tuple(LAYERS)
+#: The project layers each layer may import (besides itself).
+ALLOWED = {
+    "softcrawl.core": set(),
+    "softcrawl.geometry": {"softcrawl.core"},
+    "softcrawl.fem": {"softcrawl.core"},
+    "softcrawl.materials": {"softcrawl.core", "softcrawl.fem"},
+    "softcrawl.analytic": {"softcrawl.core"},
+    "softcrawl.studies": set(PACKAGES),
+}
+#: Third-party packages a layer must not import.
+FORBIDDEN = {"softcrawl.fem": {"pyvista", "optuna", "matplotlib"}}
 MAX_LINES = 400
 #: Modules still being split (each leaves this set when its split lands; it must end empty).
 PENDING_SPLIT: set[str] = set()
 
 
+def _layer_of_file(path: Path) -> str:
+    for layer, (folder, _) in LAYERS.items():
+        if layer != "softcrawl.core" and path.is_relative_to(folder):
+            return layer
+    return "softcrawl.core"
+
+
 def _modules():
-    for package in PACKAGES:
-        for path in sorted((ROOT / package).rglob("*.py")):
-            yield package, path
+    """(layer, path) of every project module but the public API (softcrawl/__init__.py)."""
+    for layer, (folder, _) in LAYERS.items():
+        paths = folder.glob("*.py") if layer == "softcrawl.core" else folder.rglob("*.py")
+        for path in sorted(paths):
+            if path != ROOT / "softcrawl" / "__init__.py":
+                yield layer, path
+
+
+def _layer_of_name(name: str) -> str | None:
+    """The layer of an imported module name, None for a third-party one."""
+    parts = name.split(".")
+    if parts[0] != "softcrawl":
+        return None
+    if len(parts) > 1 and f"softcrawl.{parts[1]}" in LAYERS:
+        return f"softcrawl.{parts[1]}"
+    return "softcrawl.core"
 
 
 def _imports(path: Path):
@@ -46,8 +80,10 @@ def _imports(path: Path):
 
 
 def _module_name(path: Path) -> str:
-    parts = path.relative_to(ROOT).with_suffix("").parts
-    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+    folder, prefix = LAYERS[_layer_of_file(path)]
+    parts = path.relative_to(folder).with_suffix("").parts
+    parts = parts[:-1] if parts[-1] == "__init__" else parts
+    return ".".join((prefix, *parts))
 
 
 @pytest.mark.parametrize("package", PACKAGES)
@@ -57,10 +93,10 @@ def test_packages_import_only_what_the_layering_allows(package):
         if pkg != package:
             continue
         for name, _ in _imports(path):
-            root = name.split(".")[0]
-            if root in PACKAGES and root != package and root not in ALLOWED[package]:
+            layer = _layer_of_name(name)
+            if layer is not None and layer != package and layer not in ALLOWED[package]:
                 bad.append(f"{path.relative_to(ROOT)} imports {name}")
-            if root in FORBIDDEN.get(package, ()):
+            if name.split(".")[0] in FORBIDDEN.get(package, ()):
                 bad.append(f"{path.relative_to(ROOT)} imports {name}")
     assert not bad, "\n".join(bad)
 
@@ -108,7 +144,7 @@ def test_no_module_over_400_lines():
 
 
 #: Packages checked for private names used across modules (the lead widens it as splits land).
-NO_PRIVATE_IMPORTS = ("robot", "geometry", "materials")
+NO_PRIVATE_IMPORTS = ("softcrawl.analytic", "softcrawl.geometry", "softcrawl.materials")
 
 
 def _private_uses(path: Path, modules: set[str]):
@@ -123,7 +159,7 @@ def _private_uses(path: Path, modules: set[str]):
         elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
             for a in node.names:
                 private = a.name.startswith("_") and not a.name.startswith("__")
-                if private and node.module.split(".")[0] in PACKAGES:
+                if private and _layer_of_name(node.module) is not None:
                     yield f"from {node.module} import {a.name}"
                 if f"{node.module}.{a.name}" in modules:
                     aliases[a.asname or a.name] = f"{node.module}.{a.name}"
@@ -149,3 +185,29 @@ def test_no_private_names_used_across_modules(package):
         for use in _private_uses(path, modules)
     ]
     assert not bad, "\n".join(bad)
+
+
+def test_every_module_has_one_name():
+    """Importing every module of the package loads each file once, under its `softcrawl.` name: no
+    bare `fem`, `geometry`, `studies`, `robot` or `materials` import name reaches sys.modules."""
+    import softcrawl
+
+    for info in pkgutil.walk_packages(softcrawl.__path__, "softcrawl."):
+        if not info.name.endswith("__main__"):
+            importlib.import_module(info.name)
+    for name in ("softcrawl.fem", "softcrawl.geometry", "softcrawl.studies"):
+        for info in pkgutil.walk_packages(importlib.import_module(name).__path__, name + "."):
+            importlib.import_module(info.name)
+    seen: dict[str, str] = {}
+    twice = []
+    for name, module in list(sys.modules.items()):
+        file = getattr(module, "__file__", None)
+        if not file or not Path(file).resolve().is_relative_to(ROOT) or "tests" in Path(file).parts:
+            continue
+        key = str(Path(file).resolve())
+        if key in seen and seen[key] != name:
+            twice.append(f"{key}: {seen[key]} and {name}")
+        seen[key] = name
+        if not name.startswith("softcrawl"):
+            twice.append(f"{name} is not under softcrawl ({file})")
+    assert not twice, "\n".join(twice)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 #: Commands of the README that take minutes (run with -m slow).

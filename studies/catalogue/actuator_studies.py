@@ -16,9 +16,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcrawl import jsonio
-from studies.catalogue.epsa_evaluator import PAPER_PRESSURES_KPA
-from studies.catalogue.fe_identification import LOADS_N, PRESSURES_KPA
-from studies.catalogue.outcome import StudyOutcome
+from softcrawl.studies.catalogue.epsa_evaluator import PAPER_PRESSURES_KPA
+from softcrawl.studies.catalogue.fe_identification import LOADS_N, PRESSURES_KPA
+from softcrawl.studies.catalogue.outcome import StudyOutcome
 
 #: Grids of the paper's sweeps (Section V-A) and the fixed parameters of each.
 GRIDS = {
@@ -47,7 +47,7 @@ def study_settings(
     simulator: str | None = None,
 ) -> dict:
     """The evaluator settings of a study run (stored with the study: a resume must match)."""
-    from studies.parts.epsa_model import DEFAULT_FIBERS
+    from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS
 
     pressures = PRESSURES_KPA if name == "identify" else PAPER_PRESSURES_KPA
     settings = {
@@ -64,8 +64,8 @@ def study_settings(
 
 
 def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
-    from studies.catalogue.epsa_evaluator import EPSA_EVALUATOR
-    from studies.sweeps.spec import SweepSpec
+    from softcrawl.studies.catalogue.epsa_evaluator import EPSA_EVALUATOR
+    from softcrawl.studies.sweeps.spec import SweepSpec
 
     grid, fixed = GRIDS[name]
     tag = run_tag(settings.get("material", ""), settings.get("quick", False), settings.get("mesh_size"))
@@ -92,8 +92,8 @@ def run_sweep_study(
 ) -> StudyOutcome:
     """Run (or resume) the sweep `name` and write its outputs. Raises
     `studies.sweeps.faults.SweepStopped` when the run stopped early (a signal, a full disk)."""
-    from studies.catalogue.epsa_evaluator import EPSA_TABLE
-    from studies.sweeps.sweep import run_sweep
+    from softcrawl.studies.catalogue.epsa_evaluator import EPSA_TABLE
+    from softcrawl.studies.sweeps.sweep import run_sweep
 
     folder = study_folder(
         out, name, settings["material"], settings.get("quick", False), settings.get("mesh_size")
@@ -108,7 +108,7 @@ def run_sweep_study(
 def _law_label(material) -> str:
     """The material's law and constants (every results row names its law); "" if unknown."""
     try:
-        from materials import get_material
+        from softcrawl.materials import get_material
 
         return get_material(str(material)).law_label
     except Exception:  # noqa: BLE001 - a fake material in tests
@@ -117,7 +117,7 @@ def _law_label(material) -> str:
 
 def summary_rows(rows, param: str) -> list[dict]:
     """One row per design: status, limit pressure, the response at 100 kPa and the rule inputs."""
-    from studies.review import linearity, rules
+    from softcrawl.studies.review import linearity, rules
 
     summary = []
     law = _law_label(rows[0].get("material")) if rows else ""
@@ -147,8 +147,8 @@ def summary_rows(rows, param: str) -> list[dict]:
 
 def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, folder) -> Path:
     """NAME.png of a sweep from its rows (live, or read back from curves.csv by `softcrawl replot`)."""
-    from studies.plots.curves import plot_curves
-    from studies.plots.labels import parameter, study_title
+    from softcrawl.studies.plots.curves import plot_curves
+    from softcrawl.studies.plots.labels import parameter, study_title
 
     symbol, _, unit = parameter(param)
     title = study_title(name, settings.get("material"), bool(settings.get("quick")), fixed)
@@ -157,8 +157,8 @@ def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, 
 
 def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
     """curves.csv, summary.csv and the PNG of a finished (or partial) sweep."""
-    from studies.catalogue import fe_identification
-    from studies.sweeps.tables import write_csv
+    from softcrawl.studies.catalogue import fe_identification
+    from softcrawl.studies.sweeps.tables import write_csv
 
     if name == "identify":
         return fe_identification.write_outputs(spec, rows, folder)

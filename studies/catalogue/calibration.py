@@ -1,7 +1,7 @@
 """Calibration: the shear modulus that makes the FE Table 1 ePSA match the prototype statics.
 
 Target: the mean length of the three prototype ePSAs from the identified statics model
-(eqs. 3 and 19-24, `robot.prototype`), without gravity (g = 0) because the FE model has none.
+(eqs. 3 and 19-24, `analytic.prototype`), without gravity (g = 0) because the FE model has none.
 Objective: the RMS length difference over the pressures (kPa)
 
     e(mu) = sqrt( mean_P ( L_FE(P; mu) - L_proto(P) )^2 ),
@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from geometry.design import EPSADesign
+from softcrawl.geometry.design import EPSADesign
 
 FAILED_PENALTY_MM = 1e3
 
@@ -39,7 +39,7 @@ class Calibration:
 
 
 def prototype_lengths(pressures_kpa) -> np.ndarray:
-    from robot.prototype import prototype_epsa
+    from softcrawl.analytic.prototype import prototype_epsa
 
     return np.mean([[prototype_epsa(i).length(p, g=0.0) for p in pressures_kpa] for i in (1, 2, 3)], axis=0)
 
@@ -56,9 +56,9 @@ def calibrate_mu(
 ) -> Calibration:
     from scipy.optimize import minimize_scalar
 
-    from materials import get_material
-    from studies.parts.epsa_model import DEFAULT_FIBERS
-    from studies.parts.epsa_response import same_pressure, simulate_epsa
+    from softcrawl.materials import get_material
+    from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS
+    from softcrawl.studies.parts.epsa_response import same_pressure, simulate_epsa
 
     design = design or EPSADesign()
     base = get_material(base_material)

@@ -23,9 +23,9 @@ MAX_RADIUS_CHANGE_REL = 0.05
 def evaluate_constrained(params: Mapping[str, Any], fixed: Mapping[str, Any], settings: Mapping[str, Any]):
     """Thread length (mm) and the constraints of `studies.catalogue.optimise_actuator`'s
     docstring. A diverged solve stays a failed trial (numerical, not physical)."""
-    from studies.catalogue.epsa_evaluator import evaluate_epsa, response_at
-    from studies.review.rules import SIMILAR_EXTENSION_REL, TARGET_PRESSURE_KPA
-    from studies.sweeps.spec import Evaluation
+    from softcrawl.studies.catalogue.epsa_evaluator import evaluate_epsa, response_at
+    from softcrawl.studies.review.rules import SIMILAR_EXTENSION_REL, TARGET_PRESSURE_KPA
+    from softcrawl.studies.sweeps.spec import Evaluation
 
     result = evaluate_epsa(params, fixed, dict(settings) | {"objectives": "sweep"})
     attrs = dict(result.attrs)
@@ -57,7 +57,7 @@ def evaluate_constrained(params: Mapping[str, Any], fixed: Mapping[str, Any], se
 def reference_extension(chamber_radius: float, settings_json: str) -> float | None:
     """Extension at the target of the REFERENCE_TURNS design of this radius (None if it does
     not withstand the target), with the trial's own simulator and settings (cached per process)."""
-    from studies.catalogue.epsa_evaluator import evaluate_epsa
+    from softcrawl.studies.catalogue.epsa_evaluator import evaluate_epsa
 
     settings = json.loads(settings_json) | {"objectives": "pareto"}
     params = {"chamber_radius": chamber_radius, "fiber_turns": REFERENCE_TURNS}

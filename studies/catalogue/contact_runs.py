@@ -14,7 +14,7 @@ import json
 from pathlib import Path
 
 from softcrawl import jsonio
-from studies.catalogue.contact_studies import (
+from softcrawl.studies.catalogue.contact_studies import (
     DEFAULT_MATERIAL,
     EVALUATORS,
     FOOT,
@@ -25,7 +25,7 @@ from studies.catalogue.contact_studies import (
     QUICK_GRIDS,
     point_file,
 )
-from studies.catalogue.outcome import StudyOutcome
+from softcrawl.studies.catalogue.outcome import StudyOutcome
 
 
 def study_folder(out, name: str, material: str, quick: bool) -> Path:
@@ -33,7 +33,7 @@ def study_folder(out, name: str, material: str, quick: bool) -> Path:
 
 
 def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=None):
-    from studies.sweeps.spec import SweepSpec
+    from softcrawl.studies.sweeps.spec import SweepSpec
 
     settings = {
         "material": material,
@@ -71,7 +71,7 @@ def run_contact_study(
     progress: bool = True,
     retry: bool = False,
 ) -> StudyOutcome:
-    from studies.sweeps.sweep import run_sweep
+    from softcrawl.studies.sweeps.sweep import run_sweep
 
     material = material or DEFAULT_MATERIAL
     folder = study_folder(out, name, material, quick)
@@ -113,8 +113,8 @@ def load_points(spec, rows) -> list[dict]:
 
 
 def write_contact_outputs(name: str, spec, rows, folder: Path) -> StudyOutcome:
-    from studies.plots.contact import plot_foot, plot_groove
-    from studies.sweeps.tables import write_csv
+    from softcrawl.studies.plots.contact import plot_foot, plot_groove
+    from softcrawl.studies.sweeps.tables import write_csv
 
     points = load_points(spec, rows)
     summary = [
@@ -133,7 +133,7 @@ def write_contact_outputs(name: str, spec, rows, folder: Path) -> StudyOutcome:
     written.append(plot(points, folder / f"{name}.png", spec.settings))
     lines = _report_lines(name, summary)
     if name == GROOVE:
-        from studies.review import groove_rule
+        from softcrawl.studies.review import groove_rule
 
         decision = groove_rule.decide(summary)
         rule_md = folder / "groove-rule.md"
@@ -187,7 +187,7 @@ def _report_lines(name: str, summary) -> list[str]:
 def rebuild_outputs(name: str, folder) -> StudyOutcome:
     """Tables and plot of a run from its spec.json and stored point results alone (a run that
     was stopped: the points it finished count by their own converged flag)."""
-    from studies.sweeps.spec import SweepSpec
+    from softcrawl.studies.sweeps.spec import SweepSpec
 
     folder = Path(folder)
     data = json.loads((folder / "spec.json").read_text())

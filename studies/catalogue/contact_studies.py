@@ -45,8 +45,8 @@ QUICK_GRIDS = {
 }
 FOOT_FRICTION = {"mu_smooth": 0.5, "mu_grooved": 0.5}
 EVALUATORS = {
-    GROOVE: "studies.catalogue.contact_studies:evaluate_groove",
-    FOOT: "studies.catalogue.contact_studies:evaluate_foot",
+    GROOVE: "softcrawl.studies.catalogue.contact_studies:evaluate_groove",
+    FOOT: "softcrawl.studies.catalogue.contact_studies:evaluate_foot",
 }
 
 
@@ -68,7 +68,7 @@ def _vtu_writer(settings, stem):
         return None
     from xml.sax.saxutils import quoteattr
 
-    from fem.vtu import write_state
+    from softcrawl.fem.vtu import write_state
 
     series: dict[str, list] = {}
 
@@ -87,15 +87,15 @@ def _vtu_writer(settings, stem):
 
 
 def _material(settings):
-    from materials import get_material
-    from materials.fem_law import solid_law
+    from softcrawl.materials import get_material
+    from softcrawl.materials.fem_law import solid_law
 
     return solid_law(get_material(settings.get("material", DEFAULT_MATERIAL)), hyperelastic_only=True)
 
 
 def evaluate_groove(params: dict, fixed: dict, settings: dict):
-    from studies.parts.groove_model import GrooveSegment, run_groove
-    from studies.sweeps.spec import Evaluation
+    from softcrawl.studies.parts.groove_model import GrooveSegment, run_groove
+    from softcrawl.studies.sweeps.spec import Evaluation
 
     h, mu = float(params["groove_height"]), float(params["mu"])
     seg = GrooveSegment(groove_height=h, cell=float(settings.get("cell", 0.2)))
@@ -148,8 +148,8 @@ FOOT_MESHER = "revolved"
 
 
 def _foot_mesh(settings):
-    from geometry.design import FootDesign
-    from geometry.foot_meshers import mesh_foot_with
+    from softcrawl.geometry.design import FootDesign
+    from softcrawl.geometry.foot_meshers import mesh_foot_with
 
     design = FootDesign(angle=float(settings.get("angle", 120.0)))
     mesher = settings.get("mesher", "tetwild")
@@ -159,8 +159,8 @@ def _foot_mesh(settings):
 
 
 def evaluate_foot(params: dict, fixed: dict, settings: dict):
-    from studies.parts.foot_model import run_foot
-    from studies.sweeps.spec import Evaluation
+    from softcrawl.studies.parts.foot_model import run_foot
+    from softcrawl.studies.sweeps.spec import Evaluation
 
     D = float(params["pipe_diameter"])
     mu_s = float(settings.get("mu_smooth", FOOT_FRICTION["mu_smooth"]))

@@ -24,7 +24,7 @@ import json
 from pathlib import Path
 
 from softcrawl import jsonio
-from studies.catalogue.outcome import StudyOutcome
+from softcrawl.studies.catalogue.outcome import StudyOutcome
 
 NAME = "crawl"
 GRID = {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0), "mu": (0.3, 0.5)}
@@ -34,7 +34,7 @@ QUICK_WALL_S = 1200.0
 #: 1 h for a default point (8 insertion steps, two cycles): a stall in the insertion or a cycle
 #: ends as a recorded failure instead of holding a worker indefinitely.
 DEFAULT_WALL_S = 3600.0
-EVALUATOR = "studies.catalogue.crawl_study:evaluate_crawl"
+EVALUATOR = "softcrawl.studies.catalogue.crawl_study:evaluate_crawl"
 
 
 def point_stem(params: dict) -> str:
@@ -47,12 +47,12 @@ def anchoring_slip_ratio(cycle: dict) -> float:
 
 
 def evaluate_crawl(params: dict, fixed: dict, settings: dict):
-    from studies.parts.crawl_files import run_and_write
-    from studies.parts.crawl_mesh import QUICK_SECTORS
-    from studies.parts.crawl_model import CrawlSetup
-    from studies.parts.crawl_outputs import steady_stride
-    from studies.parts.crawl_schedule import preset
-    from studies.sweeps.spec import Evaluation
+    from softcrawl.studies.parts.crawl_files import run_and_write
+    from softcrawl.studies.parts.crawl_mesh import QUICK_SECTORS
+    from softcrawl.studies.parts.crawl_model import CrawlSetup
+    from softcrawl.studies.parts.crawl_outputs import steady_stride
+    from softcrawl.studies.parts.crawl_schedule import preset
+    from softcrawl.studies.sweeps.spec import Evaluation
 
     quick = bool(settings.get("quick"))
     mu = float(params["mu"])
@@ -95,8 +95,8 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
 
 
 def run_crawl_study(out, *, quick=False, storage=None, workers=1, progress=True, retry=False) -> StudyOutcome:
-    from studies.sweeps.spec import SweepSpec
-    from studies.sweeps.sweep import run_sweep
+    from softcrawl.studies.sweeps.spec import SweepSpec
+    from softcrawl.studies.sweeps.sweep import run_sweep
 
     folder = Path(out) / NAME / ("rubber-70a-quick" if quick else "rubber-70a")
     folder.mkdir(parents=True, exist_ok=True)
@@ -171,8 +171,8 @@ def write_markdown(rows, path: Path) -> Path:
 
 def write_study_outputs(spec, folder: Path) -> StudyOutcome:
     """summary.csv and crawl-study.png from the stored point files (every grid point, done or not)."""
-    from studies.plots.crawl import plot_crawl_study
-    from studies.sweeps.tables import write_csv
+    from softcrawl.studies.plots.crawl import plot_crawl_study
+    from softcrawl.studies.sweeps.tables import write_csv
 
     rows = []
     for params in spec.points():

@@ -17,11 +17,11 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from studies.sweeps.spec import Evaluation, TableLayout, load_callable
-from studies.sweeps.spec import jsonable as _jsonable
+from softcrawl.studies.sweeps.spec import Evaluation, TableLayout, load_callable
+from softcrawl.studies.sweeps.spec import jsonable as _jsonable
 
 #: The evaluator, as the sweep engine imports it in its worker processes.
-EPSA_EVALUATOR = "studies.catalogue.epsa_evaluator:evaluate_epsa"
+EPSA_EVALUATOR = "softcrawl.studies.catalogue.epsa_evaluator:evaluate_epsa"
 #: Columns of an ActuatorCurve row, in CSV order.
 CURVE_COLUMNS = (
     "pressure_kpa",
@@ -56,7 +56,7 @@ SEARCH_METRICS = (
     "wall_s",
 )
 #: Default simulator.
-EPSA_SIMULATOR = "studies.parts.epsa_response:simulate_epsa"
+EPSA_SIMULATOR = "softcrawl.studies.parts.epsa_response:simulate_epsa"
 #: Grid or fixed parameters that go to the simulator as keywords instead of into the design.
 SIMULATOR_PARAMS = ("end_load_n",)
 #: Pressures of the paper's ePSA studies (kPa), Section V-A.
@@ -86,7 +86,7 @@ def response_at(
     """The equilibrium ("converged") row at ``pressure_kpa`` (default: the highest such pressure),
     matched with `same_pressure` (a target landed on by volume control reads e.g. 99.9999 kPa).
     Volume-controlled states past a limit point are not used."""
-    from studies.parts.epsa_response import same_pressure
+    from softcrawl.studies.parts.epsa_response import same_pressure
 
     good = [r for r in rows if r.get("status") == "converged"]
     if not good:
@@ -122,7 +122,7 @@ def evaluate_epsa(
     A curve with ``converged = False`` fails the trial (its rows are kept). In "pareto" mode a
     design that does not reach the highest pressure fails too: it does not meet the requirement.
     """
-    from geometry.design import EPSADesign
+    from softcrawl.geometry.design import EPSADesign
 
     merged = {**fixed, **params}
     load = {k: merged.pop(k) for k in SIMULATOR_PARAMS if k in merged}
@@ -212,13 +212,13 @@ def _write_shape(solved, path: Path) -> str:
     of the machine (a full disk, an unwritable folder), which the sweep engine turns into a
     handed-back point."""
     from softcrawl.files import atomic_path
-    from studies.sweeps.faults import machine_fault
+    from softcrawl.studies.sweeps.faults import machine_fault
 
     try:
         steps = solved.path.steps
         if not steps:
             return ""
-        from fem.vtu import write_state, write_winding
+        from softcrawl.fem.vtu import write_state, write_winding
 
         last = steps[-1]
         load = {"pressure_mpa": last.pressure, "factor": last.factor}
@@ -241,7 +241,7 @@ def fiber_length_mm(design) -> float:
 def design_mass_g(design, material: str) -> float | None:
     """Silicone body plus Kevlar thread (g); None if the material is unknown to materials."""
     try:
-        from materials import get_material
+        from softcrawl.materials import get_material
 
         rho = get_material(material).density
         kevlar = get_material("kevlar").density

@@ -5,7 +5,7 @@ a weight W on the guided seal head (a dead force -W e_z, see `studies.parts.epsa
 ramped through `PRESSURES_KPA` (10 to 100 kPa in 10 kPa steps, as the paper's step (2)). The weight
 goes on first, at 0 kPa. The extension y is the FE length minus the unloaded 0 kPa length.
 
-Identification (`robot.identification`, the paper's two least-squares steps): at each pressure
+Identification (`analytic.identification`, the paper's two least-squares steps): at each pressure
 where every weight converged under pressure control, the line y = a + b W gives
 
     k_p = -1/b,     f_p = a k_p          (eq. 3, k_p y + m g + W = f_p, with m g = 0: no gravity in the FE)
@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.catalogue.outcome import StudyOutcome
+from softcrawl.studies.catalogue.outcome import StudyOutcome
 
 #: Weights on the seal head, N (0, 51 and 102 g): within the paper's measured output force range
 #: (8.42 N blocked at 100 kPa) and small enough to keep the response linear in W.
@@ -43,7 +43,7 @@ class FEIdentification:
     table: tuple[tuple[float, float, float], ...]  # (P kPa, W N, y mm) used in the fit
     pressures_kpa: tuple[float, ...]  # pressures with every weight converged
     skipped: tuple[tuple[float, str], ...]  # (P kPa, why) not used
-    result: object | None  # robot.identification.Identification
+    result: object | None  # analytic.identification.Identification
     message: str = ""
 
 
@@ -104,8 +104,8 @@ def _collapse_pressure(lengths: dict[float, float]) -> float | None:
 
 
 def identify_from_rows(rows, breakpoint: float = 60.0) -> FEIdentification:
-    from robot.errors import ModelInputError
-    from robot.identification import identify
+    from softcrawl.analytic.errors import ModelInputError
+    from softcrawl.analytic.identification import identify
 
     table, skipped = load_extension_table(rows)
     loads = sorted({w for _, w, _ in table})
@@ -137,7 +137,7 @@ def identify_from_rows(rows, breakpoint: float = 60.0) -> FEIdentification:
 
 def comparison_rows(ident: FEIdentification) -> list[dict]:
     """Per pressure: FE k_p (N/m), f_p (N) and the fit residual, beside eqs. 19-24 for ePSAs 1-3."""
-    from robot.prototype import prototype_epsa
+    from softcrawl.analytic.prototype import prototype_epsa
 
     protos = {i: prototype_epsa(i) for i in (1, 2, 3)}
     out = []
@@ -186,8 +186,8 @@ def fitted_laws(ident: FEIdentification) -> dict:
 
 def draw_identify_curves(settings: Mapping, rows, folder) -> Path:
     """identify.png: length against pressure under each weight (also from curves.csv alone)."""
-    from studies.plots.curves import plot_curves
-    from studies.plots.labels import study_title
+    from softcrawl.studies.plots.curves import plot_curves
+    from softcrawl.studies.plots.labels import study_title
 
     title = study_title("identify", settings.get("material"), bool(settings.get("quick")))
     return plot_curves(rows, "end_load_n", Path(folder) / "identify.png", label="W", unit=" N", title=title)
@@ -195,8 +195,8 @@ def draw_identify_curves(settings: Mapping, rows, folder) -> Path:
 
 def draw_identification(settings: Mapping, table, laws: Mapping, folder) -> Path:
     """identification.png: the FE's k_p(P), f_p(P) beside eqs. 19-24 (also from the files alone)."""
-    from studies.plots.identification import plot_identification
-    from studies.plots.labels import material_label
+    from softcrawl.studies.plots.identification import plot_identification
+    from softcrawl.studies.plots.labels import material_label
 
     quick = ", coarse (quick) mesh" if settings.get("quick") else ""
     title = (
@@ -210,7 +210,7 @@ def write_outputs(spec, rows, folder) -> StudyOutcome:
     """curves.csv, identify.png (length per weight), identification.csv/.json and
     identification.png (k_p, f_p against eqs. 19-24)."""
     from softcrawl import jsonio
-    from studies.sweeps.tables import write_csv
+    from softcrawl.studies.sweeps.tables import write_csv
 
     write_csv(rows, folder / "curves.csv")
     material = spec.settings.get("material")

@@ -29,9 +29,9 @@ import json
 from pathlib import Path
 
 from softcrawl import jsonio
-from studies.catalogue.actuator_studies import run_tag, study_folder
-from studies.catalogue.constrained_objective import MAX_RADIUS_CHANGE_REL
-from studies.catalogue.outcome import StudyOutcome
+from softcrawl.studies.catalogue.actuator_studies import run_tag, study_folder
+from softcrawl.studies.catalogue.constrained_objective import MAX_RADIUS_CHANGE_REL
+from softcrawl.studies.catalogue.outcome import StudyOutcome
 
 #: Search space and budget of optimise-actuator.
 SPACE = {"chamber_radius": ("int", 2, 6), "fiber_turns": ("int", 0, 50)}
@@ -40,13 +40,13 @@ OBJECTIVES = ("thread_length_mm",)
 DIRECTIONS = ("minimize",)
 DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 NAME = "optimise-actuator"
-CONSTRAINED_EVALUATOR = "studies.catalogue.constrained_objective:evaluate_constrained"
+CONSTRAINED_EVALUATOR = "softcrawl.studies.catalogue.constrained_objective:evaluate_constrained"
 
 
 def draw_pareto(settings: dict, rows, folder) -> Path:
     """pareto.png of the trials (live, or read back from trials.csv by `softcrawl replot`)."""
-    from studies.plots.labels import study_title
-    from studies.plots.pareto import plot_pareto
+    from softcrawl.studies.plots.labels import study_title
+    from softcrawl.studies.plots.pareto import plot_pareto
 
     title = study_title(NAME, settings.get("material"), bool(settings.get("quick")))
     return plot_pareto(rows, Path(folder) / "pareto.png", reference=TABLE1_DESIGN, title=title)
@@ -64,10 +64,10 @@ def run_optimiser(
     progress: bool = True,
 ) -> StudyOutcome:
     """Run (or resume) the optimiser and write trials.csv, optimum.json and pareto.png."""
-    from studies.catalogue.epsa_evaluator import SEARCH_METRICS
-    from studies.sweeps.search import run_search
-    from studies.sweeps.spec import SearchSpec
-    from studies.sweeps.tables import write_csv
+    from softcrawl.studies.catalogue.epsa_evaluator import SEARCH_METRICS
+    from softcrawl.studies.sweeps.search import run_search
+    from softcrawl.studies.sweeps.spec import SearchSpec
+    from softcrawl.studies.sweeps.tables import write_csv
 
     material, quick = settings["material"], settings.get("quick", False)
     folder = study_folder(out, NAME, material, quick, settings.get("mesh_size"))

@@ -86,7 +86,7 @@ def _interval(*parts):
 
 def shape_window(law_name: str, shape: str, unit_law) -> ShapeWindow:
     """The mu window of one shape; `unit_law` is the law at mu = 1 MPa (limit pressures in MPa)."""
-    from fem.tube_theory import closed_end_limit
+    from softcrawl.fem.tube_theory import closed_end_limit
 
     k = {}
     for r in WITHSTAND_RADII + FAIL_RADII:
@@ -104,9 +104,9 @@ def shape_window(law_name: str, shape: str, unit_law) -> ShapeWindow:
 
 
 def scan(yeoh_shapes=YEOH_SHAPES, gent_jm=GENT_JM) -> list[ShapeWindow]:
-    from fem.laws import Gent, Yeoh
-    from fem.neohooke import NeoHookean
-    from materials import get_material
+    from softcrawl.fem.laws import Gent, Yeoh
+    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.materials import get_material
 
     fit_yeoh, fit_gent = get_material("ecoflex-00-50-yeoh"), get_material("ecoflex-00-50-gent")
     c10, c20, c30 = fit_yeoh.yeoh_c
@@ -127,7 +127,7 @@ def length_curve(unit_law, mu: float, radius: float, pressures_kpa=(20, 40, 60, 
     limit point), for the fluctuation rule (`studies.review.rules.fluctuation`)."""
     from scipy.optimize import brentq
 
-    from fem.tube_theory import closed_end_limit, closed_end_pressure
+    from softcrawl.fem.tube_theory import closed_end_limit, closed_end_pressure
 
     lim = closed_end_limit(unit_law, radius, OUTER_RADIUS, la_max=LA_MAX)
     la_top = lim[0] if lim is not None else LA_MAX
@@ -145,8 +145,8 @@ def length_curve(unit_law, mu: float, radius: float, pressures_kpa=(20, 40, 60, 
 
 def fiber_observation(results: Path, material: str) -> dict | None:
     """N = 20, 25 vs N = 50 at 100 kPa from RESULTS/fiber-turns/MATERIAL/curves.csv, if present."""
-    from studies.review import rules
-    from studies.sweeps.tables import read_csv
+    from softcrawl.studies.review import rules
+    from softcrawl.studies.sweeps.tables import read_csv
 
     path = Path(results) / "fiber-turns" / material / "curves.csv"
     if not path.exists():
@@ -167,7 +167,7 @@ def _fmt(w):
 def centres(windows: list[ShapeWindow]) -> dict[str, dict]:
     """The window centre of each preset's own shape (Neo-Hookean; the full-range Yeoh and Gent
     fits), as a material name `PRESET@mu=CENTRE` for the studies."""
-    from materials import get_material
+    from softcrawl.materials import get_material
 
     out = {}
     for law, preset in CENTRE_PRESETS.items():
@@ -186,9 +186,9 @@ def centres(windows: list[ShapeWindow]) -> dict[str, dict]:
 
 def run_paper_material(out, results=None) -> tuple[list[str], list[Path]]:
     """Scan, write windows.csv, paper-material.json and .md; returns (lines, written)."""
-    from fem.neohooke import NeoHookean
-    from studies.review import rules
-    from studies.sweeps.tables import write_csv
+    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.studies.review import rules
+    from softcrawl.studies.sweeps.tables import write_csv
 
     folder = Path(out) / NAME
     folder.mkdir(parents=True, exist_ok=True)
@@ -262,9 +262,9 @@ def fe_check(results, materials) -> dict:
     tube theory with the same law (kPa), for every material that has such a study."""
     import csv
 
-    from fem.tube_theory import closed_end_limit
-    from materials import get_material
-    from materials.fem_law import solid_law
+    from softcrawl.fem.tube_theory import closed_end_limit
+    from softcrawl.materials import get_material
+    from softcrawl.materials.fem_law import solid_law
 
     out = {}
     for m in materials:

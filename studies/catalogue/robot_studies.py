@@ -22,12 +22,12 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.files import write_text_atomic
-from studies.catalogue.outcome import StudyOutcome
-from studies.sweeps.spec import Evaluation, SweepSpec, load_callable
-from studies.sweeps.sweep import run_sweep
-from studies.sweeps.tables import write_csv
+from softcrawl.studies.catalogue.outcome import StudyOutcome
+from softcrawl.studies.sweeps.spec import Evaluation, SweepSpec, load_callable
+from softcrawl.studies.sweeps.sweep import run_sweep
+from softcrawl.studies.sweeps.tables import write_csv
 
-EVALUATOR = "studies.catalogue.robot_studies:evaluate_robot"
+EVALUATOR = "softcrawl.studies.catalogue.robot_studies:evaluate_robot"
 #: Load cases (kPa): the paper's Fig. 11(c) case, sequential (P2 = 40 and P3 = 60 kPa first, then
 #: P1 ramped in 10 kPa targets), and equal pressures. Newton's quadratic convergence sets in late
 #: on the bending robot (r_{k+1} ~ 700 r_k^2 at the quick mesh), so a segment needs small
@@ -43,7 +43,7 @@ GRIDS = {
 
 
 def _design(params):
-    from geometry.design import RobotDesign
+    from softcrawl.geometry.design import RobotDesign
 
     kwargs = {}
     if "n_rings" in params:
@@ -60,8 +60,8 @@ def point_name(params) -> str:
 def run_cases(design, material: str, mesh: str, cases) -> dict:
     """The FE robot of `design` under each load case: rows (one per converged state), whether
     every case converged, the messages, the DOFs and the path time."""
-    from studies.parts.robot_model import build_robot_model
-    from studies.parts.robot_response import simulate_robot
+    from softcrawl.studies.parts.robot_model import build_robot_model
+    from softcrawl.studies.parts.robot_response import simulate_robot
 
     robot = build_robot_model(design, material, mesh)
     rows, ok, messages, wall = [], True, [], 0.0
@@ -136,8 +136,8 @@ def run_robot_study(name: str, out, material: str, quick: bool, *, workers: int 
 def write_tables(name: str, spec: SweepSpec, material: str) -> StudyOutcome:
     """curves.csv, summary.csv, decision.json, spec.json and the figure from the points/ files of
     the study folder (the points computed so far; a missing one is a row that says so)."""
-    from studies.plots.robot import plot_robot_study
-    from studies.review.robot_rules import foot_radius_rule, ring_rule
+    from softcrawl.studies.plots.robot import plot_robot_study
+    from softcrawl.studies.review.robot_rules import foot_radius_rule, ring_rule
 
     folder = Path(spec.out_dir)
     curves, summary = [], []

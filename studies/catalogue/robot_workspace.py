@@ -19,7 +19,7 @@ Comparison. The FE end point is the robot centreline at the actuators' top level
 point is eq. 9's translation for the lengths
   (a) of the single FE ePSA at the same material and mesh (`studies.parts.epsa_response`, the top
       guided on the axis: the axial response, as in the robot), and
-  (b) of eq. 3 with the paper's identified prototype parameters (eqs. 19-24, `robot.workspace`).
+  (b) of eq. 3 with the paper's identified prototype parameters (eqs. 19-24, `analytic.workspace`).
 Reported: the median and the largest end-point error divided by the FE arc length, the ratio of
 the convex-hull volumes (CC / FE) and the largest theta of each cloud.
 """
@@ -32,8 +32,8 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
-from studies.catalogue.outcome import StudyOutcome
-from studies.sweeps.tables import write_csv
+from softcrawl.studies.catalogue.outcome import StudyOutcome
+from softcrawl.studies.sweeps.tables import write_csv
 
 LEVELS_KPA = (0.0, 25.0, 50.0, 75.0, 100.0)
 QUICK_LEVELS_KPA = (0.0, 50.0, 100.0)
@@ -76,7 +76,7 @@ def fe_cloud(robot, levels, progress=None, on_line=None) -> tuple[dict, list[str
     """{(P1, P2, P3) kPa: RobotState} over the whole grid (computed and turned), and messages.
     The paths run cheapest first (least bending: smallest spread of the pressures); `on_line`,
     if given, gets (grid so far, messages) after every path, so partial results are kept."""
-    from studies.parts.robot_response import simulate_robot
+    from softcrawl.studies.parts.robot_response import simulate_robot
 
     states, messages = {}, []
     for line in sorted(fe_lines(levels), key=lambda ln: max(max(P) - min(P) for P in ln)):
@@ -108,7 +108,7 @@ def _expand(states: dict) -> dict:
 
 
 def _cc_end(lengths, d):
-    from robot import kinematics as kin
+    from softcrawl.analytic import kinematics as kin
 
     k, t, p, lc = kin.forward(np.asarray(lengths), d)
     return kin.arc_point(t, p, lc), np.degrees(t)
@@ -118,7 +118,7 @@ def workspace_comparison(full: dict, single_fe: dict, d: float) -> tuple[list[di
     """Rows (one per grid triple) and the summary of the module docstring."""
     from scipy.spatial import ConvexHull
 
-    from robot.prototype import actuator_set
+    from softcrawl.analytic.prototype import actuator_set
 
     acts = actuator_set("prototype")
     rows = []
@@ -183,8 +183,8 @@ def workspace_comparison(full: dict, single_fe: dict, d: float) -> tuple[list[di
 
 def single_actuator_lengths(material: str, mesh: str, levels) -> dict:
     """{P kPa: length mm} of the single guided FE ePSA (Table 1 design)."""
-    from geometry.design import EPSADesign
-    from studies.parts.epsa_response import simulate_epsa
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
 
     positive = [p for p in levels if p > 0]
     curve = simulate_epsa(EPSADesign(), material=material, pressures_kpa=positive, mesh=mesh, guided=True)
@@ -196,8 +196,8 @@ def single_actuator_lengths(material: str, mesh: str, levels) -> dict:
 
 
 def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcome:
-    from studies.parts.robot_model import build_robot_model
-    from studies.plots.robot import plot_workspace
+    from softcrawl.studies.parts.robot_model import build_robot_model
+    from softcrawl.studies.plots.robot import plot_workspace
 
     levels = QUICK_LEVELS_KPA if quick else LEVELS_KPA
     mesh = "quick" if quick else "default"

@@ -19,7 +19,7 @@ one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh, 24 sect
 sign, 4 pass, so --steps keeps 4).
 
 Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the
-paper's Table 2 speed for that diameter and the analytic `robot.loads.crawl_speed`; writes
+paper's Table 2 speed for that diameter and the analytic `analytic.loads.crawl_speed`; writes
 states.csv, cycles.csv, summary.json, vtu/ (crawl.pvd with the pipe in pipe.vtu) and crawl.png;
 with --gif also crawl.gif (--animation: at PATH), the deformed feet in the pipe, one frame per
 state, drawn from vtu/ off screen (`studies.plots.crawl_animation`; GIF only: MP4 needs ffmpeg).
@@ -30,16 +30,16 @@ from __future__ import annotations
 
 import argparse
 
-from geometry.foot_meshers import FOOT_MESHERS
-from studies.catalogue.contact_studies import FOOT_FRICTION
-from studies.parts.crawl_mesh import QUICK_SECTORS
-from studies.parts.crawl_schedule import GAITS
+from softcrawl.geometry.foot_meshers import FOOT_MESHERS
+from softcrawl.studies.catalogue.contact_studies import FOOT_FRICTION
+from softcrawl.studies.parts.crawl_mesh import QUICK_SECTORS
+from softcrawl.studies.parts.crawl_schedule import GAITS
 
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
 
 
 def register(subparsers) -> None:
-    from studies.commands.options import add_number
+    from softcrawl.studies.commands.options import add_number
 
     p = subparsers.add_parser(
         "crawl",
@@ -93,10 +93,10 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from studies.commands.options import output_folder
-    from studies.parts.crawl_files import run_and_write
-    from studies.parts.crawl_model import CrawlSetup
-    from studies.parts.crawl_schedule import preset, read_csv
+    from softcrawl.studies.commands.options import output_folder
+    from softcrawl.studies.parts.crawl_files import run_and_write
+    from softcrawl.studies.parts.crawl_model import CrawlSetup
+    from softcrawl.studies.parts.crawl_schedule import preset, read_csv
 
     mesh = mesh_settings(args)  # before any folder is made
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
@@ -126,7 +126,7 @@ def run(args) -> int:
 
 def mesh_settings(args) -> dict:
     """The CrawlSetup mesh fields of the command line; a setting of the other mesher is an error."""
-    from studies.commands.options import CommandLineError
+    from softcrawl.studies.commands.options import CommandLineError
 
     if args.mesher == "revolved":
         if args.edge_length is not None:
@@ -143,7 +143,7 @@ def animation_path(args, out):
     """Where the GIF goes (None without --gif/--animation), checked before the crawl runs."""
     from pathlib import Path
 
-    from studies.commands.options import CommandLineError, output_file
+    from softcrawl.studies.commands.options import CommandLineError, output_file
 
     if args.animation is None:
         return out / "crawl.gif" if args.gif else None
@@ -155,8 +155,8 @@ def animation_path(args, out):
 
 def write_animation(out, path) -> None:
     """The GIF from out/vtu; a rendering failure (no off-screen OpenGL) costs the GIF, not the crawl."""
-    from studies.commands.options import make_folder
-    from studies.plots.crawl_animation import write_crawl_gif
+    from softcrawl.studies.commands.options import make_folder
+    from softcrawl.studies.plots.crawl_animation import write_crawl_gif
 
     make_folder(path.parent, "animation")
     try:

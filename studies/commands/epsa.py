@@ -21,8 +21,13 @@ from softcrawl import jsonio
 
 
 def register(subparsers) -> None:
-    from studies.commands.options import add_number
-    from studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MAX_SIDE_LOAD_N, MIN_MESH_SIZE
+    from softcrawl.studies.commands.options import add_number
+    from softcrawl.studies.parts.epsa_model import (
+        DEFAULT_FIBERS,
+        FIBER_MODELS,
+        MAX_SIDE_LOAD_N,
+        MIN_MESH_SIZE,
+    )
 
     p = subparsers.add_parser(
         "epsa", help="simulate one actuator under a pressure ramp", description=__doc__.splitlines()[0]
@@ -97,7 +102,7 @@ def register(subparsers) -> None:
 
 
 def design_from_args(args):
-    from geometry.design import EPSADesign
+    from softcrawl.geometry.design import EPSADesign
 
     base = EPSADesign.load(args.design, parameter="design") if args.design else EPSADesign()
     changes = {
@@ -118,18 +123,18 @@ def _end_condition(args) -> str:
 
 
 def run(args) -> int:
-    from geometry.design import DesignError
-    from studies.commands.options import (
+    from softcrawl.geometry.design import DesignError
+    from softcrawl.studies.commands.options import (
         body_material,
         make_folder,
         output_folder,
         parse_pressures,
         parse_sizes,
     )
-    from studies.parts.epsa_model import DEFAULT_FIBERS, check_end_conditions, resolve_mesh
-    from studies.parts.epsa_response import simulate_epsa
-    from studies.plots.epsa_run import plot_epsa
-    from studies.sweeps.tables import write_csv
+    from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS, check_end_conditions, resolve_mesh
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
+    from softcrawl.studies.plots.epsa_run import plot_epsa
+    from softcrawl.studies.sweeps.tables import write_csv
 
     # every input is checked before the output folder is made and any mesh is built
     design = design_from_args(args)
@@ -181,13 +186,13 @@ def run(args) -> int:
         )
     jsonio.write(out / "summary.json", summary)
     if not args.no_vtu:
-        from fem.vtu import write_path
+        from softcrawl.fem.vtu import write_path
 
         files = write_path(out / "vtu", solved.model, solved.path, stem="step")
         print(f"  wrote {len(files)} VTU states from 0 kPa on: {out / 'vtu' / 'step.pvd'}", flush=True)
     plot_epsa(out / "epsa.png", curve, solved.model, solved.path, side_load_n=args.side_load)
     if args.render:
-        from studies.plots.epsa_renders import render_path
+        from softcrawl.studies.plots.epsa_renders import render_path
 
         for path in render_path(out, design, solved, args.material):
             print(f"  wrote {path}", flush=True)
@@ -210,9 +215,9 @@ def run(args) -> int:
 
 
 def run_convergence(args, design, pressures, sizes, out) -> int:
-    from studies.commands.options import make_folder
-    from studies.parts.epsa_convergence import convergence_table, mesh_convergence
-    from studies.sweeps.tables import write_csv
+    from softcrawl.studies.commands.options import make_folder
+    from softcrawl.studies.parts.epsa_convergence import convergence_table, mesh_convergence
+    from softcrawl.studies.sweeps.tables import write_csv
 
     rows = mesh_convergence(
         design,

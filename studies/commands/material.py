@@ -63,7 +63,7 @@ MAX_FIT_STRAIN = 100.0
 
 
 def _max_strain_option(parser, help_text: str) -> None:
-    from studies.commands.options import add_number
+    from softcrawl.studies.commands.options import add_number
 
     add_number(
         parser,
@@ -80,8 +80,7 @@ def _max_strain_option(parser, help_text: str) -> None:
 
 
 def _run_list(args: argparse.Namespace) -> int:
-    import materials
-    from softcrawl import jsonio
+    from softcrawl import jsonio, materials
 
     records = [materials.get_material(name) for name in materials.material_names()]
     if args.json:
@@ -100,7 +99,7 @@ def _run_list(args: argparse.Namespace) -> int:
         )
     print(
         "Full source text: softcrawl material show NAME. Fit presets are derived from the Soft "
-        "Robotics Materials Database (ODbL 1.0 / DbCL 1.0), see materials/data/README.md."
+        "Robotics Materials Database (ODbL 1.0 / DbCL 1.0), see softcrawl/materials/data/README.md."
     )
     return 0
 
@@ -110,8 +109,7 @@ def _first_clause(text: str, width: int = 70) -> str:
 
 
 def _run_show(args: argparse.Namespace) -> int:
-    import materials
-    from softcrawl import jsonio
+    from softcrawl import jsonio, materials
 
     record = materials.get_material(args.name).to_dict()
     if args.json:
@@ -126,13 +124,13 @@ def _run_show(args: argparse.Namespace) -> int:
 
 
 def _max_strain(args: argparse.Namespace) -> float:
-    import materials
+    from softcrawl import materials
 
     return materials.DEFAULT_MAX_STRAIN if args.max_strain is None else args.max_strain
 
 
 def _fit_record(data, fit) -> dict:
-    import materials
+    from softcrawl import materials
 
     record = {"data": data.name, "file": data.path}
     record.update(fit.to_dict())
@@ -150,10 +148,9 @@ def _fit_record(data, fit) -> dict:
 
 
 def _run_fit(args: argparse.Namespace) -> int:
-    import materials
-    from softcrawl import jsonio
-    from studies.commands.options import make_folder, output_folder
-    from studies.plots.material_fit import plot_fit
+    from softcrawl import jsonio, materials
+    from softcrawl.studies.commands.options import make_folder, output_folder
+    from softcrawl.studies.plots.material_fit import plot_fit
 
     if args.out is not None:
         output_folder(args.out)  # before the fit: a bad folder is reported first
@@ -193,8 +190,7 @@ def _print_fit(record: dict) -> None:
 
 
 def _run_fit_table(args: argparse.Namespace) -> int:
-    import materials
-    from softcrawl import jsonio
+    from softcrawl import jsonio, materials
 
     records = []
     for name in materials.TENSILE_FILES:

@@ -21,7 +21,7 @@ KINDS = ("epsa", "foot", "ring", "robot")
 
 
 def _design_classes():
-    from geometry import design as d
+    from softcrawl.geometry import design as d
 
     return {"epsa": d.EPSADesign, "foot": d.FootDesign, "ring": d.RingDesign, "robot": d.RobotDesign}
 
@@ -53,7 +53,7 @@ def _add_param(parser, name: str, typ: type, field: dataclasses.Field, default) 
 
 
 def _add_design_options(parser, kind: str, classes: dict) -> None:
-    from geometry.design import RobotDesign
+    from softcrawl.geometry.design import RobotDesign
 
     default = classes[kind]()
     for name, typ in _scalar_fields(classes[kind]):
@@ -68,10 +68,10 @@ def _add_design_options(parser, kind: str, classes: dict) -> None:
 
 
 def register(subparsers) -> None:
-    from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
-    from geometry.foot_meshers import FOOT_MESHERS
-    from geometry.tetwild import MAX_EDGE_LENGTH, MIN_EDGE_LENGTH
-    from studies.commands.options import add_number
+    from softcrawl.geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
+    from softcrawl.geometry.foot_meshers import FOOT_MESHERS
+    from softcrawl.geometry.tetwild import MAX_EDGE_LENGTH, MIN_EDGE_LENGTH
+    from softcrawl.studies.commands.options import add_number
 
     classes = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
     parser = subparsers.add_parser(
@@ -112,7 +112,7 @@ def register(subparsers) -> None:
 
 def build_design(kind: str, params: dict, base=None):
     """Design of ``kind`` from a base design (or the defaults) and overrides {name: value}."""
-    from geometry.design import DesignError, RobotDesign
+    from softcrawl.geometry.design import DesignError, RobotDesign
 
     cls = _design_classes()[kind]
     if base is not None and not isinstance(base, cls):
@@ -138,7 +138,7 @@ def build_design(kind: str, params: dict, base=None):
 
 def _part(design, name: str, changes: dict):
     """``design.replace(**changes)`` with errors named ``<name>.<parameter>``."""
-    from geometry.design import DesignError
+    from softcrawl.geometry.design import DesignError
 
     if not changes:
         return design
@@ -167,10 +167,10 @@ def _progress_lines(logger_name: str):
 def run(args: argparse.Namespace) -> int:
     import time
 
-    from geometry.assembly import MESHERS
-    from geometry.design import EPSADesign, load_design
     from softcrawl import jsonio
-    from studies.commands.options import make_folder, output_folder
+    from softcrawl.geometry.assembly import MESHERS
+    from softcrawl.geometry.design import EPSADesign, load_design
+    from softcrawl.studies.commands.options import make_folder, output_folder
 
     params = {k[2:]: v for k, v in vars(args).items() if k.startswith("p:") and v is not None}
     base = load_design(args.design, parameter="design") if args.design else None
@@ -182,14 +182,14 @@ def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     revolved = getattr(args, "mesher", "tetwild") == "revolved"
     if revolved and args.edge_length is not None:
-        from studies.commands.options import CommandLineError
+        from softcrawl.studies.commands.options import CommandLineError
 
         raise CommandLineError(
             "edge-length", "the revolved foot mesh has no edge length (geometry.foot_revolved)"
         )
     with _progress_lines("geometry"):  # the mesher's log lines: what it meshes, not a cache hit
         if args.kind == "foot":
-            from geometry.foot_meshers import mesh_foot_with
+            from softcrawl.geometry.foot_meshers import mesh_foot_with
 
             mesh = mesh_foot_with(design, args.mesher, edge_length=args.edge_length, cache_dir=cache)
         else:
@@ -213,7 +213,7 @@ def run(args: argparse.Namespace) -> int:
             "chamber_wall_area_mm2": design.chamber_wall_area,
         }
     if not args.no_png:
-        from studies.plots.mesh_render import render_png
+        from softcrawl.studies.plots.mesh_render import render_png
 
         cut = ", cut open at y = 0" if len(mesh.region_names) == 1 else ""
         title = f"{args.kind} mesh: {mesh.n_tets} tetrahedra{cut}"

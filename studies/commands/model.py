@@ -3,12 +3,12 @@
 Subcommands: statics, fk, ik, load, speed, identify (here) and workspace, plan, elbow-scan
 (`studies.commands.model_planning`). Pressures are entered in kPa, lengths in mm, masses in g,
 gravity in m/s^2; `--json` prints a JSON object on stdout instead of text. Every number is checked
-against the ranges of `robot.limits` when it is parsed.
+against the ranges of `analytic.limits` when it is parsed.
 """
 
 from __future__ import annotations
 
-from robot.limits import (
+from softcrawl.analytic.limits import (
     MAX_FORCE_N,
     MAX_G,
     MAX_LENGTH_MM,
@@ -17,7 +17,7 @@ from robot.limits import (
     MAX_SPEED_MM_S,
     MAX_TIME_S,
 )
-from studies.commands.options import add_json, add_length, add_number, emit
+from softcrawl.studies.commands.options import add_json, add_length, add_number, emit
 
 
 def _g(args) -> float:
@@ -34,7 +34,7 @@ def add_gravity(parser, default: float, help: str, positive: bool = False) -> No
 
 
 def _statics(args) -> int:
-    from robot.prototype import nominal_epsa, prototype_epsa
+    from softcrawl.analytic.prototype import nominal_epsa, prototype_epsa
 
     a = nominal_epsa() if args.actuator == "nominal" else prototype_epsa(int(args.actuator))
     g, p = _g(args), args.pressure
@@ -66,7 +66,7 @@ def _statics(args) -> int:
 
 
 def _fk(args) -> int:
-    from robot import kinematics as kin
+    from softcrawl.analytic import kinematics as kin
 
     k, t, p, lc = (float(v) for v in kin.forward(args.lengths, args.d))
     tip = [float(v) for v in kin.arc_point(t, p, lc)]
@@ -89,7 +89,7 @@ def _fk(args) -> int:
 
 
 def _ik(args) -> int:
-    from robot import kinematics as kin
+    from softcrawl.analytic import kinematics as kin
 
     k, t, p, lc = (float(v) for v in kin.inverse_configuration(args.tip))
     lengths = [float(v) for v in kin.inverse(args.tip, args.d)]
@@ -107,7 +107,7 @@ def _ik(args) -> int:
 
 
 def _load(args) -> int:
-    from robot.loads import theoretical_load
+    from softcrawl.analytic.loads import theoretical_load
 
     m = theoretical_load(args.force, args.robot_mass * 1e-6, _g(args)) * 1e3  # tonne -> kg
     payload = dict(force_n=args.force, robot_mass_g=args.robot_mass, g_m_s2=args.g, load_kg=m)
@@ -121,9 +121,9 @@ def _load(args) -> int:
 
 
 def _speed(args) -> int:
-    from robot.dynamics import gait_stride
-    from robot.loads import crawl_speed, friction_for_speed
-    from robot.prototype import actuator_set
+    from softcrawl.analytic.dynamics import gait_stride
+    from softcrawl.analytic.loads import crawl_speed, friction_for_speed
+    from softcrawl.analytic.prototype import actuator_set
 
     acts = actuator_set(args.actuators)
     est = crawl_speed(acts, args.pressure, args.friction, args.cycle, _g(args))
@@ -160,7 +160,7 @@ def _breakpoint(text: str):
 
     if text.strip().lower() == "fit":
         return "fit"
-    from studies.commands.options import number_type
+    from softcrawl.studies.commands.options import number_type
 
     try:
         return number_type(minimum=0.0, maximum=100.0, min_open=True, max_open=True, unit="kPa")(text)
@@ -169,7 +169,7 @@ def _breakpoint(text: str):
 
 
 def _identify(args) -> int:
-    from robot.identification import identify, read_table
+    from softcrawl.analytic.identification import identify, read_table
 
     P, W, y = read_table(args.table)
     bp = None if args.breakpoint == "fit" else float(args.breakpoint)
@@ -289,7 +289,7 @@ def _register_loads(sub) -> None:
 
 
 def register(subparsers) -> None:
-    from studies.commands import model_planning
+    from softcrawl.studies.commands import model_planning
 
     p = subparsers.add_parser(
         "model",

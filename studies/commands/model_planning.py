@@ -1,6 +1,6 @@
 """`softcrawl model workspace | plan | elbow-scan`: the tip workspace and the gait planners.
 
-The searches are bounded (`robot.limits`): at most MAX_WORKSPACE_LEVELS pressure levels per
+The searches are bounded (`analytic.limits`): at most MAX_WORKSPACE_LEVELS pressure levels per
 actuator, a pressure grid no finer than MIN_PLAN_STEP_KPA, a beam of at most MAX_BEAM states, at
 most MAX_CONTINUOUS_CYCLES cycles of the continuous search and MAX_SCAN_RADII radii per scan.
 """
@@ -10,7 +10,8 @@ from __future__ import annotations
 import argparse
 from dataclasses import asdict
 
-from robot.limits import (
+from softcrawl import jsonio
+from softcrawl.analytic.limits import (
     MAX_BEAM,
     MAX_CONTINUOUS_CYCLES,
     MAX_LENGTH_MM,
@@ -18,9 +19,8 @@ from robot.limits import (
     MAX_WORKSPACE_LEVELS,
     MIN_PLAN_STEP_KPA,
 )
-from robot.statics import P_MAX_KPA
-from softcrawl import jsonio
-from studies.commands.options import (
+from softcrawl.analytic.statics import P_MAX_KPA
+from softcrawl.studies.commands.options import (
     CommandLineError,
     add_json,
     add_length,
@@ -34,8 +34,8 @@ from studies.commands.options import (
 
 
 def _workspace(args) -> int:
-    from robot.workspace import sample, save_csv
-    from studies.plots.analytic import plot_workspace
+    from softcrawl.analytic.workspace import sample, save_csv
+    from softcrawl.studies.plots.analytic import plot_workspace
 
     out = output_folder(args.out)
     ws = sample(args.n, args.actuators, args.d)
@@ -84,17 +84,17 @@ def _check_search(args) -> None:
 
 def _search(args, pipe):
     if args.search == "bfs":
-        from robot.planar import bfs_plan
+        from softcrawl.analytic.planar import bfs_plan
 
         print("breadth-first search over the planar gait (can take minutes):", flush=True)
         return bfs_plan(
             pipe, actuators=args.actuators, step_kpa=args.step, progress=lambda m: print("  " + m, flush=True)
         )
     if args.search == "continuous":
-        from robot.refine import continuous_plan
+        from softcrawl.analytic.refine import continuous_plan
 
         return continuous_plan(pipe, cycles=args.cycles)
-    from robot.planner import plan
+    from softcrawl.analytic.planner import plan
 
     return plan(
         pipe,
@@ -135,9 +135,9 @@ def _plan_text(pipe, result, out) -> str:
 
 
 def _plan(args) -> int:
-    from robot.cycle import pressure_grid
-    from robot.pipe import Pipe
-    from studies.plots.analytic import plot_plan
+    from softcrawl.analytic.cycle import pressure_grid
+    from softcrawl.analytic.pipe import Pipe
+    from softcrawl.studies.plots.analytic import plot_plan
 
     _check_search(args)
     pipe = Pipe(args.pipe, args.diameter, args.bend_radius or 40.0, entry=args.length, exit=args.exit_length)
@@ -175,10 +175,10 @@ def _plan(args) -> int:
 
 
 def _scan_one(args, radius: float):
-    from robot.pipe import Pipe
+    from softcrawl.analytic.pipe import Pipe
 
     if args.search == "bfs":
-        from robot.planar import bfs_plan
+        from softcrawl.analytic.planar import bfs_plan
 
         print(f"R = {radius:g} mm: breadth-first search (can take minutes)", flush=True)
         return bfs_plan(
@@ -187,10 +187,10 @@ def _scan_one(args, radius: float):
             progress=lambda m: print("  " + m, flush=True),
         )
     if args.search == "continuous":
-        from robot.refine import continuous_plan
+        from softcrawl.analytic.refine import continuous_plan
 
         return continuous_plan(Pipe("elbow", args.diameter, radius), cycles=args.cycles)
-    from robot.planner import scan_bend_radius
+    from softcrawl.analytic.planner import scan_bend_radius
 
     ((_, result),) = scan_bend_radius(
         [radius], args.diameter, step_kpa=args.step, beam=args.beam, body=args.body, cell_mm=1.0, cell_deg=1.0
@@ -199,8 +199,8 @@ def _scan_one(args, radius: float):
 
 
 def _elbow_scan(args) -> int:
-    from robot.cycle import pressure_grid
-    from robot.pipe import Pipe
+    from softcrawl.analytic.cycle import pressure_grid
+    from softcrawl.analytic.pipe import Pipe
 
     if len(args.radii) > MAX_SCAN_RADII:
         raise CommandLineError("radii", f"{len(args.radii)} radii; at most {MAX_SCAN_RADII} per scan")

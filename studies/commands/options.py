@@ -232,8 +232,8 @@ def output_file(path, parameter: str) -> Path:
 def body_material(name: str, parameter: str = "material"):
     """The `materials` preset of an ePSA body (a hyperelastic material; `NAME@mu=VALUE` allowed),
     checked before any work."""
-    from materials import MaterialError, get_material
-    from materials.fem_law import solid_law
+    from softcrawl.materials import MaterialError, get_material
+    from softcrawl.materials.fem_law import solid_law
 
     try:
         material = get_material(name)
@@ -256,7 +256,7 @@ def emit(args, payload: dict, text: str) -> None:
 
 def add_length(parser, flag: str, help: str, default=None, **kwargs) -> None:
     """A length option in (0, MAX_LENGTH_MM] mm (the analytic models' limit)."""
-    from robot.limits import MAX_LENGTH_MM
+    from softcrawl.analytic.limits import MAX_LENGTH_MM
 
     add_number(
         parser,

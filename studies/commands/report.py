@@ -23,7 +23,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from softcrawl.errors import InputError
-    from studies.review.report import build_report
+    from softcrawl.studies.review.report import build_report
 
     results = Path(args.results)
     if not results.is_dir():

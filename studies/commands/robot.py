@@ -22,9 +22,9 @@ from softcrawl.errors import InputError
 
 
 def register(subparsers) -> None:
-    from geometry.robot_mesh import MESH_PRESETS
-    from studies.commands.options import add_number
-    from studies.parts.robot_model import DEFAULT_MATERIAL
+    from softcrawl.geometry.robot_mesh import MESH_PRESETS
+    from softcrawl.studies.commands.options import add_number
+    from softcrawl.studies.parts.robot_model import DEFAULT_MATERIAL
 
     p = subparsers.add_parser(
         "robot",
@@ -59,7 +59,7 @@ def register(subparsers) -> None:
 
 
 def _triple(text: str, name: str) -> tuple[float, float, float]:
-    from studies.commands.options import MAX_PRESSURE_KPA, CommandLineError
+    from softcrawl.studies.commands.options import MAX_PRESSURE_KPA, CommandLineError
 
     try:
         values = tuple(float(v) for v in text.split(","))
@@ -82,10 +82,10 @@ def targets_kpa(pressures, first, steps: int) -> list[tuple[float, float, float]
 
 
 def run(args) -> int:
-    from geometry.design import RobotDesign
-    from studies.commands.options import body_material, output_folder
-    from studies.parts.robot_model import build_robot_model
-    from studies.parts.robot_response import simulate_robot
+    from softcrawl.geometry.design import RobotDesign
+    from softcrawl.studies.commands.options import body_material, output_folder
+    from softcrawl.studies.parts.robot_model import build_robot_model
+    from softcrawl.studies.parts.robot_response import simulate_robot
 
     pressures = _triple(args.pressures, "pressures")
     first = _triple(args.first, "first") if args.first else None
@@ -116,9 +116,9 @@ def run(args) -> int:
 
 def write_outputs(robot, run_, folder: Path) -> None:
     """states.csv, vtu/robot.pvd (one VTU per converged state) and robot.png (the last state)."""
-    from fem.vtu import write_pvd, write_state
-    from studies.plots.robot import render_robot
-    from studies.sweeps.tables import write_csv
+    from softcrawl.fem.vtu import write_pvd, write_state
+    from softcrawl.studies.plots.robot import render_robot
+    from softcrawl.studies.sweeps.tables import write_csv
 
     write_csv([s.row() | {"material": run_.material} for s in run_.states], folder / "states.csv")
     files = []

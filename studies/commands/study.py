@@ -53,9 +53,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from studies.catalogue.actuator_studies import DEFAULT_MATERIAL, GRIDS
-from studies.catalogue.optimise_actuator import DEFAULT_TRIALS, QUICK_TRIALS
-from studies.catalogue.optimise_actuator import NAME as OPTIMISER
+from softcrawl.studies.catalogue.actuator_studies import DEFAULT_MATERIAL, GRIDS
+from softcrawl.studies.catalogue.optimise_actuator import DEFAULT_TRIALS, QUICK_TRIALS
+from softcrawl.studies.catalogue.optimise_actuator import NAME as OPTIMISER
 
 PAPER_MATERIAL = "paper-material"
 KP_MISMATCH = "kp-mismatch"
@@ -77,7 +77,7 @@ MAX_SEED = 2**32 - 1
 
 
 def register(subparsers) -> None:
-    from studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
+    from softcrawl.studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
 
     parser = subparsers.add_parser(
         "study",
@@ -126,8 +126,8 @@ def register(subparsers) -> None:
 
 def _add_run_options(parser) -> None:
     """Workers, mesh, winding and the optimiser's options."""
-    from studies.commands.options import add_number
-    from studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MIN_MESH_SIZE
+    from softcrawl.studies.commands.options import add_number
+    from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MIN_MESH_SIZE
 
     add_number(
         parser,
@@ -182,13 +182,13 @@ def _add_run_options(parser) -> None:
 def _check(args) -> None:
     """Every option checked before the sweep starts: a bad one is one line and exit code 2, not a
     sweep in which every point fails."""
-    from geometry.design import EPSADesign
-    from studies.commands.options import body_material, output_folder
-    from studies.parts.epsa_model import resolve_mesh
-    from studies.sweeps.spec import StudyError
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.commands.options import body_material, output_folder
+    from softcrawl.studies.parts.epsa_model import resolve_mesh
+    from softcrawl.studies.sweeps.spec import StudyError
 
     if args.material is None:
-        from studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
+        from softcrawl.studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
 
         feet = (*CONTACT_STUDIES, CRAWL)
         defaults = dict.fromkeys(feet, "rubber-70a") | dict.fromkeys(ROBOT_STUDIES, ROBOT_MATERIAL)
@@ -217,7 +217,7 @@ def _check(args) -> None:
 def _check_simulator(ref: str) -> None:
     """MODULE:FUNCTION must import and name a callable (the evaluator would fail every point)."""
     from softcrawl.checks import brief
-    from studies.sweeps.spec import StudyError, load_callable
+    from softcrawl.studies.sweeps.spec import StudyError, load_callable
 
     if ":" not in ref:
         raise StudyError("simulator", f"expected MODULE:FUNCTION, got {brief(ref)}")
@@ -232,16 +232,16 @@ def _check_simulator(ref: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studies.sweeps.faults import SweepStopped, machine_fault
+    from softcrawl.studies.sweeps.faults import SweepStopped, machine_fault
 
     _check(args)
     if args.name == KP_MISMATCH:  # reads the identify studies under --out (studies.catalogue.kp_mismatch)
-        from studies.catalogue.kp_mismatch import write_report
+        from softcrawl.studies.catalogue.kp_mismatch import write_report
 
         print("wrote " + ", ".join(map(str, write_report(args.out))))
         return 0
     if args.name == PAPER_MATERIAL:  # no FE: the closed-end tube theory (studies.catalogue.paper_material)
-        from studies.catalogue.paper_material import run_paper_material
+        from softcrawl.studies.catalogue.paper_material import run_paper_material
 
         lines, written = run_paper_material(args.out)
         print("\n".join(lines))
@@ -271,14 +271,14 @@ def run(args: argparse.Namespace) -> int:
 
 def _run_study(args):
     """The study's outcome (`studies.catalogue.outcome.StudyOutcome`)."""
-    from studies.catalogue.actuator_studies import run_sweep_study, study_settings
-    from studies.catalogue.optimise_actuator import run_optimiser
+    from softcrawl.studies.catalogue.actuator_studies import run_sweep_study, study_settings
+    from softcrawl.studies.catalogue.optimise_actuator import run_optimiser
 
     progress = not args.no_progress
     if args.name in ROBOT_STUDIES:
         return _run_robot_study(args, progress)
     if args.name == CRAWL:
-        from studies.catalogue.crawl_study import run_crawl_study
+        from softcrawl.studies.catalogue.crawl_study import run_crawl_study
 
         return run_crawl_study(
             args.out,
@@ -289,7 +289,7 @@ def _run_study(args):
             retry=args.retry_failed,
         )
     if args.name in CONTACT_STUDIES:
-        from studies.catalogue.contact_runs import run_contact_study
+        from softcrawl.studies.catalogue.contact_runs import run_contact_study
 
         return run_contact_study(
             args.name,
@@ -330,10 +330,10 @@ def _run_robot_study(args, progress: bool):
     """rings and foot-radius (sweeps, studies.catalogue.robot_studies) and workspace
     (studies.catalogue.robot_workspace)."""
     if args.name == "workspace":
-        from studies.catalogue.robot_workspace import run_workspace
+        from softcrawl.studies.catalogue.robot_workspace import run_workspace
 
         return run_workspace(args.out, args.material, args.quick, print if progress else None)
-    from studies.catalogue.robot_studies import run_robot_study
+    from softcrawl.studies.catalogue.robot_studies import run_robot_study
 
     return run_robot_study(
         args.name, args.out, args.material, args.quick, workers=args.workers, progress=progress,

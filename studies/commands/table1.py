@@ -37,9 +37,9 @@ def register(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from materials import get_material
-    from studies.commands.options import CommandLineError, output_folder
-    from studies.review.table1 import find_materials, write_table1
+    from softcrawl.materials import get_material
+    from softcrawl.studies.commands.options import CommandLineError, output_folder
+    from softcrawl.studies.review.table1 import find_materials, write_table1
 
     results = Path(args.results if args.results is not None else args.out)
     for name in args.material or ():

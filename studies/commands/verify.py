@@ -14,8 +14,8 @@ from pathlib import Path
 
 def _cases() -> dict:
     """The solver cases (`fem.verification`) and the contact cases (`fem.contact_verification`)."""
-    from fem.contact_verification import CASES as CONTACT
-    from fem.verification import CASES
+    from softcrawl.fem.contact_verification import CASES as CONTACT
+    from softcrawl.fem.verification import CASES
 
     return {**CASES, **CONTACT}
 
@@ -42,7 +42,7 @@ def _plain(value):
 
 
 def run(args) -> int:
-    from studies.commands.options import make_folder, output_file
+    from softcrawl.studies.commands.options import make_folder, output_file
 
     if args.json:
         output_file(args.json, "json")  # checked before the cases run

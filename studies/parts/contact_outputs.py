@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem.post import element_fields
+from softcrawl.fem.post import element_fields
 
 
 def weighted_percentile(values: np.ndarray, weights: np.ndarray, q: float) -> float:

@@ -15,12 +15,12 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
-from studies.parts.crawl_outputs import steady_stride
+from softcrawl.studies.parts.crawl_outputs import steady_stride
 
 MATERIAL = "rubber-70a"
 MATERIAL_SOURCE = "Shore 70A rubber of the foot study (results/foot/README.md)"
 FRICTION_SOURCE = (
-    "studies.catalogue.contact_studies.FOOT_FRICTION: assumed (dry rubber on a smooth pipe); "
+    "softcrawl.studies.catalogue.contact_studies.FOOT_FRICTION: assumed (dry rubber on a smooth pipe); "
     "the paper gives no coefficient"
 )
 
@@ -44,7 +44,7 @@ class _VtuSeries:
         folder.mkdir(parents=True, exist_ok=True)
 
     def __call__(self, index, model, x, time_s) -> None:
-        from fem.vtu import write_state
+        from softcrawl.fem.vtu import write_state
 
         path = write_state(self.folder / f"crawl_{index:04d}.vtu", model, x)
         self.entries.append((time_s, path.name))
@@ -66,7 +66,7 @@ def write_pvd(folder: Path, entries) -> Path:
 def compare(result, setup, schedule, pressure_kpa: float) -> dict:
     """Stride and speed beside Table 2 and the analytic model (with the paper's friction and with
     the FE's own: the largest axial friction force on a foot while the pressures rise)."""
-    from studies.parts.crawl_schedule import PAPER_FRICTION_N, analytic_speed, table2
+    from softcrawl.studies.parts.crawl_schedule import PAPER_FRICTION_N, analytic_speed, table2
 
     direction = "backward" if setup.feet == "backward" else "forward"
     stride = steady_stride(result)
@@ -144,12 +144,12 @@ def progress_line(row: dict) -> str:
 def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool = True, progress=None):
     """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
     `progress(line)` is called with one line per converged state."""
-    from materials import get_material
-    from materials.fem_law import solid_law
-    from studies.parts.crawl_mesh import crawl_mesh
-    from studies.parts.crawl_model import build, run_crawl
-    from studies.plots.crawl import plot_crawl
-    from studies.sweeps.tables import write_csv
+    from softcrawl.materials import get_material
+    from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.parts.crawl_mesh import crawl_mesh
+    from softcrawl.studies.parts.crawl_model import build, run_crawl
+    from softcrawl.studies.plots.crawl import plot_crawl
+    from softcrawl.studies.sweeps.tables import write_csv
 
     folder.mkdir(parents=True, exist_ok=True)
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())

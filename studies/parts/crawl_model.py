@@ -29,16 +29,16 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from fem.axial_link import AxialLink
-from fem.contact import ContactSpec
-from fem.contact_stages import Stage, run_stages
-from fem.equal_displacement import EqualDisplacement
-from fem.model import Dirichlet, SolidModel
-from fem.rigid_surfaces import CylinderWall
-from studies.parts.crawl_mesh import FEET, attach_tag
-from studies.parts.crawl_outputs import CrawlResult, StateRecorder
-from studies.parts.crawl_schedule import AxialLaw, Schedule
-from studies.parts.foot_model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING
+from softcrawl.fem.axial_link import AxialLink
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.equal_displacement import EqualDisplacement
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.studies.parts.crawl_mesh import FEET, attach_tag
+from softcrawl.studies.parts.crawl_outputs import CrawlResult, StateRecorder
+from softcrawl.studies.parts.crawl_schedule import AxialLaw, Schedule
+from softcrawl.studies.parts.foot_model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING
 
 #: Halvings of a sub-step before a stage is given up: the unloading of a skirt reverses slip
 #: over part of its contact (points flip between stick and slip), which needs sub-steps down to

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from studies.parts.crawl_mesh import FEET
+from softcrawl.studies.parts.crawl_mesh import FEET
 
 SLID_SHARE = 0.95
 

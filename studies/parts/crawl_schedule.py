@@ -18,7 +18,7 @@ Schedules. Piecewise linear pressures (kPa) of the three ePSAs against time, one
            cycle, repeated; linear between rows.
 
 Axial law (source: the paper's prototype statics, eqs. 19-24, the coefficient-wise mean of ePSA
-1-3, `robot.prototype.nominal_epsa`; gravity off, a horizontal pipe). The FE identification of
+1-3, `analytic.prototype.nominal_epsa`; gravity off, a horizontal pipe). The FE identification of
 the Table 1 ePSA (results/identify) is not used: its k_p is 5-7x the prototype's
 (results/identify/kp-mismatch.md), so the robot it describes is not the one of Table 2. Each ePSA
 is eq. 3 along the axis, f_i = f_p(P_i) - k_p(P_i) Delta; the three act in parallel between the
@@ -48,7 +48,7 @@ GAITS = ("inflate", "gait1", "gait2", "gait3")
 FILL_S = 1.5  # time to fill from 0 to P (gait presets)
 RELEASE_S = {"gait1": 2.0, "gait2": 0.5, "gait3": 0.5}  # time to release from P to 0
 MAX_ROWS = 10_000
-LAW_SOURCE = "paper eqs. 19-24 (prototype statics, mean of ePSA 1-3; robot.prototype.nominal_epsa)"
+LAW_SOURCE = "paper eqs. 19-24 (prototype statics, mean of ePSA 1-3; analytic.prototype.nominal_epsa)"
 
 
 #: Table 2 of the paper: pipe diameter (mm) -> (forward, backward) speed, mm/s, 2 s cycles. The
@@ -70,8 +70,8 @@ def table2(diameter: float, direction: str) -> float | None:
 
 
 def analytic_speed(pressure_kpa: float, cycle_s: float, friction_n: float) -> float:
-    from robot.loads import crawl_speed
-    from robot.prototype import actuator_set
+    from softcrawl.analytic.loads import crawl_speed
+    from softcrawl.analytic.prototype import actuator_set
 
     return crawl_speed(actuator_set("nominal"), pressure_kpa, friction_n, cycle_s).speed_mm_s
 
@@ -180,7 +180,7 @@ class AxialLaw:
     source: str = LAW_SOURCE
 
     def _actuator(self):
-        from robot.prototype import nominal_epsa
+        from softcrawl.analytic.prototype import nominal_epsa
 
         return nominal_epsa()
 
@@ -204,7 +204,7 @@ class AxialLaw:
         delta at its radius. An estimate: the axial law keeps no radius, so the chamber's radial
         growth under pressure (held small by the winding) is left out, and the end caps are taken
         as not stretching."""
-        from geometry.design import EPSADesign
+        from softcrawl.geometry.design import EPSADesign
 
         epsa = EPSADesign()
         return epsa.chamber_volume + math.pi * epsa.chamber_radius**2 * float(delta_mm)

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from geometry.design import EPSADesign
-from studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings
-from studies.parts.epsa_response import simulate_epsa
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings
+from softcrawl.studies.parts.epsa_response import simulate_epsa
 
 
 @dataclass(frozen=True)

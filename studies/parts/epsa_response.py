@@ -29,8 +29,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from geometry.design import DesignError, EPSADesign
-from studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings, build_model, resolve_mesh
+from softcrawl.geometry.design import DesignError, EPSADesign
+from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS, MeshSettings, build_model, resolve_mesh
 
 #: Row statuses: "reference" the undeformed 0 kPa state; "converged" the equilibrium at a requested
 #: pressure (under pressure control, or landed on by volume control when pressure control stalled
@@ -135,7 +135,7 @@ def simulate_epsa(
     `Solved` with the model and path when `keep_model`). With `end_load_n` or `side_load_n`
     (`studies.parts.epsa_model`) the load is put on first, at 0 kPa (a "converged" row at 0 kPa),
     and stays on through the ramp."""
-    from fem.path import NewtonRecord, Step, load_path
+    from softcrawl.fem.path import NewtonRecord, Step, load_path
 
     t0 = time.perf_counter()
     mesh = resolve_mesh(design, mesh, mesh_size, quick)
@@ -220,7 +220,7 @@ def _sway_events(rows) -> tuple[str, ...]:
 
 def _row_builder(model, design: EPSADesign, blocked: bool):
     """row(step, status) -> CurveRow of a computed state of `model`."""
-    from fem.post import actuator_length, max_principal_stretch, outer_radius_at, volumetric_error
+    from softcrawl.fem.post import actuator_length, max_principal_stretch, outer_radius_at, volumetric_error
 
     top_nodes = model.boundary_nodes("end_top")
 

@@ -8,7 +8,7 @@ e > `TRUST_LEVEL`, and where the worst elements sit (reference radius and height
 centroid, its distance from the chamber's re-entrant end corners, where the sharp 90-degree corner
 of the cavity makes the strain singular) and the error away from those corners.
 
-    PYTHONPATH=. python -m studies.parts.epsa_volumetric --sizes 10,5,3.33 --out results/epsa-volumetric
+    python -m softcrawl.studies.parts.epsa_volumetric --sizes 10,5,3.33 --out results/epsa-volumetric
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ TRUST_LEVEL = 0.01
 
 
 def volumetric_rows(design, material, sizes, pressures_kpa, fibers="sheet") -> list[dict]:
-    from fem.path import load_path
-    from studies.parts.epsa_model import MeshSettings, build_model
+    from softcrawl.fem.path import load_path
+    from softcrawl.studies.parts.epsa_model import MeshSettings, build_model
 
     rows = []
     for h in sizes:
@@ -72,7 +72,7 @@ CORNER_ZONE_MM = 2.0
 
 
 def main(argv=None) -> int:
-    from geometry.design import EPSADesign
+    from softcrawl.geometry.design import EPSADesign
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="10,5,3.33")

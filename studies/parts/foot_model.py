@@ -32,12 +32,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem.contact import ContactSpec
-from fem.contact_stages import Stage, run_stages
-from fem.model import Dirichlet, SolidModel
-from fem.newton import NewtonOptions
-from fem.rigid_surfaces import CylinderWall
-from studies.parts.contact_outputs import face_metrics
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.newton import NewtonOptions
+from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.studies.parts.contact_outputs import face_metrics
 
 #: Newton settings of the foot: a failing sub-step is cut back after at most 25 iterations (each
 #: costs a ~50k-unknown solve), at most 8 times in a row (4 before issue 16's follow-up: the

@@ -35,15 +35,15 @@ from dataclasses import dataclass, replace
 import numpy as np
 import skfem
 
-from fem.contact import ContactSpec
-from fem.contact_stages import Stage, run_stages
-from fem.equal_displacement import EqualDisplacement
-from fem.model import ChamberSpec, Dirichlet, SolidModel
-from fem.newton import NewtonOptions
-from fem.rigid_surfaces import Plane
-from fem.structured import tag_boundaries
-from studies.parts.contact_outputs import solid_metrics
-from studies.sweeps.spec import StudyError
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.equal_displacement import EqualDisplacement
+from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+from softcrawl.fem.newton import NewtonOptions
+from softcrawl.fem.rigid_surfaces import Plane
+from softcrawl.fem.structured import tag_boundaries
+from softcrawl.studies.parts.contact_outputs import solid_metrics
+from softcrawl.studies.sweeps.spec import StudyError
 
 #: Pitch of the default foot's grooves (FootDesign: back face 15.59 mm, 5 grooves -> 6 pitches).
 DEFAULT_PITCH = 2.6

@@ -28,8 +28,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from geometry.design import DesignError, RobotDesign
-from geometry.robot_mesh import MESH_PRESETS, RobotMeshSettings, mesh_robot_swept
+from softcrawl.geometry.design import DesignError, RobotDesign
+from softcrawl.geometry.robot_mesh import MESH_PRESETS, RobotMeshSettings, mesh_robot_swept
 
 #: The robot studies' silicone: the calibrated modulus of `softcrawl calibrate` (docs/DESIGN.md
 #: section 3), at which the Fig. 11 load case bends the robot ~120 deg instead of a full loop.
@@ -60,8 +60,8 @@ def _fiber_sheets(design: RobotDesign, kevlar) -> list:
     the actuator's axis."""
     import math
 
-    from fem.sheets import FiberSheet
-    from geometry.epsa_shape import helix_families
+    from softcrawl.fem.sheets import FiberSheet
+    from softcrawl.geometry.epsa_shape import helix_families
 
     e = design.epsa
     axial = kevlar.youngs_modulus * math.pi * e.fiber_diameter**2 / 4
@@ -83,10 +83,10 @@ def build_robot_model(
 ) -> RobotModel:
     """The robot model of the module docstring. `gravity`: the acceleration direction and size in
     units of g, e.g. (0, -1, 0) for a robot lying in a horizontal pipe (None: no gravity)."""
-    from fem.model import ChamberSpec, Dirichlet, SolidModel
-    from materials import get_material
-    from materials.fem_law import solid_law
-    from studies.parts.epsa_model import solid_material
+    from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+    from softcrawl.materials import get_material
+    from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.parts.epsa_model import solid_material
 
     design = design or RobotDesign()
     if not isinstance(design, RobotDesign):

@@ -32,8 +32,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from fem.path import NewtonOptions, load_path
-from studies.parts.robot_model import RobotModel
+from softcrawl.fem.path import NewtonOptions, load_path
+from softcrawl.studies.parts.robot_model import RobotModel
 
 THETA_MIN_FOR_D = math.radians(0.5)
 #: Newton options of the robot paths. The ABS rings and seal heads (mu 1.2e4 x the silicone's)
@@ -133,7 +133,7 @@ def arc_fit_rms(points: np.ndarray) -> float:
 
 def robot_state(robot: RobotModel, probes: Probes, x: np.ndarray, pressures_mpa) -> RobotState:
     """The outputs of the module docstring at state x."""
-    from robot import kinematics as kin
+    from softcrawl.analytic import kinematics as kin
 
     design = robot.design
     n_v = robot.mesh.n_nodes

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from robot import kinematics as kin
-from studies.plots.style import pyplot, save
+from softcrawl.analytic import kinematics as kin
+from softcrawl.studies.plots.style import pyplot, save
 
 
 def plot_workspace(ws, path) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from studies.plots.style import pyplot, save
+from softcrawl.studies.plots.style import pyplot, save
 
 
 def plot_calibration(cal, path) -> Path:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from studies.plots.style import pyplot, save
+from softcrawl.studies.plots.style import pyplot, save
 
 
 def plot_groove(points, path, settings):

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from studies.plots.style import pyplot, save
+from softcrawl.studies.plots.style import pyplot, save
 
 
 def plot_crawl(states, path, title: str = ""):

@@ -107,7 +107,7 @@ def write_crawl_gif(vtu_folder, path, states_csv=None, frame_ms: int = FRAME_MS)
     """The GIF of the series in `vtu_folder` (module docstring) at `path`; returns `path`."""
     from PIL import Image
 
-    from studies.plots.render3d import pyvista_offscreen
+    from softcrawl.studies.plots.render3d import pyvista_offscreen
 
     pv = pyvista_offscreen()
     states, pipe_path = series_files(Path(vtu_folder))

@@ -28,8 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from studies.plots.style import pyplot, save, short
-from studies.review.rules import design_curves
+from softcrawl.studies.plots.style import pyplot, save, short
+from softcrawl.studies.review.rules import design_curves
 
 #: A design "holds its radius" when its largest |R - R0| is below this fraction of the largest
 #: change of all designs; such designs get their own radius panel when the others are 5x larger.

@@ -12,9 +12,9 @@ import numpy as np
 def render_path(out, design, solved, material: str) -> list[Path]:
     """render-PkPa.png for the reference state and each computed state of `solved`
     (`studies.parts.epsa_response.Solved`); returns the files written."""
-    from fem.post import element_fields
-    from studies.plots.labels import material_label
-    from studies.plots.render3d import render_state
+    from softcrawl.fem.post import element_fields
+    from softcrawl.studies.plots.labels import material_label
+    from softcrawl.studies.plots.render3d import render_state
 
     model, steps = solved.model, solved.path.steps
     states = [(0.0, 0.0, model.initial_state())] + [(s.pressure, s.factor, s.x) for s in steps]
@@ -46,6 +46,6 @@ def render_path(out, design, solved, material: str) -> list[Path]:
 
 def _helices(design):
     """The reference helix polylines of the design's winding (for drawing)."""
-    from geometry.epsa_shape import fiber_helices
+    from softcrawl.geometry.epsa_shape import fiber_helices
 
     return fiber_helices(design)

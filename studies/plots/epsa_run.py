@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from studies.plots.labels import material_label
-from studies.plots.style import pyplot, save
+from softcrawl.studies.plots.labels import material_label
+from softcrawl.studies.plots.style import pyplot, save
 
 
 def _silhouettes(ax, model, path_result) -> None:

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from studies.plots.style import pyplot, save
+from softcrawl.studies.plots.style import pyplot, save
 
 QUANTITIES = (
     ("k_p", "_n_per_m", "k_p_n_per_m", "stiffness k_p (N/m)"),

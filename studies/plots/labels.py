@@ -40,7 +40,7 @@ def material_label(name: str | None) -> str:
     if not name:
         return "material not recorded"
     try:
-        from materials import get_material
+        from softcrawl.materials import get_material
 
         mu = get_material(name).mu
     except Exception:  # noqa: BLE001 - an unknown or fake material: show its name

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.plots.style import pyplot, save
+from softcrawl.studies.plots.style import pyplot, save
 
 
 def plot_fit(data, fit, path) -> Path:

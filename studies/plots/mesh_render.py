@@ -9,16 +9,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geometry.tagged_mesh import TaggedMesh
-from studies.plots.render3d import facet_group as _group
-from studies.plots.style import pyplot, save
+from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.studies.plots.render3d import facet_group as _group
+from softcrawl.studies.plots.style import pyplot, save
 
 
 def render_png(mesh: TaggedMesh, path: str | Path, title: str = "") -> str:
     """Cut-away render (`studies.plots.render3d.render_tagged`); matplotlib where VTK cannot render."""
     path = Path(path)
     try:
-        from studies.plots.render3d import render_tagged
+        from softcrawl.studies.plots.render3d import render_tagged
 
         render_tagged(mesh, path, title=title)
         return "pyvista"
@@ -32,7 +32,7 @@ def _render_matplotlib(mesh: TaggedMesh, path: Path) -> str:
     plt = pyplot()
     fig = plt.figure(figsize=(8, 6))
     ax = fig.add_subplot(projection="3d")
-    from studies.plots.render3d import colours
+    from softcrawl.studies.plots.render3d import colours
 
     colors = colours({_group(mesh, t) for t in mesh.facets})
     for tag in sorted(mesh.facets):

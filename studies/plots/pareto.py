@@ -6,7 +6,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from studies.plots.style import number, pyplot, save
+from softcrawl.studies.plots.style import number, pyplot, save
 
 
 def _flag(v) -> bool:

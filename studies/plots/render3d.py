@@ -129,7 +129,7 @@ def _compose(path: Path, image, title: str, entries=(), colourbar=None) -> Path:
     from matplotlib.colors import Normalize
     from matplotlib.patches import Patch
 
-    from studies.plots.style import pyplot, save
+    from softcrawl.studies.plots.style import pyplot, save
 
     plt = pyplot()
     h, w = image.shape[:2]
@@ -200,7 +200,7 @@ def render_state(
     the cell field `field` of `fem.vtu.write_state`, with the deformed fiber curves `helices`
     (reference polylines (n, 3)) and the undeformed outline for comparison."""
     pv = pyvista_offscreen()
-    from fem.vtu import write_state
+    from softcrawl.fem.vtu import write_state
 
     path = Path(path)
     with tempfile.TemporaryDirectory() as tmp:

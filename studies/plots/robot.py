@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.plots.style import number, pyplot, save
+from softcrawl.studies.plots.style import number, pyplot, save
 
 
 def _series(rows, key, value):
@@ -76,7 +76,7 @@ def render_robot(robot, x, path, title: str = "") -> Path:
     mesh = robot.mesh
     u = robot.model.displacement(x)[:, : mesh.n_nodes].T
     pts = mesh.points + u
-    from geometry.swept import boundary_faces
+    from softcrawl.geometry.swept import boundary_faces
 
     faces = boundary_faces(mesh.tets)
     part = np.zeros(len(mesh.tets), int)

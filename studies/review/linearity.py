@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from studies.review.rules import DesignCurve, Selection, design_curves
+from softcrawl.studies.review.rules import DesignCurve, Selection, design_curves
 
 #: "closer to a linear relationship" is compared with the unreinforced actuator over at least
 #: this many pressure levels (0 kPa included): fewer points are always on a line.

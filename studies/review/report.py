@@ -22,9 +22,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-from studies.review import report_robot as R
-from studies.review import report_sections as S
-from studies.review.html import page
+from softcrawl.studies.review import report_robot as R
+from softcrawl.studies.review import report_sections as S
+from softcrawl.studies.review.html import page
 
 #: The Table 1 actuator: r0 = 3 mm, N = 20 (the fiber-turns study's design of the paper).
 TABLE1_TURNS = 20.0

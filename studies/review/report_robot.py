@@ -5,7 +5,7 @@ Each function reads committed results only (no FE solve) and returns HTML, or a 
 command that makes what is missing. The crawl table takes its figures from each run's
 `summary.json` (`studies.parts.crawl_files`): the stride of the first cycle, its speed at the
 schedule's cycle time, and the two references the run itself recorded (Table 2 and the analytic
-`robot.loads.crawl_speed`).
+`analytic.loads.crawl_speed`).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from studies.review.html import csv_rows, esc, figure, markdown, missing, table
+from softcrawl.studies.review.html import csv_rows, esc, figure, markdown, missing, table
 
 ROBOT_TABLE1 = "softcrawl robot --mesh quick --first 0,40,60 --pressures 100,40,60 --out results/robot-table1"
 WORKSPACE = 'softcrawl study workspace --quick --material "ecoflex-00-50@mu=0.0638" --out results/'
@@ -67,7 +67,7 @@ def feet_mesh(setup: dict) -> str:
     if setup.get("mesher", "tetwild") == "tetwild":
         edge = setup.get("edge_length")
         return "pytetwild" + (f", {edge:g} mm edge" if edge else "")
-    from geometry.foot_revolved import N_THETA, THICKNESS_LAYERS
+    from softcrawl.geometry.foot_revolved import N_THETA, THICKNESS_LAYERS
 
     sectors, layers = setup.get("sectors") or N_THETA, setup.get("thickness_layers") or THICKNESS_LAYERS
     return f"revolved, {sectors} sectors, {layers} cells"

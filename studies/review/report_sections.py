@@ -8,7 +8,7 @@ import math
 import re
 from pathlib import Path
 
-from studies.review.html import csv_rows, esc, figure, markdown, missing, table
+from softcrawl.studies.review.html import csv_rows, esc, figure, markdown, missing, table
 
 STUDY_COMMAND = 'softcrawl study {name} --workers 2 --material "{material}" --out results/'
 CALIBRATE = "softcrawl calibrate --full-mesh --out results/calibration"
@@ -38,7 +38,7 @@ def _design_rows(folder: Path, param: str, value: float) -> list[dict]:
 def _failure_stretch() -> float | None:
     """Stretch at failure of the shipped Ecoflex 00-50 pull-to-failure test (uniaxial)."""
     try:
-        from materials import load_tensile
+        from softcrawl.materials import load_tensile
 
         return 1.0 + float(load_tensile("ecoflex-00-50").strain.max())
     except Exception:  # noqa: BLE001 - the data file is optional for the report
@@ -47,7 +47,7 @@ def _failure_stretch() -> float | None:
 
 def _limits_row(results: Path, folder: Path) -> dict:
     """One material's answer row from the fiber-turns study (N = 0 and N = 20 at r0 = 3 mm)."""
-    from studies.plots.labels import material_label
+    from softcrawl.studies.plots.labels import material_label
 
     material = json.loads((folder / "spec.json").read_text())["settings"].get("material")
     plain = _design_rows(folder, "fiber_turns", 0.0)
@@ -207,7 +207,7 @@ DEFAULT_STUDY_MATERIAL = dict.fromkeys(("groove", "foot"), "rubber-70a") | dict.
 
 
 def _study_block(folder: Path, name: str) -> str:
-    from studies.plots.labels import material_label, study_title
+    from softcrawl.studies.plots.labels import material_label, study_title
 
     spec = json.loads((folder / "spec.json").read_text())
     material = spec["settings"].get("material")
@@ -240,8 +240,8 @@ def studies(results: Path) -> str:
 def material(results: Path) -> str:
     import tempfile
 
-    import materials
-    from studies.plots.material_fit import plot_fit
+    from softcrawl import materials
+    from softcrawl.studies.plots.material_fit import plot_fit
 
     data = materials.load_tensile("ecoflex-00-50")
     fit = materials.fit_tensile(data, "neo-hookean")
@@ -310,7 +310,7 @@ def benchmarks(results: Path) -> str:
         out.append(
             missing(
                 "A benchmark printout under results/bench/",
-                "PYTHONPATH=. python bench/solver_bench.py > results/bench/solver_bench.txt",
+                "python bench/solver_bench.py > results/bench/solver_bench.txt",
             )
         )
     probe = results / "epsa-default-mesh" / "README.md"

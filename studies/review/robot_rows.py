@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from studies.review import rules
+from softcrawl.studies.review import rules
 
 QUICK_SUFFIX = "-quick"
 GROOVE_RULE = (
@@ -70,7 +70,7 @@ def _fmt(value) -> str:
 
 
 def groove_row(results: str | Path) -> StudyRow:
-    from studies.review.groove_rule import decide_from_results, markdown
+    from softcrawl.studies.review.groove_rule import decide_from_results, markdown
 
     decision, source = decide_from_results(results)
     lines = tuple(markdown(decision, source))
@@ -92,7 +92,7 @@ def groove_row(results: str | Path) -> StudyRow:
 
 def robot_study_row(results: str | Path, parameter: str) -> StudyRow:
     """The "rings" or "foot_radius" row from the robot study's decision.json."""
-    from studies.review.robot_rules import decision_from_json
+    from softcrawl.studies.review.robot_rules import decision_from_json
 
     study, rule = {"rings": ("rings", RING_RULE), "foot_radius": ("foot-radius", FOOT_RADIUS_RULE)}[parameter]
     source = _pick(results, f"robot-{study}/*/decision.json")

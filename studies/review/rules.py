@@ -36,7 +36,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from studies.parts.epsa_response import same_pressure
+from softcrawl.studies.parts.epsa_response import same_pressure
 
 #: "it cannot withstand a pressure of more than 80 kPa" / "when the input air pressure changes
 #: from 0 to 100kPa" (Section V-A, Fig. 8): the studies' highest pressure, which a design must

@@ -18,8 +18,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from studies.review import rules
-from studies.review.linearity import linearity_claim
+from softcrawl.studies.review import rules
+from softcrawl.studies.review.linearity import linearity_claim
 
 #: The paper's Table 1 (docs/DESIGN.md section 4): parameter key -> (label, value, unit).
 PAPER_TABLE1 = {
@@ -72,7 +72,7 @@ def material_run(results: str | Path, material: str) -> MaterialRun:
 def select_all(run: MaterialRun, robot_rows: dict | None = None) -> dict[str, rules.Selection]:
     """Apply every rule of one material's study data; the robot-level and foot rows come from
     `studies.review.robot_rows.study_rows` (the same for every silicone; read once by `render`)."""
-    from studies.sweeps.tables import read_csv
+    from softcrawl.studies.sweeps.tables import read_csv
 
     out = {
         "length": rules.input_parameter(
@@ -121,7 +121,7 @@ def agreement(param: str, sel: rules.Selection) -> tuple[str, str]:
         return "undetermined", sel.reason
     if abs(sel.value - paper) < 1e-9:
         return "agree", sel.reason
-    from studies.review.table1_summary import paper_note
+    from softcrawl.studies.review.table1_summary import paper_note
 
     return (
         "disagree",
@@ -141,7 +141,7 @@ def _mu(material: str) -> float | None:
     """mu of a Neo-Hookean material (its limit pressures scale with mu at fixed K/mu), else None:
     for Yeoh and Gent the scaling with the initial modulus alone does not hold."""
     try:
-        from materials import get_material
+        from softcrawl.materials import get_material
 
         m = get_material(material)
         return float(m.mu) if m.model == "neo-hookean" else None
@@ -152,7 +152,7 @@ def _mu(material: str) -> float | None:
 def _material_label(material: str) -> str:
     """The material's name and its law with constants (every row names its material law)."""
     try:
-        from materials import get_material
+        from softcrawl.materials import get_material
 
         return f"{material} ({get_material(material).law_label})"
     except Exception:  # noqa: BLE001 - unknown (e.g. a calibrated material file)
@@ -182,7 +182,7 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             "`softcrawl study fiber-turns` first (see README).",
             "",
         ]
-    from studies.review.robot_rows import study_rows
+    from softcrawl.studies.review.robot_rows import study_rows
 
     robot_rows = study_rows(results)
     selections = {}
@@ -217,7 +217,7 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             lines += [f"- {e}" for e in sel[param].evidence] or ["- (none)"]
             lines += [""]
     if materials:
-        from studies.review.table1_summary import closing, robot_evidence, summary_table
+        from softcrawl.studies.review.table1_summary import closing, robot_evidence, summary_table
 
         quick = {m for m in materials if any(material_run(results, m).quick(p) for p in STUDY_DIRS)}
         lines[4:4] = summary_table(results, materials, selections, quick)

@@ -16,7 +16,7 @@ import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from studies.review import rules
+from softcrawl.studies.review import rules
 
 PAPER = {"chamber_radius": 3.0, "fiber_turns": 20.0}
 #: "The ePSA length with an air chamber radius of r = 4 mm or r = 2 mm fluctuates" (Section V-A).
@@ -60,7 +60,7 @@ def _json(path: Path) -> dict:
 
 def _law(material: str) -> str:
     try:
-        from materials import get_material
+        from softcrawl.materials import get_material
 
         return get_material(material).law_label
     except Exception:  # noqa: BLE001 - a material unknown to materials

@@ -27,7 +27,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from studies.sweeps.spec import StudyError
+from softcrawl.studies.sweeps.spec import StudyError
 
 #: Longest wait for the study lock (s); the lock is held for milliseconds at a time.
 LOCK_TIMEOUT_S = 120

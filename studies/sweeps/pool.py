@@ -21,7 +21,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from studies.sweeps.faults import SignalGuard, WorkerReport
+from softcrawl.studies.sweeps.faults import SignalGuard, WorkerReport
 
 #: Longest wait (s) for the workers to stop after a signal.
 STOP_WAIT_S = 30

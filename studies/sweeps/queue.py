@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from studies.sweeps.spec import SweepSpec, point_key
+from softcrawl.studies.sweeps.spec import SweepSpec, point_key
 
 #: A point whose worker died this often is a failed result.
 MAX_DEATHS = 3

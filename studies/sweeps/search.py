@@ -19,13 +19,13 @@ import json
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from studies.sweeps import queue
-from studies.sweeps.faults import SignalGuard, SweepStopped, WorkerReport
-from studies.sweeps.pool import run_pool
-from studies.sweeps.spec import Evaluation, SearchSpec, StudyError, load_callable, point_key
-from studies.sweeps.storage import StorageFault, connect, storage_faults
-from studies.sweeps.tables import blank, flat_attrs
-from studies.sweeps.worker import EvaluationFailed, HandBack, run_guarded, store
+from softcrawl.studies.sweeps import queue
+from softcrawl.studies.sweeps.faults import SignalGuard, SweepStopped, WorkerReport
+from softcrawl.studies.sweeps.pool import run_pool
+from softcrawl.studies.sweeps.spec import Evaluation, SearchSpec, StudyError, load_callable, point_key
+from softcrawl.studies.sweeps.storage import StorageFault, connect, storage_faults
+from softcrawl.studies.sweeps.tables import blank, flat_attrs
+from softcrawl.studies.sweeps.worker import EvaluationFailed, HandBack, run_guarded, store
 
 
 def make_sampler(spec: SearchSpec, seed: int | None) -> Any:

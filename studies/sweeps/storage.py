@@ -20,8 +20,8 @@ from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from studies.sweeps.locks import AdvisoryLock, FileLock, NoLock, WorkerPresence
-from studies.sweeps.spec import SearchSpec, StudyError, SweepSpec, jsonable
+from softcrawl.studies.sweeps.locks import AdvisoryLock, FileLock, NoLock, WorkerPresence
+from softcrawl.studies.sweeps.spec import SearchSpec, StudyError, SweepSpec, jsonable
 
 #: SQLite busy timeout (s): how long a writer waits for another process's database lock.
 SQLITE_TIMEOUT_S = 60

@@ -15,13 +15,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from studies.sweeps import queue
-from studies.sweeps.faults import SweepStopped, WorkerReport
-from studies.sweeps.pool import run_pool
-from studies.sweeps.spec import StudyError, SweepSpec, TableLayout
-from studies.sweeps.storage import StorageFault, storage_faults
-from studies.sweeps.tables import collect, input_failure
-from studies.sweeps.worker import open_sweep, run_worker
+from softcrawl.studies.sweeps import queue
+from softcrawl.studies.sweeps.faults import SweepStopped, WorkerReport
+from softcrawl.studies.sweeps.pool import run_pool
+from softcrawl.studies.sweeps.spec import StudyError, SweepSpec, TableLayout
+from softcrawl.studies.sweeps.storage import StorageFault, storage_faults
+from softcrawl.studies.sweeps.tables import collect, input_failure
+from softcrawl.studies.sweeps.worker import open_sweep, run_worker
 
 
 def run_sweep(

@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from softcrawl.files import atomic_path
-from studies.sweeps import queue
-from studies.sweeps.spec import StudyError, SweepSpec, TableLayout, point_key
+from softcrawl.studies.sweeps import queue
+from softcrawl.studies.sweeps.spec import StudyError, SweepSpec, TableLayout, point_key
 
 
 def flat_attrs(trial: Any) -> dict[str, Any]:

@@ -33,10 +33,16 @@ from collections.abc import Callable
 from typing import Any
 
 from softcrawl.errors import InputError
-from studies.sweeps import queue
-from studies.sweeps.faults import Interrupted, MachineFault, SignalGuard, WorkerReport, machine_fault
-from studies.sweeps.spec import Evaluation, SweepSpec, jsonable, load_callable, point_key
-from studies.sweeps.storage import StorageFault, connect, storage_faults, worker_presence
+from softcrawl.studies.sweeps import queue
+from softcrawl.studies.sweeps.faults import (
+    Interrupted,
+    MachineFault,
+    SignalGuard,
+    WorkerReport,
+    machine_fault,
+)
+from softcrawl.studies.sweeps.spec import Evaluation, SweepSpec, jsonable, load_callable, point_key
+from softcrawl.studies.sweeps.storage import StorageFault, connect, storage_faults, worker_presence
 
 #: A run evaluates at most this many times the number of grid points.
 MAX_EVALUATIONS_PER_POINT = 2 * queue.MAX_DEATHS

@@ -7,11 +7,11 @@ import pytest
 import scipy.sparse as sp
 import skfem
 
-import fem.solid as mech
-from fem import reference_models as RM
-from fem.discretisation import element_first
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean, det3, inv_transpose3, iso_stress, mixed_tangent
+import softcrawl.fem.solid as mech
+from softcrawl.fem import reference_models as RM
+from softcrawl.fem.discretisation import element_first
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean, det3, inv_transpose3, iso_stress, mixed_tangent
 
 
 def distorted_box_model(formulation):
@@ -104,7 +104,7 @@ def test_tangent_is_the_derivative_of_the_residual_under_follower_pressure(formu
 def test_mirrored_groups_assemble_like_full_blocks():
     """Upper triangles (Mirrored.upper) and mirrored off-diagonal blocks (Mirrored.block) give the
     matrix of the full symmetric element blocks, with Dirichlet rows/columns dropped."""
-    from fem.pattern import Mirrored, Pattern
+    from softcrawl.fem.pattern import Mirrored, Pattern
 
     rng = np.random.default_rng(3)
     n_dofs, n_items = 40, 25
@@ -130,7 +130,7 @@ def test_mirrored_groups_assemble_like_full_blocks():
 
 def test_chamber_tangent_matches_the_plain_einsum():
     """dq/du of the follower pressure load against its einsum over (i, k, L) on every facet."""
-    from fem.neohooke import cofactor3
+    from softcrawl.fem.neohooke import cofactor3
 
     model = RM.tube_model(3.0, 9.0, n_radial=2, n_angle=3, k_over_mu=50.0)
     rng = np.random.default_rng(4)

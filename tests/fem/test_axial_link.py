@@ -6,15 +6,15 @@ import numpy as np
 import pytest
 import skfem
 
-from fem.axial_link import AxialLink
-from fem.contact import ContactSpec
-from fem.contact_stages import Stage, run_stages
-from fem.equal_displacement import EqualDisplacement
-from fem.errors import SolverInputError
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.rigid_surfaces import Plane
-from fem.structured import box
+from softcrawl.fem.axial_link import AxialLink
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.equal_displacement import EqualDisplacement
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.rigid_surfaces import Plane
+from softcrawl.fem.structured import box
 
 RUBBER = NeoHookean(mu=1.0, bulk=2.0 / 3.0)  # nu = 0: no Poisson slip under the normal load
 

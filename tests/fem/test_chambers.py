@@ -9,13 +9,13 @@ direction is checked past the limit point of one sphere while the other stays on
 import numpy as np
 import pytest
 
-from fem import analytic
-from fem.errors import SolverInputError
-from fem.model import ChamberSpec, Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import load_path
-from fem.reference_models import MU
-from fem.structured import curved, joined, mirrored, sphere_octant, tag_boundaries, tube_sector
+from softcrawl.fem import analytic
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import load_path
+from softcrawl.fem.reference_models import MU
+from softcrawl.fem.structured import curved, joined, mirrored, sphere_octant, tag_boundaries, tube_sector
 
 A, B = 1.0, 20.0  # the verification tube (docs/DESIGN.md section 6)
 

@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 
-from fem import contact_verification as cv
-from fem.contact import ContactSpec
-from fem.contact_law import committed_stick, cone, evaluate
-from fem.errors import SolverInputError
-from fem.model import Dirichlet, SolidModel
-from fem.rigid_surfaces import CylinderWall, Plane
-from fem.structured import box
+from softcrawl.fem import contact_verification as cv
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_law import committed_stick, cone, evaluate
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.rigid_surfaces import CylinderWall, Plane
+from softcrawl.fem.structured import box
 
 
 @pytest.mark.parametrize(
@@ -142,7 +142,7 @@ def test_contact_verification_cases(name):
 
 def test_smoothed_normal_law():
     """The C1 rounding: continuous p_N and dp_N/dq, exact above w / 2 (no offset), zero below."""
-    from fem.contact_law import normal_pressure
+    from softcrawl.fem.contact_law import normal_pressure
 
     w = 0.2
     q = np.array([-1.0, -0.1 - 1e-12, -0.1 + 1e-12, 0.0, 0.1 - 1e-12, 0.1 + 1e-12, 1.0])
@@ -186,7 +186,7 @@ def test_hertz_line_contact():
 
 def test_equal_displacement_term_is_a_consistent_penalty():
     """Residual k (u - mean u) and its tangent on a face; a rigid translation costs nothing."""
-    from fem.equal_displacement import EqualDisplacement
+    from softcrawl.fem.equal_displacement import EqualDisplacement
 
     mesh = box((1.0, 1.0, 1.0), (2, 2, 1))
     model = SolidModel(mesh, cv.MATERIAL, extra_terms=[EqualDisplacement("z1", 2, 10.0)])

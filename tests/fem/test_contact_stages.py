@@ -5,8 +5,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from fem import contact_stages as cs
-from fem.newton import Diverged, NewtonRecord
+from softcrawl.fem import contact_stages as cs
+from softcrawl.fem.newton import Diverged, NewtonRecord
 
 
 class _Term:
@@ -108,7 +108,7 @@ def test_the_wall_time_budget_stops_a_grinding_stage_with_a_recorded_failure(mon
 
 @pytest.mark.parametrize("budget", [0.0, -1.0, float("nan")])
 def test_a_non_positive_budget_names_the_parameter(budget):
-    from fem.errors import SolverInputError
+    from softcrawl.fem.errors import SolverInputError
 
     with pytest.raises(SolverInputError, match="max_wall_s"):
         cs.run_stages(_grinding_model(), [cs.Stage("drag", factor=1.0)], max_wall_s=budget)

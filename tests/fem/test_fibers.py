@@ -3,15 +3,15 @@
 import numpy as np
 import pytest
 
-from fem.errors import SolverInputError
-from fem.fibers import FiberLines
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import load_path
-from fem.structured import box
-from geometry.design import EPSADesign
-from studies.parts.epsa_model import MeshSettings
-from studies.parts.epsa_response import simulate_epsa
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.fibers import FiberLines
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import load_path
+from softcrawl.fem.structured import box
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.studies.parts.epsa_model import MeshSettings
+from softcrawl.studies.parts.epsa_response import simulate_epsa
 
 MU = 0.03
 

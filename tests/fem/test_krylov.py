@@ -4,14 +4,14 @@ predictor (fem.newton.NewtonSolver.load_tangent)."""
 import numpy as np
 import scipy.sparse as sp
 
-from fem import reference_models as RM
-from fem.krylov import gmres
-from fem.linsolve import StepSolver
-from fem.model import ChamberSpec, Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.newton import NewtonOptions, NewtonSolver
-from fem.path import load_path
-from fem.structured import tube_sector
+from softcrawl.fem import reference_models as RM
+from softcrawl.fem.krylov import gmres
+from softcrawl.fem.linsolve import StepSolver
+from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.newton import NewtonOptions, NewtonSolver
+from softcrawl.fem.path import load_path
+from softcrawl.fem.structured import tube_sector
 
 
 def test_gmres_with_a_nearby_factorisation_reaches_the_weighted_tolerance():

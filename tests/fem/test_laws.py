@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 import skfem
 
-from fem.errors import SolverInputError
-from fem.laws import Gent, Yeoh, uniaxial_nominal_stress
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean, cauchy_stress
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.laws import Gent, Yeoh, uniaxial_nominal_stress
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean, cauchy_stress
 
 LAWS = {
     "yeoh": Yeoh(c10=0.0126, c20=9.1e-4, c30=2.0e-5, bulk=5.0),
@@ -118,7 +118,7 @@ def test_assembled_tangent_is_the_derivative_of_the_residual(formulation):
 
 
 def test_gent_locking_stretch_is_an_inverted_state_the_path_cuts_back():
-    from fem.model import InvertedElement
+    from softcrawl.fem.model import InvertedElement
 
     model, x, _ = _box({"a": Gent(mu=0.03, jm=0.05, bulk=3.0), "b": NeoHookean(mu=0.03, bulk=3.0)}, "p2p1")
     with pytest.raises(InvertedElement, match="Jm"):

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from fem import reference_models as RM
-from fem.linsolve import LinearSolver, pardiso_available
+from softcrawl.fem import reference_models as RM
+from softcrawl.fem.linsolve import LinearSolver, pardiso_available
 
 
 @pytest.fixture(scope="module")

@@ -17,11 +17,11 @@ import pytest
 import skfem
 from scipy.optimize import brentq
 
-from fem.dead_load import body_force_vector
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import load_path
-from fem.structured import tag_boundaries
+from softcrawl.fem.dead_load import body_force_vector
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import load_path
+from softcrawl.fem.structured import tag_boundaries
 
 SILICONE = NeoHookean.nearly_incompressible(0.03, 1000.0)
 ABS = NeoHookean(mu=740.7, bulk=2222.2)

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from fem.errors import SolverInputError
-from fem.neohooke import NeoHookean, cauchy_stress, von_mises
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.neohooke import NeoHookean, cauchy_stress, von_mises
 
 
 @pytest.mark.parametrize("k_over_mu", [2.0, 1000.0])
@@ -53,7 +53,7 @@ def test_unphysical_material_names_the_parameter(mu, bulk, parameter):
 
 
 def test_mixed_tangent_is_the_sum_of_isochoric_and_pressure_parts():
-    from fem.neohooke import det3, inv_transpose3, iso_tangent, mixed_tangent, pressure_tangent
+    from softcrawl.fem.neohooke import det3, inv_transpose3, iso_tangent, mixed_tangent, pressure_tangent
 
     rng = np.random.default_rng(5)
     F = np.eye(3)[:, :, None] + 0.2 * rng.standard_normal((3, 3, 4))

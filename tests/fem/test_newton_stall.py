@@ -8,8 +8,8 @@ contact whose points flip on a kink, without the contact."""
 import numpy as np
 import pytest
 
-from fem import reference_models as RM
-from fem.newton import Diverged, NewtonOptions, NewtonSolver
+from softcrawl.fem import reference_models as RM
+from softcrawl.fem.newton import Diverged, NewtonOptions, NewtonSolver
 
 UNREACHABLE = 1e-17
 

@@ -2,10 +2,10 @@
 
 import numpy as np
 
-from fem import reference_models as RM
-from fem.chamber import Chamber
-from fem.path import NewtonOptions, load_path, volume_path
-from fem.reference_models import MU
+from softcrawl.fem import reference_models as RM
+from softcrawl.fem.chamber import Chamber
+from softcrawl.fem.path import NewtonOptions, load_path, volume_path
+from softcrawl.fem.reference_models import MU
 
 
 def test_a_flipped_chamber_normal_fails_fast_instead_of_creeping_forever(monkeypatch):

@@ -2,7 +2,7 @@
 paths from the unloaded state have) goes on to the next target; it used to stop with a
 TypeError in the step memory (no direction stored for the zero-length segment)."""
 
-from fem.path import load_path
+from softcrawl.fem.path import load_path
 from tests.fem.test_stiff_parts import _bar
 
 

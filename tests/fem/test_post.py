@@ -4,13 +4,13 @@ import meshio
 import numpy as np
 import pytest
 
-from fem import reference_models as RM
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import load_path
-from fem.post import actuator_length, element_fields, max_principal_stretch, outer_radius_at
-from fem.structured import box
-from fem.vtu import write_path
+from softcrawl.fem import reference_models as RM
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import load_path
+from softcrawl.fem.post import actuator_length, element_fields, max_principal_stretch, outer_radius_at
+from softcrawl.fem.structured import box
+from softcrawl.fem.vtu import write_path
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +50,7 @@ def test_outer_radius_of_the_tube_matches_the_analytic_one():
     model = RM.tube_model(3.0, 9.0, n_radial=4, n_angle=6)
     res = load_path(model, [(0.01, 0.0)])
     x = res.steps[-1].x
-    from fem import analytic
+    from softcrawl.fem import analytic
 
     la = analytic.tube_inner_stretch(0.03, 0.01, 3.0, 9.0)
     expected = analytic.tube_outer_stretch(la, 3.0, 9.0) * 9.0
@@ -73,11 +73,11 @@ def test_volumetric_error_is_zero_for_a_homogeneous_state_and_for_p2():
     the P1 pressure, so the error is round-off; a bending-type state is not, so it is positive;
     the displacement-only formulation has p = K (J - 1) by construction."""
 
-    from fem.model import Dirichlet, SolidModel
-    from fem.neohooke import NeoHookean
-    from fem.path import load_path
-    from fem.post import volumetric_error
-    from fem.structured import box
+    from softcrawl.fem.model import Dirichlet, SolidModel
+    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.fem.path import load_path
+    from softcrawl.fem.post import volumetric_error
+    from softcrawl.fem.structured import box
 
     def model(formulation, load):
         bcs = [Dirichlet.symmetry("x0", 0), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("z0", 2)]

@@ -16,13 +16,13 @@ import pytest
 import skfem
 from scipy.spatial.distance import pdist
 
-from fem.errors import SolverInputError
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.newton import NewtonOptions
-from fem.path import load_path
-from fem.stiff_parts import StiffParts, kabsch
-from fem.structured import tag_boundaries
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.newton import NewtonOptions
+from softcrawl.fem.path import load_path
+from softcrawl.fem.stiff_parts import StiffParts, kabsch
+from softcrawl.fem.structured import tag_boundaries
 
 SOFT = NeoHookean.nearly_incompressible(0.03, 1000.0)
 STIFF = NeoHookean(mu=740.7, bulk=2222.2)

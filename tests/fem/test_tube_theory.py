@@ -4,11 +4,11 @@ and the Yeoh and Gent verification cases (`fem.law_verification`, part of `softc
 import numpy as np
 import pytest
 
-from fem import analytic
-from fem import law_verification as LV
-from fem import tube_theory as tt
-from fem.laws import Gent, Yeoh
-from fem.neohooke import NeoHookean
+from softcrawl.fem import analytic
+from softcrawl.fem import law_verification as LV
+from softcrawl.fem import tube_theory as tt
+from softcrawl.fem.laws import Gent, Yeoh
+from softcrawl.fem.neohooke import NeoHookean
 
 NH = NeoHookean(mu=0.03, bulk=30.0)
 

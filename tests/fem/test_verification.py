@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 
-from fem import reference_models as RM
-from fem import verification as V
-from fem.errors import SolverInputError
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import NewtonOptions, load_path
-from fem.structured import box
+from softcrawl.fem import reference_models as RM
+from softcrawl.fem import verification as V
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import NewtonOptions, load_path
+from softcrawl.fem.structured import box
 
 
 def test_patch_test_reproduces_homogeneous_stretch():

@@ -10,9 +10,9 @@ import meshio
 import numpy as np
 import pytest
 
-from fem.vtu import SKFEM_TET_EDGES, VTK_TET10_EDGES, write_path
-from geometry.design import EPSADesign
-from studies.parts.epsa_response import simulate_epsa
+from softcrawl.fem.vtu import SKFEM_TET_EDGES, VTK_TET10_EDGES, write_path
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.studies.parts.epsa_response import simulate_epsa
 
 pv = pytest.importorskip("pyvista")
 
@@ -107,7 +107,7 @@ def test_series_starts_at_the_reference_state_and_has_the_winding(series):
 
 
 def test_line_fibers_are_written_with_their_segment_forces(tmp_path):
-    from fem.vtu import write_winding
+    from softcrawl.fem.vtu import write_winding
 
     design = EPSADesign(length=40.0, fiber_turns=8)
     solved = simulate_epsa(design, quick=True, pressures_kpa=(5.0,), keep_model=True, fibers="lines")

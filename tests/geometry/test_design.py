@@ -10,7 +10,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from geometry.design import DesignError, EPSADesign, FootDesign, RingDesign, RobotDesign, load_design
+from softcrawl.geometry.design import (
+    DesignError,
+    EPSADesign,
+    FootDesign,
+    RingDesign,
+    RobotDesign,
+    load_design,
+)
 
 
 def test_table1_defaults():

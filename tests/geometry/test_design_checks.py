@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-from geometry.design import (
+from softcrawl.geometry.design import (
     MAX_DIMENSION,
     MAX_FEATURE_COUNT,
     MIN_FEATURE,

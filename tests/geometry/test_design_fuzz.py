@@ -9,7 +9,7 @@ import typing
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from geometry.design import (
+from softcrawl.geometry.design import (
     MAX_DIMENSION,
     DesignError,
     EPSADesign,

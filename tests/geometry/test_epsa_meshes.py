@@ -10,11 +10,11 @@ import time
 import numpy as np
 import pytest
 
-from geometry.design import EPSADesign
-from geometry.epsa_shape import epsa_analytic_areas
-from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import boundary_facets, distance_to_surface
-from geometry.tetwild import mesh_epsa
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.geometry.epsa_shape import epsa_analytic_areas
+from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.geometry.tagging import boundary_facets, distance_to_surface
+from softcrawl.geometry.tetwild import mesh_epsa
 
 EPSA_TAGS = {"chamber_wall", "chamber_ends", "outer", "end_bottom", "end_top"}
 #: Fiber points must lie within this distance of the meshed outer surface (mm): one third of the
@@ -190,7 +190,7 @@ def test_transformed_keeps_orientation(mesh):
 
 
 def test_cli_mesh_epsa_writes_outputs(mesh, cache_dir, tmp_path):
-    from studies.cli import main
+    from softcrawl.studies.cli import main
 
     out = tmp_path / "out"
     assert main(["mesh", "epsa", "--out", str(out), "--cache-dir", str(cache_dir)]) == 0

@@ -3,8 +3,8 @@ edge length; a setting of the other mesher, or an unknown mesher, is an error th
 
 import pytest
 
-from geometry.design import DesignError, FootDesign
-from geometry.foot_meshers import mesh_foot_with
+from softcrawl.geometry.design import DesignError, FootDesign
+from softcrawl.geometry.foot_meshers import mesh_foot_with
 
 
 def test_the_revolved_foot_refines_by_sectors_and_layers_and_keeps_its_volume():

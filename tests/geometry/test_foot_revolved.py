@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from geometry.design import DesignError, FootDesign
-from geometry.foot import foot_segments, foot_volume
-from geometry.foot_revolved import foot_section, mesh_foot_revolved
-from geometry.tagging import TET_FACES, boundary_facets
+from softcrawl.geometry.design import DesignError, FootDesign
+from softcrawl.geometry.foot import foot_segments, foot_volume
+from softcrawl.geometry.foot_revolved import foot_section, mesh_foot_revolved
+from softcrawl.geometry.tagging import TET_FACES, boundary_facets
 
 
 def _chord_factor(n_theta: int) -> float:

@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
-from geometry.assembly import actuator_clearance, mesh_robot
-from geometry.design import FootDesign, RingDesign, RobotDesign
-from geometry.foot import foot_segments, foot_volume
-from geometry.ring import ring_volume
-from geometry.tagging import boundary_facets
-from geometry.tetwild import mesh_foot, mesh_ring
+from softcrawl.geometry.assembly import actuator_clearance, mesh_robot
+from softcrawl.geometry.design import FootDesign, RingDesign, RobotDesign
+from softcrawl.geometry.foot import foot_segments, foot_volume
+from softcrawl.geometry.ring import ring_volume
+from softcrawl.geometry.tagging import boundary_facets
+from softcrawl.geometry.tetwild import mesh_foot, mesh_ring
 
 pytestmark = pytest.mark.slow
 

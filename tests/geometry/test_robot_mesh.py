@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from geometry.design import DesignError, RobotDesign
-from geometry.robot_mesh import RobotMeshSettings, mesh_robot_swept
-from geometry.swept import boundary_faces
+from softcrawl.geometry.design import DesignError, RobotDesign
+from softcrawl.geometry.robot_mesh import RobotMeshSettings, mesh_robot_swept
+from softcrawl.geometry.swept import boundary_faces
 
 
 @pytest.fixture(scope="module")

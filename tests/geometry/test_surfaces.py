@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from geometry.assembly import robot_surfaces
-from geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
-from geometry.epsa_shape import epsa_surface, fiber_helices, seal_head_surface
-from geometry.foot import foot_profile, foot_segments, foot_surface, foot_volume
-from geometry.ring import ring_surface, ring_volume
-from geometry.surfaces import signed_volume
+from softcrawl.geometry.assembly import robot_surfaces
+from softcrawl.geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
+from softcrawl.geometry.epsa_shape import epsa_surface, fiber_helices, seal_head_surface
+from softcrawl.geometry.foot import foot_profile, foot_segments, foot_surface, foot_volume
+from softcrawl.geometry.ring import ring_surface, ring_volume
+from softcrawl.geometry.surfaces import signed_volume
 
 
 def _closed(surface):

@@ -7,9 +7,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from geometry.tagged_mesh import TaggedMesh
-from geometry.tagging import RevolvedSegment, boundary_facets, point_triangle_distance, tet_volumes
-from geometry.tetwild import tag_boundary
+from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.geometry.tagging import RevolvedSegment, boundary_facets, point_triangle_distance, tet_volumes
+from softcrawl.geometry.tetwild import tag_boundary
 
 R, H = 2.0, 5.0
 SEGMENTS = [

@@ -2,8 +2,8 @@
 
 from pathlib import Path
 
-from geometry.design import EPSADesign
-from geometry.tetwild import _cache_path, default_cache_dir
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.geometry.tetwild import _cache_path, default_cache_dir
 
 
 def test_cache_key_depends_on_design_and_settings(tmp_path):

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import materials
-from materials import Material, MaterialError
+from softcrawl import materials
+from softcrawl.materials import Material, MaterialError
 
 GOOD_NH = dict(name="x", model="neo-hookean", mu=0.03, density=1.07e-9)
 
@@ -253,7 +253,7 @@ def test_unknown_data_name_names_the_parameter():
 
 
 def test_material_spec_with_a_calibrated_modulus():
-    from materials import MaterialError, get_material
+    from softcrawl.materials import MaterialError, get_material
 
     m = get_material("ecoflex-00-50@mu=0.0634")
     assert m.mu == 0.0634 and m.k_over_mu == pytest.approx(get_material("ecoflex-00-50").k_over_mu)

@@ -1,12 +1,12 @@
-"""The crawling cycle's geometry (robot.cycle): the bend-plane form against the 3D one, the fit check."""
+"""The crawling cycle's geometry (analytic.cycle): the bend-plane form against the 3D one, the fit check."""
 
 import numpy as np
 import pytest
 
-from robot import cycle as cm
-from robot.errors import ModelInputError
-from robot.pipe import Pipe
-from robot.prototype import actuator_set
+from softcrawl.analytic import cycle as cm
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.analytic.prototype import actuator_set
 
 
 @pytest.mark.parametrize("kind", ["straight", "elbow"])

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from robot.errors import ModelInputError
-from robot.identification import fit_piecewise, identify, synthetic_table
-from robot.prototype import prototype_epsa
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.identification import fit_piecewise, identify, synthetic_table
+from softcrawl.analytic.prototype import prototype_epsa
 
 PRESSURES = np.arange(10.0, 101.0, 10.0)  # the paper's 10 kPa steps
 LOADS = [0.0, 0.5, 1.0, 2.0]  # N

@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from robot import kinematics as kin
-from robot.errors import ModelInputError
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.errors import ModelInputError
 
 
 def test_fk_acceptance_values():

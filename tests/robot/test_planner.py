@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from robot import kinematics as kin
-from robot.pipe import Pipe
-from robot.planner import plan, replay
-from robot.prototype import actuator_set
-from robot.refine import _perturbed, continuous_plan, simulate
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.analytic.planner import plan, replay
+from softcrawl.analytic.prototype import actuator_set
+from softcrawl.analytic.refine import _perturbed, continuous_plan, simulate
 
 
 def _check_inside(result, samples=41):
@@ -77,7 +77,7 @@ def test_elbow_r40_acceptance():
 
 
 def test_refine_simulator_matches_the_planner_model():
-    """The batched planar simulator of robot.refine and its perturbed runs against replay."""
+    """The batched planar simulator of analytic.refine and its perturbed runs against replay."""
     pipe = Pipe("elbow", 600.0, 40.0)  # wide: every cycle is run
     rng = np.random.default_rng(5)
     P = rng.uniform(0.0, 100.0, (6, 2))
@@ -122,7 +122,7 @@ def test_failed_plan_is_reported_not_raised():
 
 
 def test_body_too_wide_raises():
-    from robot.errors import ModelInputError
+    from softcrawl.analytic.errors import ModelInputError
 
     with pytest.raises(ModelInputError) as e:
         plan(Pipe("straight", 40.0))
@@ -130,7 +130,7 @@ def test_body_too_wide_raises():
 
 
 def test_planar_bfs_agrees_and_is_inside():
-    from robot.planar import bfs_plan
+    from softcrawl.analytic.planar import bfs_plan
 
     through = bfs_plan(Pipe("elbow", 70.0, 80.0), step_kpa=20.0)
     assert through.success and len(through.cycles) == 11
@@ -140,7 +140,7 @@ def test_planar_bfs_agrees_and_is_inside():
 
 @pytest.mark.slow
 def test_planar_bfs_10kpa_r40_none_r60_through():
-    from robot.planar import bfs_plan
+    from softcrawl.analytic.planar import bfs_plan
 
     assert not bfs_plan(Pipe("elbow", 70.0, 40.0), step_kpa=10.0).success
     r60 = bfs_plan(Pipe("elbow", 70.0, 60.0), step_kpa=10.0)

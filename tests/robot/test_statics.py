@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from robot import dynamics, loads
-from robot.errors import ModelInputError
-from robot.prototype import (
+from softcrawl.analytic import dynamics, loads
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.prototype import (
     EPSA_MASS_T,
     F_EPSA_MAX_N,
     ROBOT_MASS_T,
@@ -13,7 +13,7 @@ from robot.prototype import (
     nominal_epsa,
     prototype_epsa,
 )
-from robot.statics import G_STANDARD
+from softcrawl.analytic.statics import G_STANDARD
 
 
 def test_units_boundary_n_per_m_to_n_per_mm():

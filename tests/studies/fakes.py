@@ -10,9 +10,9 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from geometry.design import DesignError
 from softcrawl.files import atomic_path
-from studies.parts.epsa_response import CurveRow
+from softcrawl.geometry.design import DesignError
+from softcrawl.studies.parts.epsa_response import CurveRow
 
 
 @dataclass(frozen=True)

@@ -4,8 +4,8 @@ import json
 
 import pytest
 
-from studies.catalogue.contact_runs import contact_spec, write_contact_outputs
-from studies.catalogue.contact_studies import point_file
+from softcrawl.studies.catalogue.contact_runs import contact_spec, write_contact_outputs
+from softcrawl.studies.catalogue.contact_studies import point_file
 
 
 def _groove_point(folder, h, mu, strain):
@@ -51,11 +51,11 @@ def test_groove_outputs_tables_plot_and_rule(tmp_path):
 def test_foot_in_a_75_mm_pipe(tmp_path):
     """Insertion into the largest pipe and 2 mm of drag each way: the wall's normal force is
     positive, the forward resistance positive, everything converged."""
-    from geometry.design import FootDesign
-    from geometry.foot_revolved import mesh_foot_revolved
-    from materials import get_material
-    from materials.fem_law import solid_law
-    from studies.parts.foot_model import run_foot
+    from softcrawl.geometry.design import FootDesign
+    from softcrawl.geometry.foot_revolved import mesh_foot_revolved
+    from softcrawl.materials import get_material
+    from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.parts.foot_model import run_foot
 
     design = FootDesign()
     mesh = mesh_foot_revolved(design).to_skfem(2)

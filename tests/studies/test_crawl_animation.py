@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from studies.parts.crawl_files import write_pipe, write_pvd
+from softcrawl.studies.parts.crawl_files import write_pipe, write_pvd
 
 pv = pytest.importorskip("pyvista")
 
@@ -21,7 +21,7 @@ VTK_TET10_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
 
 @pytest.fixture(scope="module")
 def offscreen():
-    from studies.plots.render3d import pyvista_offscreen
+    from softcrawl.studies.plots.render3d import pyvista_offscreen
 
     try:
         pvo = pyvista_offscreen()
@@ -87,7 +87,7 @@ def _columns(frame, colour):
 
 
 def test_the_gif_has_one_frame_per_state_and_shows_the_front_foot_moving_forward(tmp_path, offscreen):
-    from studies.plots.crawl_animation import write_crawl_gif
+    from softcrawl.studies.plots.crawl_animation import write_crawl_gif
 
     vtu = tmp_path / "vtu"
     vtu.mkdir()
@@ -106,7 +106,7 @@ def test_the_gif_has_one_frame_per_state_and_shows_the_front_foot_moving_forward
 
 
 def test_a_series_without_states_is_a_clear_error(tmp_path, offscreen):
-    from studies.plots.crawl_animation import write_crawl_gif
+    from softcrawl.studies.plots.crawl_animation import write_crawl_gif
 
     write_pvd(tmp_path, [])
     with pytest.raises(ValueError, match="lists no state"):
@@ -114,7 +114,7 @@ def test_a_series_without_states_is_a_clear_error(tmp_path, offscreen):
 
 
 def test_crawl_refuses_an_animation_that_is_not_a_gif_before_running(tmp_path, capsys):
-    from studies.cli import main
+    from softcrawl.studies.cli import main
 
     out = tmp_path / "crawl"
     assert main(["crawl", "--animation", str(tmp_path / "crawl.mp4"), "--out", str(out)]) == 2

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from studies.parts.crawl_mesh import attach_tag, two_feet
-from studies.parts.crawl_schedule import AxialLaw, ScheduleError, preset, read_csv, table2
+from softcrawl.studies.parts.crawl_mesh import attach_tag, two_feet
+from softcrawl.studies.parts.crawl_schedule import AxialLaw, ScheduleError, preset, read_csv, table2
 
 
 def test_presets_follow_the_stated_valve_timings():
@@ -27,7 +27,7 @@ def test_presets_follow_the_stated_valve_timings():
 
 
 def test_axial_law_is_eq3_summed_over_three_actuators():
-    from robot.prototype import nominal_epsa
+    from softcrawl.analytic.prototype import nominal_epsa
 
     a = nominal_epsa()
     law = AxialLaw()
@@ -68,7 +68,7 @@ def test_user_csv_schedule(tmp_path):
 
 def _foot():
     """A stand-in foot: two tets stacked along z, with hub_top at z = 0 and a rim below."""
-    from geometry.tagged_mesh import TaggedMesh
+    from softcrawl.geometry.tagged_mesh import TaggedMesh
 
     p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, -1.0], [1, 1, -1.0]])
     t = np.array([[0, 1, 2, 3], [1, 2, 3, 4]])
@@ -104,8 +104,8 @@ def test_study_tables_keep_every_point_with_its_status(tmp_path):
     import csv
 
     from softcrawl import jsonio
-    from studies.catalogue.crawl_study import GRID, point_stem, write_study_outputs
-    from studies.sweeps.spec import SweepSpec
+    from softcrawl.studies.catalogue.crawl_study import GRID, point_stem, write_study_outputs
+    from softcrawl.studies.sweeps.spec import SweepSpec
 
     spec = SweepSpec(name="crawl-test", grid=GRID, out_dir=str(tmp_path), evaluator="x:y")
     points = list(spec.points())
@@ -148,7 +148,7 @@ def test_the_wall_time_budget_stops_a_cycle_before_its_next_solve_attempt():
     import time
     from types import SimpleNamespace
 
-    from studies.parts.crawl_model import WallBudgetExceeded, _cycle_stages
+    from softcrawl.studies.parts.crawl_model import WallBudgetExceeded, _cycle_stages
 
     loads = []
     actuator = SimpleNamespace(set_load=lambda k, f: loads.append((k, f)))
@@ -170,8 +170,8 @@ def test_the_setup_stages_get_the_remaining_wall_time(monkeypatch):
     import time
     from types import SimpleNamespace
 
-    from fem.contact_stages import Stage
-    from studies.parts import crawl_model
+    from softcrawl.fem.contact_stages import Stage
+    from softcrawl.studies.parts import crawl_model
 
     seen = []
     monkeypatch.setattr(crawl_model, "run_stages", lambda *a, **k: seen.append(k["max_wall_s"]))
@@ -185,10 +185,10 @@ def test_the_setup_stages_get_the_remaining_wall_time(monkeypatch):
 
 def _contact_area(mirrored, sectors: int, tag: str) -> float:
     """Reference area of one contact face of the two revolved feet, through fem.contact.ContactTerm."""
-    from fem.contact import ContactSpec, ContactTerm
-    from fem.discretisation import Discretisation
-    from fem.rigid_surfaces import CylinderWall
-    from studies.parts.crawl_mesh import crawl_mesh
+    from softcrawl.fem.contact import ContactSpec, ContactTerm
+    from softcrawl.fem.discretisation import Discretisation
+    from softcrawl.fem.rigid_surfaces import CylinderWall
+    from softcrawl.studies.parts.crawl_mesh import crawl_mesh
 
     _, mesh = crawl_mesh(mirrored, mesher="revolved", sectors=sectors)
     term = ContactTerm(Discretisation(mesh), ContactSpec((tag,), CylinderWall(40.0), penalty=1.0))
@@ -209,7 +209,7 @@ def test_mirrored_revolved_feet_take_contact_on_every_face():
 def test_contact_faces_too_coarse_to_map_are_an_input_error():
     """16 sectors: scikit-fem's inverse isoparametric map does not converge on the skirt's faces;
     the error names the contact tags instead of scikit-fem's bare Exception."""
-    from fem.errors import SolverInputError
+    from softcrawl.fem.errors import SolverInputError
 
     with pytest.raises(SolverInputError, match="contact.tags.*refine the mesh"):
         _contact_area((False, False), 16, "rear:back")

@@ -21,9 +21,9 @@ import functools
 import numpy as np
 import pytest
 
-from studies.catalogue.contact_studies import FOOT_FRICTION
-from studies.parts.crawl_mesh import QUICK_SECTORS
-from studies.parts.crawl_schedule import Schedule, preset
+from softcrawl.studies.catalogue.contact_studies import FOOT_FRICTION
+from softcrawl.studies.parts.crawl_mesh import QUICK_SECTORS
+from softcrawl.studies.parts.crawl_schedule import Schedule, preset
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(7200)]
 
@@ -36,9 +36,9 @@ SCHEDULES = {"extend": EXTEND, "inflate": preset("inflate")}
 def _crawl(feet: str, schedule_name: str, steps: int = 4, mu: float | None = None):
     """The --quick crawl in the 70 mm pipe, mu on both faces (None: FOOT_FRICTION); cached by its
     arguments."""
-    from studies.catalogue.contact_studies import _material
-    from studies.parts.crawl_mesh import crawl_mesh
-    from studies.parts.crawl_model import CrawlSetup, build, run_crawl
+    from softcrawl.studies.catalogue.contact_studies import _material
+    from softcrawl.studies.parts.crawl_mesh import crawl_mesh
+    from softcrawl.studies.parts.crawl_model import CrawlSetup, build, run_crawl
 
     setup = CrawlSetup(
         pipe_diameter=70.0,

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from studies.parts.foot_model import LIMIT_DROP, limit_point
+from softcrawl.studies.parts.foot_model import LIMIT_DROP, limit_point
 
 
 def test_the_largest_computed_state_is_the_bound():

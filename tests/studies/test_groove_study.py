@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from fem.neohooke import NeoHookean
-from studies.parts.groove_model import GrooveSegment, groove_mesh, run_groove
-from studies.review.groove_rule import GrooveRuleInputs, decide
-from studies.sweeps.spec import StudyError
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.studies.parts.groove_model import GrooveSegment, groove_mesh, run_groove
+from softcrawl.studies.review.groove_rule import GrooveRuleInputs, decide
+from softcrawl.studies.sweeps.spec import StudyError
 
 RUBBER = NeoHookean.nearly_incompressible(5.52 / 3.0)
 

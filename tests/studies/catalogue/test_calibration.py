@@ -2,8 +2,8 @@
 
 import pytest
 
-from studies.catalogue import calibration as calibrate
-from studies.parts import epsa_response as actuator
+from softcrawl.studies.catalogue import calibration as calibrate
+from softcrawl.studies.parts import epsa_response as actuator
 
 
 def test_calibration_recovers_a_known_modulus(monkeypatch):

@@ -4,8 +4,8 @@ import json
 
 import pytest
 
-from studies.cli import main
-from studies.sweeps import tables as runner
+from softcrawl.studies.cli import main
+from softcrawl.studies.sweeps import tables as runner
 from tests.studies.fakes import fake_f_p, fake_k_p
 
 FAKE = "tests.studies.fakes:loaded_simulate"
@@ -56,8 +56,8 @@ def test_identify_leaves_out_pressures_a_weight_did_not_reach(tmp_path, monkeypa
 @pytest.mark.slow
 def test_fe_weight_shortens_the_actuator_linearly():
     """Real FE (quick mesh): a heavier weight shortens the ePSA, and about linearly in W (eq. 3)."""
-    from geometry.design import EPSADesign
-    from studies.parts.epsa_response import simulate_epsa
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
 
     y = {}
     for w in (0.0, 0.25, 0.5):
@@ -70,7 +70,7 @@ def test_fe_weight_shortens_the_actuator_linearly():
 
 def test_landed_targets_are_grouped_with_their_pressure():
     """Volume control lands on a target to 1e-5: 79.9995 kPa is the 80 kPa state of that weight."""
-    from studies.catalogue.fe_identification import identify_from_rows
+    from softcrawl.studies.catalogue.fe_identification import identify_from_rows
 
     rows = []
     for w, p80 in ((0.0, 79.9995), (1.0, 80.0)):
@@ -86,7 +86,7 @@ def test_landed_targets_are_grouped_with_their_pressure():
 
 
 def test_rules_read_a_landed_100_kpa_state_as_100_kpa():
-    from studies.review.rules import design_curves
+    from softcrawl.studies.review.rules import design_curves
 
     rows = [
         {
@@ -105,7 +105,7 @@ def test_rules_read_a_landed_100_kpa_state_as_100_kpa():
 
 
 def test_pressures_past_the_longest_state_of_a_weight_are_left_out():
-    from studies.catalogue.fe_identification import identify_from_rows
+    from softcrawl.studies.catalogue.fe_identification import identify_from_rows
 
     rows = []
     for w in (0.0, 1.0):

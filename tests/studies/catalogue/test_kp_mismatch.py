@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fem.model import Dirichlet, SolidModel
-from fem.neohooke import NeoHookean
-from fem.path import load_path
-from fem.structured import tube_sector
-from studies.catalogue.kp_mismatch import kp_mismatch, tube_stiffness_n_per_m
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.path import load_path
+from softcrawl.fem.structured import tube_sector
+from softcrawl.studies.catalogue.kp_mismatch import kp_mismatch, tube_stiffness_n_per_m
 
 MU, A, R = 0.03, 3.0, 9.0
 

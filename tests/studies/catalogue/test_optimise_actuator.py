@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from studies.catalogue import optimise_actuator as OA
-from studies.catalogue.constrained_objective import evaluate_constrained
+from softcrawl.studies.catalogue import optimise_actuator as OA
+from softcrawl.studies.catalogue.constrained_objective import evaluate_constrained
 
 SETTINGS = {"simulate": "tests.studies.fakes:fake_simulate", "quick": True}
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import pytest
 
-from fem.laws import Gent
-from fem.neohooke import NeoHookean
-from fem.tube_theory import closed_end_limit
-from studies.catalogue import paper_material as PM
+from softcrawl.fem.laws import Gent
+from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.tube_theory import closed_end_limit
+from softcrawl.studies.catalogue import paper_material as PM
 
 
 def test_neo_hookean_window_is_the_intersection_of_the_observations():
@@ -33,7 +33,7 @@ def test_a_stiff_gent_shape_has_no_limit_at_small_radii_and_no_window():
 
 
 def test_the_tube_length_does_not_fluctuate_at_the_window_centre():
-    from studies.review import rules
+    from softcrawl.studies.review import rules
 
     lengths = PM.length_curve(NeoHookean(mu=1.0, bulk=1000.0), 0.2045, 4.0)
     assert len(lengths) == 5 and all(b > a for a, b in zip([100.0] + lengths, lengths))

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 HUGE = "9" * 401  # a 401-digit integer (was an OverflowError)
 BIG = str(10**30)
@@ -336,7 +336,7 @@ def _unwritable(tmp_path: Path) -> str:
 
 @pytest.fixture
 def files(tmp_path):
-    from geometry.design import EPSADesign, FootDesign
+    from softcrawl.geometry.design import EPSADesign, FootDesign
 
     paths = {
         "OUT": tmp_path / "out",
@@ -399,7 +399,7 @@ def test_bad_input_is_one_line_naming_the_parameter_and_exit_2(line, parameter, 
 
 
 def test_the_suite_covers_every_subcommand():
-    from studies.cli import build_parser
+    from softcrawl.studies.cli import build_parser
 
     parser = build_parser()
     (sub,) = [a for a in parser._actions if a.dest == "command"]
@@ -409,12 +409,12 @@ def test_the_suite_covers_every_subcommand():
 
 
 def _api_calls():
-    import materials
-    from geometry.design import EPSADesign
-    from robot import kinematics, loads, workspace
-    from robot.pipe import Pipe
-    from robot.planner import plan
-    from studies.parts.epsa_model import MeshSettings, resolve_mesh
+    from softcrawl import materials
+    from softcrawl.analytic import kinematics, loads, workspace
+    from softcrawl.analytic.pipe import Pipe
+    from softcrawl.analytic.planner import plan
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_model import MeshSettings, resolve_mesh
 
     huge = 10**400
     return [
@@ -463,6 +463,6 @@ def test_python_api_bad_numbers_raise_input_errors(index):
     ],
 )
 def test_valid_pressures_parse_as_before(spec, expected):
-    from studies.commands.options import parse_pressures
+    from softcrawl.studies.commands.options import parse_pressures
 
     assert parse_pressures(spec) == pytest.approx(expected)

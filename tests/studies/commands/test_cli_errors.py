@@ -8,8 +8,8 @@ import sys
 
 import pytest
 
-import studies.commands.table1 as table1_command
-from studies import cli
+import softcrawl.studies.commands.table1 as table1_command
+from softcrawl.studies import cli
 
 
 def _raising(exc: BaseException):
@@ -58,7 +58,7 @@ def test_console_command_bad_input_is_one_line(tmp_path):
         [
             sys.executable,
             "-m",
-            "studies",
+            "softcrawl",
             "model",
             "plan",
             "--pipe",

@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from geometry.design import EPSADesign
-from geometry.swept import mesh_epsa_swept
-from studies.cli import main
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.geometry.swept import mesh_epsa_swept
+from softcrawl.studies.cli import main
 
 
 def test_swept_mesh_volume_tags_and_orientation():
@@ -113,8 +113,8 @@ def test_verify_command_writes_json(tmp_path):
 
 def test_mesh_presets_are_points_of_the_size_family():
     """The convergence study over sizes contains the presets: quick = h 10 mm, default = h 5 mm."""
-    from geometry.design import EPSADesign
-    from studies.parts.epsa_model import MESH_PRESETS, MeshSettings
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_model import MESH_PRESETS, MeshSettings
 
     d = EPSADesign()
     assert MeshSettings.from_size(10.0, d) == MESH_PRESETS["quick"]
@@ -124,7 +124,7 @@ def test_mesh_presets_are_points_of_the_size_family():
 
 
 def test_sway_of_the_free_end_is_reported():
-    from studies.parts.epsa_response import CurveRow, _sway_events
+    from softcrawl.studies.parts.epsa_response import CurveRow, _sway_events
 
     def row(p, length, sway, status="converged"):
         return CurveRow(p, length, 9.0, 1.0, 1.0, 0.0, status, float("nan"), sway)
@@ -137,8 +137,8 @@ def test_sway_of_the_free_end_is_reported():
 
 
 def test_guided_top_stays_on_the_axis():
-    from geometry.design import EPSADesign
-    from studies.parts.epsa_response import simulate_epsa
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
 
     free = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), fibers="lines")
     guided = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), guided=True, fibers="lines")
@@ -157,8 +157,8 @@ def test_side_load_probe_moves_the_free_top_and_is_checked():
     proportion at low pressure."""
     import pytest
 
-    from geometry.design import DesignError, EPSADesign
-    from studies.parts.epsa_response import simulate_epsa
+    from softcrawl.geometry.design import DesignError, EPSADesign
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
 
     sway = [
         simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), side_load_n=f).rows[-1].tip_lateral_mm

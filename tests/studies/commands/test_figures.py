@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 RESULTS = Path(__file__).resolve().parents[3] / "results"
 
@@ -66,9 +66,9 @@ def test_replot_redraws_the_committed_study_figures(tmp_path, capsys):
 
 
 def test_mesh_render_of_a_part_is_a_cut_away_with_a_legend(tmp_path):
-    from geometry.design import EPSADesign
-    from geometry.swept import mesh_epsa_swept
-    from studies.plots.mesh_render import render_png
+    from softcrawl.geometry.design import EPSADesign
+    from softcrawl.geometry.swept import mesh_epsa_swept
+    from softcrawl.studies.plots.mesh_render import render_png
 
     mesh = mesh_epsa_swept(EPSADesign(fiber_turns=4, length=40.0), n_around=12, n_radial=1, axial_size=10.0)
     assert render_png(mesh, tmp_path / "mesh.png", title="test") == "pyvista"

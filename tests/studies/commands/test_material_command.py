@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 
 def run(capsys, *argv):
@@ -47,7 +47,7 @@ def test_fit_out_writes_json_and_png(capsys, tmp_path):
     # Independent least squares of P = 2 (lam - lam^-2)(C10 + 2 C20 x + 3 C30 x^2), x = I1 - 3.
     # Unconstrained, C30 < 0 (unstable at large strain), so the fit holds C30 = 0 and is the
     # least squares over (C10, C20) alone.
-    import materials
+    from softcrawl import materials
 
     data = materials.load_tensile("dragon-skin-30")
     lam, stress = materials.select_fit_points(data.stretch, data.nominal_stress, 0.5)
@@ -100,7 +100,7 @@ def test_console_entry_point_unknown_preset_exit_code_2():
     import sys
 
     result = subprocess.run(
-        [sys.executable, "-m", "studies", "material", "show", "nope"],
+        [sys.executable, "-m", "softcrawl", "material", "show", "nope"],
         capture_output=True,
         text=True,
         timeout=60,

@@ -2,7 +2,7 @@
 
 import pytest
 
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 
 @pytest.mark.parametrize(

@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 
 def run(capsys, *argv):
@@ -104,8 +104,8 @@ def test_workspace_and_plan_write_files(capsys, tmp_path):
 def test_identify_from_csv(capsys, tmp_path):
     import numpy as np
 
-    from robot.identification import synthetic_table
-    from robot.prototype import prototype_epsa
+    from softcrawl.analytic.identification import synthetic_table
+    from softcrawl.analytic.prototype import prototype_epsa
 
     a = prototype_epsa(1)
     P, W, y = synthetic_table(a, np.arange(10.0, 101.0, 10.0), [0.0, 1.0, 2.0])

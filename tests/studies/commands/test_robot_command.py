@@ -9,7 +9,7 @@ import json
 import pytest
 
 pytest.importorskip("optuna")
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 FAKE = "tests.studies.fakes:fake_robot_cases"
 

@@ -8,7 +8,7 @@ import json
 import pytest
 
 pytest.importorskip("optuna")
-from studies.cli import main
+from softcrawl.studies.cli import main
 
 PAPER_LIKE = "tests.studies.fakes:paper_like_simulate"
 FAKE = "tests.studies.fakes:fake_simulate"

@@ -46,7 +46,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from geometry.design import EPSADesign
+from softcrawl.geometry.design import EPSADesign
 
 MU = 0.03  # MPa, the ecoflex-00-50 preset
 R_IN, R_OUT, LENGTH, CAP, TURNS = 3.0, 9.0, 100.0, 5.0, 20
@@ -105,7 +105,7 @@ def test_estimate_reduces_to_the_reference_state_and_balances():
 
 @pytest.fixture(scope="module")
 def quick_run():
-    from studies.parts.epsa_response import simulate_epsa
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
 
     return simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0, 40.0), keep_model=True)
 
@@ -123,7 +123,7 @@ def test_sheet_tension_matches_the_axial_balance(quick_run, index, tolerance):
     """The thread tension of the smeared winding at mid-height (30 < Z < 70 mm, away from the
     caps), mean over the sheet's quadrature points, against T of the balance P pi a^2 =
     N_solid + 2 T cos(alpha)."""
-    from fem import sheets
+    from softcrawl.fem import sheets
 
     model, step = quick_run.model, quick_run.path.steps[index]
     forces = sheets.fiber_forces(model.sheets, step.x[: model.n_u].reshape(-1, 3))
@@ -139,7 +139,7 @@ def test_outer_radius_follows_the_helix_length(quick_run, index):
     b = sqrt((s_t (1 + T / EA))^2 - (l - 2c)^2) / (2 pi N_t) with the FE's own length and
     mid-height tension. Observed within 1e-4 mm; the mesh changes the radius by up to 4.5e-4 mm
     (quick against default mesh), so 1e-3 mm, 3 % of the radius change at 40 kPa."""
-    from fem import sheets
+    from softcrawl.fem import sheets
 
     row = quick_run.curve.rows[index]
     model, step = quick_run.model, quick_run.path.steps[index - 1]
@@ -169,7 +169,7 @@ def test_default_mesh_curve_matches_the_committed_results():
     import csv
     from pathlib import Path
 
-    from studies.parts.epsa_response import simulate_epsa
+    from softcrawl.studies.parts.epsa_response import simulate_epsa
 
     path = Path(__file__).resolve().parents[3] / "results" / "epsa-default-mesh" / "curve-probe_mu03.csv"
     committed = [r for r in csv.DictReader(open(path)) if r["status"] == "converged"]

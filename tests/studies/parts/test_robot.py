@@ -16,8 +16,8 @@ import math
 import numpy as np
 import pytest
 
-from studies.parts.robot_model import build_robot_model
-from studies.parts.robot_response import arc_fit_rms, simulate_robot
+from softcrawl.studies.parts.robot_model import build_robot_model
+from softcrawl.studies.parts.robot_response import arc_fit_rms, simulate_robot
 
 KPA = 1e-3
 
@@ -72,7 +72,7 @@ def test_arc_fit_is_exact_on_an_arc_and_a_line():
 @pytest.mark.slow
 def test_theta_at_the_table1_load_is_mesh_converged():
     """theta at P = (100, 40, 60) kPa changes by < 2 % from the default to the fine mesh."""
-    from studies.catalogue.robot_studies import LOAD_CASES_KPA
+    from softcrawl.studies.catalogue.robot_studies import LOAD_CASES_KPA
 
     targets = [tuple(p * KPA for p in P) for P in LOAD_CASES_KPA["asymmetric"]]
     theta = {}

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from studies.cli import main
-from studies.review.report import SECTIONS
+from softcrawl.studies.cli import main
+from softcrawl.studies.review.report import SECTIONS
 
 RESULTS = Path(__file__).resolve().parents[3] / "results"
 

@@ -2,7 +2,7 @@
 
 import math
 
-from studies.review.robot_rules import (
+from softcrawl.studies.review.robot_rules import (
     ENDOSCOPE_DIAMETER_MM,
     channel_admits_camera,
     foot_radius_rule,

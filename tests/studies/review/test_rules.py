@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from studies.review import linearity, rules
+from softcrawl.studies.review import linearity, rules
 
 
 def _rows(

@@ -9,9 +9,9 @@ import time
 from collections import Counter
 from pathlib import Path
 
-from studies.catalogue.actuator_studies import study_folder, study_settings, sweep_spec
-from studies.sweeps.spec import point_key
-from studies.sweeps.worker import open_sweep
+from softcrawl.studies.catalogue.actuator_studies import study_folder, study_settings, sweep_spec
+from softcrawl.studies.sweeps.spec import point_key
+from softcrawl.studies.sweeps.worker import open_sweep
 
 ROOT = Path(__file__).resolve().parents[3]
 FAKE = "tests.studies.fakes:fake_simulate"
@@ -26,7 +26,7 @@ def start(argv: list[str], env: dict[str, str] | None = None, **kwargs) -> subpr
     whole process group as a terminal's Ctrl-C does)."""
     full_env = os.environ | {"PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"} | (env or {})
     return subprocess.Popen(
-        [sys.executable, "-m", "studies", *argv],
+        [sys.executable, "-m", "softcrawl", *argv],
         cwd=ROOT,
         env=full_env,
         stdout=subprocess.PIPE,

@@ -26,8 +26,8 @@ def main() -> None:
     running = [t.number for t in _trials(out) if t.state.name == "RUNNING"]
     filler.unlink()  # space freed
     os.environ.update(env)
-    from studies.catalogue.epsa_evaluator import EPSA_TABLE
-    from studies.sweeps.sweep import run_sweep
+    from softcrawl.studies.catalogue.epsa_evaluator import EPSA_TABLE
+    from softcrawl.studies.sweeps.sweep import run_sweep
 
     t0 = time.monotonic()
     rows = run_sweep(dataclasses.replace(spec_of(out), grace_period=600), layout=EPSA_TABLE, progress=False)
@@ -45,7 +45,7 @@ def main() -> None:
 
 
 def _trials(out):
-    from studies.sweeps.worker import open_sweep
+    from softcrawl.studies.sweeps.worker import open_sweep
 
     return open_sweep(spec_of(out))[0].get_trials(deepcopy=False)
 

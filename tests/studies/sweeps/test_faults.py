@@ -18,8 +18,8 @@ import pytest
 
 pytest.importorskip("optuna")
 
-from studies.catalogue.epsa_evaluator import EPSA_TABLE
-from studies.sweeps.sweep import run_sweep
+from softcrawl.studies.catalogue.epsa_evaluator import EPSA_TABLE
+from softcrawl.studies.sweeps.sweep import run_sweep
 from tests.studies.sweeps.cli_runs import (
     completed_once,
     run,
@@ -146,8 +146,8 @@ def test_a_study_whose_every_point_fails_on_input_exits_2(tmp_path):
 
 
 def test_a_full_disk_while_writing_the_tables_is_one_line_and_loses_nothing(tmp_path, monkeypatch, capsys):
-    from studies.cli import main
-    from studies.sweeps import tables
+    from softcrawl.studies.cli import main
+    from softcrawl.studies.sweeps import tables
 
     log = tmp_path / "log"
     monkeypatch.setenv("SOFTCRAWL_FAKE_LOG", str(log))

@@ -9,7 +9,7 @@ from collections import Counter
 
 import pytest
 
-from studies.sweeps.tables import read_csv
+from softcrawl.studies.sweeps.tables import read_csv
 from tests.studies.sweeps import pg_server
 from tests.studies.sweeps.cli_runs import comparable, completed_once, run, spec_of, start, study_argv, trials
 

@@ -9,12 +9,12 @@ import warnings
 import optuna
 import pytest
 
-from studies.catalogue.epsa_evaluator import EPSA_EVALUATOR, EPSA_TABLE
-from studies.sweeps import queue, worker
-from studies.sweeps.spec import SweepSpec, point_key
-from studies.sweeps.storage import worker_presence
-from studies.sweeps.sweep import run_sweep
-from studies.sweeps.worker import open_sweep, run_worker
+from softcrawl.studies.catalogue.epsa_evaluator import EPSA_EVALUATOR, EPSA_TABLE
+from softcrawl.studies.sweeps import queue, worker
+from softcrawl.studies.sweeps.spec import SweepSpec, point_key
+from softcrawl.studies.sweeps.storage import worker_presence
+from softcrawl.studies.sweeps.sweep import run_sweep
+from softcrawl.studies.sweeps.worker import open_sweep, run_worker
 
 FAKE = "tests.studies.fakes:fake_simulate"
 

@@ -10,10 +10,10 @@ import pytest
 pytest.importorskip("optuna")
 
 from softcrawl.files import atomic_path, write_text_atomic
-from studies.cli import main
-from studies.sweeps.faults import machine_fault
-from studies.sweeps.locks import FileLock
-from studies.sweeps.spec import StudyError
+from softcrawl.studies.cli import main
+from softcrawl.studies.sweeps.faults import machine_fault
+from softcrawl.studies.sweeps.locks import FileLock
+from softcrawl.studies.sweeps.spec import StudyError
 from tests.studies.sweeps.cli_runs import study_argv
 
 

@@ -2,7 +2,7 @@
 
 The cycle model (rear foot fixed while inflating, front foot fixed and curvature kept while
 deflating, eqs. 16-18), the deflation modes, the roll in an elbow and the pipe-fit check are those
-of `robot.cycle`; the result is a `robot.gait.Plan`, and `replay` (re-exported here) runs a given
+of `analytic.cycle`; the result is a `analytic.gait.Plan`, and `replay` (re-exported here) runs a given
 gait through the same model. By default (`planar=None`) the elbow search uses only the bend-plane
 family P2 = P3 (2D pressure grid); straight pipes search all triples.
 
@@ -19,11 +19,11 @@ Limits found (see the package report): a straight or vertical pipe is crossed wi
 / (0, 0, 0) in ceil(L / 54 mm) cycles. In an elbow the 70 mm pipe leaves the 23 mm-radius body a
 12 mm corridor, and near a tight bend the gaits that pass are thinner than a pressure grid (a
 10 kPa step moves an ePSA by 2-10 mm). On the grid: R = 80 mm passes greedily in 7 cycles (10 kPa), R = 60 mm
-needs the beam (9 cycles, 5 kPa), and the exhaustive planar breadth-first search of `robot.planar`
+needs the beam (9 cycles, 5 kPa), and the exhaustive planar breadth-first search of `analytic.planar`
 passes R = 60, 55, 50 mm in 10, 11, 14 cycles (10 kPa) but not 45 or 40 mm: at R = 40 it runs dry
 with the rear foot at s = 118 mm (10 kPa) / 123 mm (5 kPa, 4.7 min), ~30 mm before the bend; with a
 22 mm body instead of 23 mm it still does, with 21.5 mm it passes R = 40 in 13 cycles.
-With continuous pressures, `robot.refine.continuous_plan` (SLSQP on the ePSA lengths of a fixed
+With continuous pressures, `analytic.refine.continuous_plan` (SLSQP on the ePSA lengths of a fixed
 number of cycles, maximising the wall clearance, replayed through this cycle model) passes
 R = 40 mm: 25 cycles from a straight seed in ~8 s, stopping at 0.045 mm of clearance to spare
 (maximised: 0.066 mm with 25 cycles, 0.096 mm with 29; 0.054 / 0.084 mm on a 64-stage x 161-sample
@@ -50,14 +50,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot import cycle as cm
-from robot import kinematics as kin
-from robot.errors import ModelInputError
-from robot.gait import Cycle, Plan, floats, replay, rotation_tuple
-from robot.limits import MAX_BEAM, MAX_CANDIDATES_PER_CYCLE, check
-from robot.pipe import Pipe
-from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
-from robot.statics import EPSAParams
+from softcrawl.analytic import cycle as cm
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.gait import Cycle, Plan, floats, replay, rotation_tuple
+from softcrawl.analytic.limits import MAX_BEAM, MAX_CANDIDATES_PER_CYCLE, check
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from softcrawl.analytic.statics import EPSAParams
 
 __all__ = ["Cycle", "Plan", "plan", "replay", "scan_bend_radius"]
 

@@ -8,9 +8,9 @@ at 100 kPa).
 
 from __future__ import annotations
 
-from fem.laws import Gent, Yeoh
-from fem.neohooke import IsochoricI1Law, NeoHookean
-from materials.material import Material, MaterialError
+from softcrawl.fem.laws import Gent, Yeoh
+from softcrawl.fem.neohooke import IsochoricI1Law, NeoHookean
+from softcrawl.materials.material import Material, MaterialError
 
 
 def solid_law(material: Material, *, hyperelastic_only: bool = False) -> IsochoricI1Law:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from materials.material import (
+from softcrawl.materials.material import (
     DEFAULT_K_OVER_MU,
     Material,
     MaterialError,
@@ -33,7 +33,7 @@ from materials.material import (
     yeoh_is_stable,
     yeoh_uniaxial,
 )
-from materials.tensile import TensileData
+from softcrawl.materials.tensile import TensileData
 
 FIT_MODELS = ("neo-hookean", "yeoh", "gent")
 WEIGHTINGS = ("absolute", "relative")

@@ -9,7 +9,7 @@ silent wrong number; and caps on the sizes of the searches, whose cost grows as 
 
 from __future__ import annotations
 
-from robot.errors import ModelInputError
+from softcrawl.analytic.errors import ModelInputError
 from softcrawl.checks import number
 
 #: Lengths, radii, diameters and positions (mm): 10 m. The robot is 100-300 mm long and crawls in

@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
-from robot import kinematics as kin
-from robot.errors import ModelInputError
-from robot.limits import MAX_PRESSURE_KPA, MAX_WORKSPACE_LEVELS, check
-from robot.prototype import D_MM, actuator_set
-from robot.statics import P_MAX_KPA
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.limits import MAX_PRESSURE_KPA, MAX_WORKSPACE_LEVELS, check
+from softcrawl.analytic.prototype import D_MM, actuator_set
+from softcrawl.analytic.statics import P_MAX_KPA
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Uniaxial tensile tests: the shipped Soft Robotics Materials Database files and the CSV reader.
 
-`load_tensile` reads the tensile tests shipped in ``materials/data`` (Marechal et al., Soft
-Robotics 8(3), 2021; ODbL 1.0 / DbCL 1.0, attribution in ``materials/data/README.md`` and in
+`load_tensile` reads the tensile tests shipped in ``softcrawl/materials/data`` (Marechal et al., Soft
+Robotics 8(3), 2021; ODbL 1.0 / DbCL 1.0, attribution in ``softcrawl/materials/data/README.md`` and in
 `DATA_ATTRIBUTION`, which must travel with every derived table) or any CSV file of that format.
 """
 
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from materials.material import MaterialError
+from softcrawl.materials.material import MaterialError
 
 DATA_DIR = Path(__file__).resolve().parent / "data"
 #: Largest tensile-test file read (bytes): the shipped tests are 17-33 kB; 50 MB is a

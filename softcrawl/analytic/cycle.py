@@ -41,7 +41,7 @@ Roll. In an elbow the robot is inserted with ePSA 1 (psi = 90 deg) facing the in
 bends in the bend plane are the family P2 = P3, P1 lower (the paper's gait 2: "ePSA2 and ePSA3 are
 inflated for 1.5 s, ePSA1 for 0.3 s").
 
-Bend-plane form (`robot.planar`, `robot.refine`). With that roll and P2 = P3 every cycle is a
+Bend-plane form (`analytic.planar`, `analytic.refine`). With that roll and P2 = P3 every cycle is a
 planar arc of signed curvature k (> 0 towards ePSA 1, i.e. towards the bend):
 
     l1 = l_c (1 - k d),  l2 = l3 = l_c (1 + k d / 2),  l_c = (l1 + 2 l23)/3,  k = (1 - l1/l_c)/d,
@@ -61,12 +61,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot import kinematics as kin
-from robot.errors import ModelInputError
-from robot.limits import MIN_PLAN_STEP_KPA, check
-from robot.pipe import Pipe
-from robot.prototype import BODY_RADIUS_MM, EPSA_RADIUS_MM
-from robot.statics import G_STANDARD, P_MAX_KPA, EPSAParams
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.limits import MIN_PLAN_STEP_KPA, check
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, EPSA_RADIUS_MM
+from softcrawl.analytic.statics import G_STANDARD, P_MAX_KPA, EPSAParams
 
 #: Deflated-length modes (module docstring).
 DEFLATIONS = ("paper", "held")
@@ -93,7 +93,7 @@ def elbow_roll(pipe: Pipe) -> np.ndarray:
 
 def pressure_grid(step_kpa: float, planar: bool = False) -> np.ndarray:
     """All triples on a `step_kpa` grid, or only P2 = P3 (bending in the plane of ePSA 1); the step
-    is at least `robot.limits.MIN_PLAN_STEP_KPA` and divides 100 kPa."""
+    is at least `analytic.limits.MIN_PLAN_STEP_KPA` and divides 100 kPa."""
     step_kpa = check(step_kpa, "step", minimum=MIN_PLAN_STEP_KPA, maximum=P_MAX_KPA, unit="kPa")
     n = int(round(P_MAX_KPA / step_kpa))
     if n < 1 or abs(n * step_kpa - P_MAX_KPA) > 1e-9:

@@ -4,7 +4,7 @@ The pressure input is piecewise constant in time (a step, or a gait: a list of (
 phases). Within a phase the coefficients are constant and the ODE is linear; we still integrate it
 with scipy's `solve_ivp` (Radau: the system is stiff, the mass is 23 g and b_p/m ~ 2000 1/s against
 k_p/b_p ~ 2.5 1/s), restarting at every pressure switch so that no step straddles a discontinuity.
-Units: mm, s, N, tonne; P in kPa. The damping b_p is an assumption (see `robot.prototype`).
+Units: mm, s, N, tonne; P in kPa. The damping b_p is an assumption (see `analytic.prototype`).
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from robot.errors import ModelInputError
-from robot.statics import G_STANDARD, EPSAParams
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.statics import G_STANDARD, EPSAParams
 
 
 @dataclass(frozen=True)

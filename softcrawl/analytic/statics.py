@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot.errors import ModelInputError
+from softcrawl.analytic.errors import ModelInputError
 
 #: Standard gravity in mm/s^2 (the paper's eq. 27 example uses 10 m/s^2 = 10000 mm/s^2).
 G_STANDARD = 9810.0

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot.errors import ModelInputError
-from robot.limits import MAX_LENGTH_MM, length_mm
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.limits import MAX_LENGTH_MM, length_mm
 
 KINDS = ("straight", "vertical", "elbow")
 
@@ -130,7 +130,7 @@ class Pipe:
     def plane_distance(self, x: ArrayLike, z: ArrayLike) -> np.ndarray:
         """Distance of the points (x, 0, z) to the centreline: `locate`'s distance in the x-z plane.
 
-        The bend-plane fit check of `robot.cycle`: equal to `locate`'s distance up to rounding
+        The bend-plane fit check of `analytic.cycle`: equal to `locate`'s distance up to rounding
         (~1e-14 mm), in about half its time (no arc length, no y terms).
         """
         px, pz = np.asarray(x, dtype=float), np.asarray(z, dtype=float)

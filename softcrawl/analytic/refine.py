@@ -1,6 +1,6 @@
 """Continuous gait refinement through an elbow: ePSA lengths as free variables, SLSQP minimax.
 
-The grid searches (`robot.planner`, `robot.planar`) pick pressures on a 5-10 kPa grid, i.e. ePSA
+The grid searches (`analytic.planner`, `analytic.planar`) pick pressures on a 5-10 kPa grid, i.e. ePSA
 lengths 1-10 mm apart, for a body whose centreline has a 12 mm corridor (70 mm pipe, 23 mm body
 tube). Near a tight bend the feasible gaits are thinner than that grid: R = 40 mm is passed only
 by gaits that no grid search contains. Here the gait is a fixed number of cycles whose inflated
@@ -14,7 +14,7 @@ solved with SLSQP (forward-difference Jacobians, batched; per cycle and stage on
 sample distance enters, an order statistic and so continuous in the lengths). t > 0 means a gait
 with t mm of wall clearance to spare; by default SLSQP stops once t >= 0.02 mm. Lengths in the
 upward 0.17 mm gap of the nominal l(P) at 60 kPa are reached by no pressure and are pinned to its
-ends. The bend-plane form of `robot.cycle` (docs/DESIGN.md section 5, eqs. 16-18): the robot
+ends. The bend-plane form of `analytic.cycle` (docs/DESIGN.md section 5, eqs. 16-18): the robot
 is rolled so that ePSA 1 faces the inside of the bend, triples (P1, P23, P23) bend in the bend
 plane with signed curvature k (> 0 towards the bend)
 
@@ -26,11 +26,11 @@ l(0), curvature kept, deflated lengths l_def (1 - k d), l_def (1 + k d / 2)). Th
 the seed is a straight gait of short strides and SLSQP finds the manoeuvre (an S: first a slight
 bend away from the elbow that puts the rear foot ~4 mm towards the outer wall, tilted ~4 deg away,
 then a curvature that grows cycle by cycle). The result is converted to pressures by the inverse
-statics and re-run by `robot.gait.replay`, which applies the planner's own checks, so the
+statics and re-run by `analytic.gait.replay`, which applies the planner's own checks, so the
 returned `Plan` does not depend on this module's simulator being right.
 
 Only the nominal actuators (identical ePSAs 2 and 3 make P2 = P3 a planar family) and the paper
-deflation are supported. Radii passed and clearances: see `robot.planner`.
+deflation are supported. Radii passed and clearances: see `analytic.planner`.
 """
 
 from __future__ import annotations
@@ -42,13 +42,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import OptimizeResult, minimize
 
-from robot import cycle as cm
-from robot.errors import ModelInputError
-from robot.gait import Plan, replay
-from robot.limits import MAX_CONTINUOUS_CYCLES, check
-from robot.pipe import Pipe
-from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
-from robot.statics import P_MAX_KPA, EPSAParams
+from softcrawl.analytic import cycle as cm
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.gait import Plan, replay
+from softcrawl.analytic.limits import MAX_CONTINUOUS_CYCLES, check
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from softcrawl.analytic.statics import P_MAX_KPA, EPSAParams
 
 
 def _cycle(

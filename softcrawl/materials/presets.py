@@ -9,10 +9,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from materials.fitting import DEFAULT_MAX_STRAIN, FULL_RANGE_STRAIN, fit_tensile
-from materials.material import Material, MaterialError, shear_modulus_nearly_incompressible, shore_a_to_youngs
-from materials.tensile import DATA_ATTRIBUTION, DATA_LICENSE, TENSILE_FILES, load_tensile
 from softcrawl.checks import brief
+from softcrawl.materials.fitting import DEFAULT_MAX_STRAIN, FULL_RANGE_STRAIN, fit_tensile
+from softcrawl.materials.material import (
+    Material,
+    MaterialError,
+    shear_modulus_nearly_incompressible,
+    shore_a_to_youngs,
+)
+from softcrawl.materials.tensile import DATA_ATTRIBUTION, DATA_LICENSE, TENSILE_FILES, load_tensile
 
 _G_PER_CM3 = 1.0e-9  # t/mm^3 per g/cm^3
 

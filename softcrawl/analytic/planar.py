@@ -1,6 +1,6 @@
 """Exhaustive breadth-first gait search in the bend plane of an elbow (fewest cycles).
 
-The cycle model of `robot.cycle` (rear foot fixed while inflating, front foot fixed and curvature
+The cycle model of `analytic.cycle` (rear foot fixed while inflating, front foot fixed and curvature
 kept while deflating, deflated centreline = the model's rest length as eq. 17, the body a 23 mm
 tube that must stay in the pipe at every inflation stage), in its bend-plane form: the robot is
 rolled so that ePSA 1 faces the inside of the bend and the pressure triples are (P1, P23, P23).
@@ -22,13 +22,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from robot import cycle as cm
-from robot import kinematics as kin
-from robot.errors import ModelInputError
-from robot.gait import Cycle, Plan, floats, rotation_tuple
-from robot.pipe import Pipe
-from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
-from robot.statics import EPSAParams
+from softcrawl.analytic import cycle as cm
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.gait import Cycle, Plan, floats, rotation_tuple
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from softcrawl.analytic.statics import EPSAParams
 
 #: Curvature resolution of the state cells, 1/mm.
 _CELL_KAPPA = 5e-4

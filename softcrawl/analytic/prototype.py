@@ -15,7 +15,7 @@ Printed values (N/m and N, P in kPa, lower line for P <= 60 kPa):
 Consequences worth knowing (g = 0): at P = 0 the fits give small negative extensions
 (f_0/k_0 = -0.25, -0.98, -1.08 mm): the actuator "starts" only above about 2-6 kPa; we keep the
 printed law and do not clamp. At 60 kPa the branches do not meet: the length jumps by
-+0.64 mm (ePSA 1), -3.00 mm (ePSA 2) and +2.58 mm (ePSA 3); see `robot.statics` for how the jump is
++0.64 mm (ePSA 1), -3.00 mm (ePSA 2) and +2.58 mm (ePSA 3); see `analytic.statics` for how the jump is
 handled.
 
 Decisions (not given in the paper):
@@ -27,7 +27,7 @@ Decisions (not given in the paper):
   identification rig stands the actuator vertically, so eq. (3) keeps m g with g along the axis.
 * Damping b_p = 0.05 N s/mm (50 N s/m), independent of P (b_1 = 0). The paper identifies no damping;
   with k_p ~ 0.12 N/mm the time constant b_p/k_p ~ 0.4 s lets an actuator settle within the 1.5 s
-  inflation phase of the paper's gait 1. It only affects `robot.dynamics`.
+  inflation phase of the paper's gait 1. It only affects `analytic.dynamics`.
 * The "nominal" actuator (used by the planner by default) averages the three prototypes'
   coefficients, so that equal lengths mean equal pressures.
 """
@@ -36,7 +36,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from robot.statics import EPSAParams, Line, PiecewiseLinear
+from softcrawl.analytic.statics import EPSAParams, Line, PiecewiseLinear
 
 #: Initial ePSA length (Table 1), mm.
 L0_MM = 100.0
@@ -79,7 +79,7 @@ def _pw(c: Sequence[float], factor: float = 1.0) -> PiecewiseLinear:
 
 def prototype_epsa(index: int) -> EPSAParams:
     """ePSA 1, 2 or 3 of the paper (eqs. 19-24), in internal units."""
-    from robot.errors import ModelInputError
+    from softcrawl.analytic.errors import ModelInputError
 
     if index not in PRINTED_K_N_PER_M:
         raise ModelInputError("actuator", f"must be 1, 2 or 3, got {index!r}")
@@ -109,7 +109,7 @@ def nominal_epsa() -> EPSAParams:
 
 def actuator_set(kind: str = "nominal") -> tuple[EPSAParams, EPSAParams, EPSAParams]:
     """'nominal': three identical mean actuators; 'prototype': ePSA 1, 2, 3 as identified."""
-    from robot.errors import ModelInputError
+    from softcrawl.analytic.errors import ModelInputError
 
     if kind == "nominal":
         a = nominal_epsa()

@@ -45,8 +45,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot.errors import ModelInputError
-from robot.limits import MAX_LENGTH_MM, length_mm
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.limits import MAX_LENGTH_MM, length_mm
 
 PSI = np.deg2rad([90.0, 210.0, 330.0])
 

@@ -34,8 +34,16 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot.limits import MAX_FORCE_N, MAX_G, MAX_MASS_G, MAX_PRESSURE_KPA, MAX_SPEED_MM_S, MAX_TIME_S, check
-from robot.statics import EPSAParams
+from softcrawl.analytic.limits import (
+    MAX_FORCE_N,
+    MAX_G,
+    MAX_MASS_G,
+    MAX_PRESSURE_KPA,
+    MAX_SPEED_MM_S,
+    MAX_TIME_S,
+    check,
+)
+from softcrawl.analytic.statics import EPSAParams
 
 
 def friction_from_extensions(

@@ -11,7 +11,7 @@ Modules (one job each):
 nothing in `geometry`, `fem`, `robot` or `materials` imports `studies`.
 """
 
-from materials.fitting import (
+from softcrawl.materials.fitting import (
     DEFAULT_MAX_STRAIN,
     FIT_MODELS,
     FitResult,
@@ -20,7 +20,7 @@ from materials.fitting import (
     fit_yeoh,
     select_fit_points,
 )
-from materials.material import (
+from softcrawl.materials.material import (
     DEFAULT_K_OVER_MU,
     MODELS,
     Material,
@@ -30,8 +30,14 @@ from materials.material import (
     yeoh_is_stable,
     yeoh_uniaxial,
 )
-from materials.presets import PRESETS, get_material, material_names
-from materials.tensile import DATA_ATTRIBUTION, DATA_LICENSE, TENSILE_FILES, TensileData, load_tensile
+from softcrawl.materials.presets import PRESETS, get_material, material_names
+from softcrawl.materials.tensile import (
+    DATA_ATTRIBUTION,
+    DATA_LICENSE,
+    TENSILE_FILES,
+    TensileData,
+    load_tensile,
+)
 
 __all__ = [
     "DATA_ATTRIBUTION",

@@ -30,8 +30,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot.errors import ModelInputError
-from robot.statics import G_STANDARD, EPSAParams, Line, PiecewiseLinear
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.statics import G_STANDARD, EPSAParams, Line, PiecewiseLinear
 
 
 @dataclass(frozen=True)

@@ -1,9 +1,9 @@
 """A planned gait (`Plan`, its `Cycle`s) and `replay`, which runs a given gait through the cycle model.
 
-Every planner (`robot.planner`, `robot.planar`, `robot.refine`) returns a `Plan`. `replay` applies
-the cycle model of `robot.cycle` (statics, roll, inflation stages, pipe-fit check, deflation) to
+Every planner (`analytic.planner`, `analytic.planar`, `analytic.refine`) returns a `Plan`. `replay` applies
+the cycle model of `analytic.cycle` (statics, roll, inflation stages, pipe-fit check, deflation) to
 inflated triples chosen elsewhere: it searches nothing, it checks. A plan found by another model
-(the bend-plane simulator of `robot.refine`) is re-run by it, so that what is returned does not
+(the bend-plane simulator of `analytic.refine`) is re-run by it, so that what is returned does not
 depend on that other model being right.
 """
 
@@ -14,12 +14,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robot import cycle as cm
-from robot import kinematics as kin
-from robot.errors import ModelInputError
-from robot.pipe import Pipe
-from robot.prototype import BODY_RADIUS_MM, D_MM, actuator_set
-from robot.statics import P_MAX_KPA, EPSAParams
+from softcrawl.analytic import cycle as cm
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from softcrawl.analytic.statics import P_MAX_KPA, EPSAParams
 
 Triple = tuple[float, float, float]
 
@@ -90,7 +90,7 @@ def replay(
     body: str = "tube",
     step_kpa: float = 0.0,
 ) -> Plan:
-    """Run a given gait (inflated triples, kPa) through the cycle model of `robot.planner.plan`.
+    """Run a given gait (inflated triples, kPa) through the cycle model of `analytic.planner.plan`.
 
     Same statics, roll, inflation stages, containment check and deflation as `plan`; the gait is
     not searched but checked: the plan stops, unsuccessful, at the first cycle whose body leaves
