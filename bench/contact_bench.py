@@ -35,7 +35,7 @@ def contact_share(model, x, repeat: int = 3) -> tuple[float, float]:
 def groove_case() -> None:
     from softcrawl.materials import get_material
     from softcrawl.materials.fem_law import solid_law
-    from softcrawl.studies.parts import groove_model as gm
+    from softcrawl.studies.foot import groove_model as gm
 
     mat = solid_law(get_material("rubber-70a"))
     seg = gm.GrooveSegment(groove_height=1.0)
@@ -59,8 +59,8 @@ def groove_case() -> None:
 def foot_case(pipe: float, mesher: str, mesh_cache) -> None:
     from softcrawl.materials import get_material
     from softcrawl.materials.fem_law import solid_law
-    from softcrawl.studies.catalogue.contact_studies import _foot_mesh
-    from softcrawl.studies.parts import foot_model as fm
+    from softcrawl.studies.foot import model as fm
+    from softcrawl.studies.foot.contact_studies import _foot_mesh
 
     t0 = time.perf_counter()
     design, mesh = _foot_mesh({"mesher": mesher, "mesh_cache": mesh_cache})
@@ -103,7 +103,7 @@ def main() -> None:
     ap.add_argument("--skip-foot", action="store_true")
     ap.add_argument("--pipe", type=float, default=65.0, help="pipe diameter (mm)")
     from softcrawl.geometry.foot_meshers import FOOT_MESHERS
-    from softcrawl.studies.catalogue.contact_studies import FOOT_MESHER
+    from softcrawl.studies.foot.contact_studies import FOOT_MESHER
 
     ap.add_argument("--mesher", default=FOOT_MESHER, choices=FOOT_MESHERS, help="the foot's mesh")
     ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache folder (--mesher tetwild)")

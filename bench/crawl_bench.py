@@ -27,9 +27,9 @@ from bench.contact_bench import contact_share  # run with (CONTRIBUTING)
 def run_case(pipe: float, whole_cycle: bool, quick: bool) -> None:
     from softcrawl.materials import get_material
     from softcrawl.materials.fem_law import solid_law
-    from softcrawl.studies.parts.crawl_mesh import QUICK_SECTORS, crawl_mesh
-    from softcrawl.studies.parts.crawl_model import CrawlSetup, build, run_crawl
-    from softcrawl.studies.parts.crawl_schedule import Schedule, preset
+    from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
+    from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
+    from softcrawl.studies.crawl.schedule import Schedule, preset
 
     setup = CrawlSetup(
         pipe_diameter=pipe,

@@ -1,7 +1,7 @@
 """Solver benchmark on the Table 1 ePSA: the pressure ramp of `softcrawl epsa`, step by step.
 
 The problem is `softcrawl epsa --pressures 0:100:20 --no-vtu` (Table 1 design, Ecoflex 00-50 at
-mu = 0.03 MPa, smeared winding, free top): the mesh and the model as `studies.parts.epsa_model`
+mu = 0.03 MPa, smeared winding, free top): the mesh and the model as `studies.epsa.model`
 builds them and the ramp 20, 40, ..., 100 kPa through `fem.path.load_path`. Each configuration
 runs in its own child process, so that its peak resident memory is its own. Printed per run:
 DOFs, set-up time (mesh + model), Newton iterations (every linear system of the Newton
@@ -51,7 +51,7 @@ def run_ramp(mesh_size, options, queue):
     from softcrawl.fem.path import NewtonOptions, load_path
     from softcrawl.fem.post import actuator_length
     from softcrawl.geometry.design import EPSADesign
-    from softcrawl.studies.parts.epsa_model import MeshSettings, build_model
+    from softcrawl.studies.epsa.model import MeshSettings, build_model
 
     t0 = time.perf_counter()
     design = EPSADesign()

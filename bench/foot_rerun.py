@@ -24,8 +24,8 @@ def main() -> None:
     ap.add_argument("--mesh-cache", default=None, help="pytetwild mesh cache (default FOLDER/mesh)")
     ap.add_argument("--no-vtu", action="store_true", help="write no VTU series")
     args = ap.parse_args()
-    from softcrawl.studies.catalogue.contact_runs import rebuild_outputs
-    from softcrawl.studies.catalogue.contact_studies import evaluate_foot
+    from softcrawl.studies.foot.contact_studies import evaluate_foot
+    from softcrawl.studies.foot.runs import rebuild_outputs
 
     folder = Path(args.folder)
     settings = json.loads((folder / "spec.json").read_text())["settings"]

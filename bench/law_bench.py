@@ -57,7 +57,7 @@ def assembly(repeat: int) -> None:
 
 def epsa_ramps() -> None:
     from softcrawl.geometry.design import EPSADesign
-    from softcrawl.studies.parts.epsa_response import simulate_epsa
+    from softcrawl.studies.epsa.response import simulate_epsa
 
     for material in ("ecoflex-00-50", "ecoflex-00-50-yeoh") * 2:
         load = os.getloadavg()[0]

@@ -38,7 +38,7 @@ def newton_matrix(mesh_size):
     """(model, K, b) of the Table 1 ePSA: converged at 20 kPa, tangent and residual at 40 kPa."""
     from softcrawl.fem.path import load_path
     from softcrawl.geometry.design import EPSADesign
-    from softcrawl.studies.parts.epsa_model import MeshSettings, build_model
+    from softcrawl.studies.epsa.model import MeshSettings, build_model
 
     design = EPSADesign()
     model, _, _ = build_model(design, "ecoflex-00-50", MeshSettings.from_size(mesh_size, design), False)

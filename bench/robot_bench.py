@@ -18,8 +18,8 @@ import time
 
 
 def main() -> None:
-    from softcrawl.studies.parts.robot_model import DEFAULT_MATERIAL, build_robot_model
-    from softcrawl.studies.parts.robot_response import simulate_robot
+    from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL, build_robot_model
+    from softcrawl.studies.robot_fe.response import simulate_robot
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh", default="default")
@@ -32,7 +32,7 @@ def main() -> None:
     if args.proportional:
         targets = [(0.02 * k, 0.008 * k, 0.012 * k) for k in range(1, 6)]
     else:
-        from softcrawl.studies.catalogue.robot_studies import LOAD_CASES_KPA
+        from softcrawl.studies.robot_fe.robot_studies import LOAD_CASES_KPA
 
         targets = [tuple(p / 1e3 for p in P) for P in LOAD_CASES_KPA["asymmetric"]]
     run = simulate_robot(robot, targets)

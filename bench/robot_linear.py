@@ -26,8 +26,8 @@ import scipy.sparse.linalg as spla
 def main() -> None:
     from softcrawl.fem.linsolve import LinearSolver
     from softcrawl.fem.path import load_path
-    from softcrawl.studies.parts.robot_model import build_robot_model
-    from softcrawl.studies.parts.robot_response import ROBOT_NEWTON
+    from softcrawl.studies.robot_fe.model import build_robot_model
+    from softcrawl.studies.robot_fe.response import ROBOT_NEWTON
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh", default="quick")

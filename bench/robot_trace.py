@@ -57,9 +57,9 @@ def main() -> None:
 
     import softcrawl.materials.presets as presets
     from softcrawl.fem import newton
-    from softcrawl.studies.catalogue.robot_studies import LOAD_CASES_KPA
-    from softcrawl.studies.parts.robot_model import build_robot_model
-    from softcrawl.studies.parts.robot_response import ROBOT_NEWTON, simulate_robot
+    from softcrawl.studies.robot_fe.model import build_robot_model
+    from softcrawl.studies.robot_fe.response import ROBOT_NEWTON, simulate_robot
+    from softcrawl.studies.robot_fe.robot_studies import LOAD_CASES_KPA
 
     if args.abs_modulus is not None:
         base = presets.PRESETS["abs"]

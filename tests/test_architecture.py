@@ -46,11 +46,13 @@ def _layer_of_file(path: Path) -> str:
 
 
 def _modules():
-    """(layer, path) of every project module but the public API (softcrawl/__init__.py)."""
+    """(layer, path) of every project module but the entry points above every layer: the public
+    API (softcrawl/__init__.py) and `python -m softcrawl` (softcrawl/__main__.py)."""
+    entry_points = {ROOT / "softcrawl" / "__init__.py", ROOT / "softcrawl" / "__main__.py"}
     for layer, (folder, _) in LAYERS.items():
         paths = folder.glob("*.py") if layer == "softcrawl.core" else folder.rglob("*.py")
         for path in sorted(paths):
-            if path != ROOT / "softcrawl" / "__init__.py":
+            if path not in entry_points:
                 yield layer, path
 
 
@@ -211,3 +213,32 @@ def test_every_module_has_one_name():
         if not name.startswith("softcrawl"):
             twice.append(f"{name} is not under softcrawl ({file})")
     assert not twice, "\n".join(twice)
+
+
+def _studies_unit(path: Path) -> str:
+    """A subfolder of studies/ (a feature or shared infrastructure), or a top-level module of it."""
+    parts = path.relative_to(ROOT / "studies").parts
+    return parts[0] if len(parts) > 1 else parts[0].removesuffix(".py")
+
+
+def test_no_cycle_between_studies_subfolders():
+    """Features (epsa, foot, robot_fe, crawl, material) sit on the shared infrastructure (sweeps,
+    plots, html, outcome) and under the review and the commands: imports flow one way."""
+    graph: dict[str, set[str]] = {}
+    for path in sorted((ROOT / "studies").rglob("*.py")):
+        me = _studies_unit(path)
+        for name, _ in _imports(path):
+            parts = name.split(".")
+            if parts[:2] == ["softcrawl", "studies"] and len(parts) > 2 and parts[2] != me:
+                graph.setdefault(me, set()).add(parts[2])
+    cycles = []
+    for start in sorted(graph):
+        stack = [(start, [start])]
+        while stack:
+            node, trail = stack.pop()
+            for dep in sorted(graph.get(node, ())):
+                if dep == start:
+                    cycles.append(" -> ".join([*trail, dep]))
+                elif dep not in trail:
+                    stack.append((dep, [*trail, dep]))
+    assert not cycles, "\n".join(sorted(set(cycles)))

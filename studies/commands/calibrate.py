@@ -35,9 +35,9 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from softcrawl.studies.catalogue.calibration import calibrate_mu
     from softcrawl.studies.commands.options import body_material, make_folder, output_folder
-    from softcrawl.studies.plots.calibration import plot_calibration
+    from softcrawl.studies.material.calibration import calibrate_mu
+    from softcrawl.studies.material.plot_calibration import plot_calibration
 
     body_material(args.material)
     out = output_folder(args.out)

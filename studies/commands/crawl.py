@@ -22,7 +22,7 @@ Prints per cycle the stride (advance of the centre) and speed = stride / cycle t
 paper's Table 2 speed for that diameter and the analytic `analytic.loads.crawl_speed`; writes
 states.csv, cycles.csv, summary.json, vtu/ (crawl.pvd with the pipe in pipe.vtu) and crawl.png;
 with --gif also crawl.gif (--animation: at PATH), the deformed feet in the pipe, one frame per
-state, drawn from vtu/ off screen (`studies.plots.crawl_animation`; GIF only: MP4 needs ffmpeg).
+state, drawn from vtu/ off screen (`studies.crawl.animation`; GIF only: MP4 needs ffmpeg).
 Exit code 1 when a stage diverges (the outputs then end at the last converged state).
 """
 
@@ -31,9 +31,9 @@ from __future__ import annotations
 import argparse
 
 from softcrawl.geometry.foot_meshers import FOOT_MESHERS
-from softcrawl.studies.catalogue.contact_studies import FOOT_FRICTION
-from softcrawl.studies.parts.crawl_mesh import QUICK_SECTORS
-from softcrawl.studies.parts.crawl_schedule import GAITS
+from softcrawl.studies.crawl.mesh import QUICK_SECTORS
+from softcrawl.studies.crawl.schedule import GAITS
+from softcrawl.studies.foot.contact_studies import FOOT_FRICTION
 
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
 
@@ -94,9 +94,9 @@ def run(args) -> int:
     from pathlib import Path
 
     from softcrawl.studies.commands.options import output_folder
-    from softcrawl.studies.parts.crawl_files import run_and_write
-    from softcrawl.studies.parts.crawl_model import CrawlSetup
-    from softcrawl.studies.parts.crawl_schedule import preset, read_csv
+    from softcrawl.studies.crawl.files import run_and_write
+    from softcrawl.studies.crawl.model import CrawlSetup
+    from softcrawl.studies.crawl.schedule import preset, read_csv
 
     mesh = mesh_settings(args)  # before any folder is made
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
@@ -156,7 +156,7 @@ def animation_path(args, out):
 def write_animation(out, path) -> None:
     """The GIF from out/vtu; a rendering failure (no off-screen OpenGL) costs the GIF, not the crawl."""
     from softcrawl.studies.commands.options import make_folder
-    from softcrawl.studies.plots.crawl_animation import write_crawl_gif
+    from softcrawl.studies.crawl.animation import write_crawl_gif
 
     make_folder(path.parent, "animation")
     try:

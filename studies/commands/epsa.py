@@ -22,7 +22,7 @@ from softcrawl import jsonio
 
 def register(subparsers) -> None:
     from softcrawl.studies.commands.options import add_number
-    from softcrawl.studies.parts.epsa_model import (
+    from softcrawl.studies.epsa.model import (
         DEFAULT_FIBERS,
         FIBER_MODELS,
         MAX_SIDE_LOAD_N,
@@ -131,9 +131,9 @@ def run(args) -> int:
         parse_pressures,
         parse_sizes,
     )
-    from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS, check_end_conditions, resolve_mesh
-    from softcrawl.studies.parts.epsa_response import simulate_epsa
-    from softcrawl.studies.plots.epsa_run import plot_epsa
+    from softcrawl.studies.epsa.model import DEFAULT_FIBERS, check_end_conditions, resolve_mesh
+    from softcrawl.studies.epsa.plot_run import plot_epsa
+    from softcrawl.studies.epsa.response import simulate_epsa
     from softcrawl.studies.sweeps.tables import write_csv
 
     # every input is checked before the output folder is made and any mesh is built
@@ -192,7 +192,7 @@ def run(args) -> int:
         print(f"  wrote {len(files)} VTU states from 0 kPa on: {out / 'vtu' / 'step.pvd'}", flush=True)
     plot_epsa(out / "epsa.png", curve, solved.model, solved.path, side_load_n=args.side_load)
     if args.render:
-        from softcrawl.studies.plots.epsa_renders import render_path
+        from softcrawl.studies.epsa.plot_renders import render_path
 
         for path in render_path(out, design, solved, args.material):
             print(f"  wrote {path}", flush=True)
@@ -216,7 +216,7 @@ def run(args) -> int:
 
 def run_convergence(args, design, pressures, sizes, out) -> int:
     from softcrawl.studies.commands.options import make_folder
-    from softcrawl.studies.parts.epsa_convergence import convergence_table, mesh_convergence
+    from softcrawl.studies.epsa.convergence import convergence_table, mesh_convergence
     from softcrawl.studies.sweeps.tables import write_csv
 
     rows = mesh_convergence(

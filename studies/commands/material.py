@@ -150,7 +150,7 @@ def _fit_record(data, fit) -> dict:
 def _run_fit(args: argparse.Namespace) -> int:
     from softcrawl import jsonio, materials
     from softcrawl.studies.commands.options import make_folder, output_folder
-    from softcrawl.studies.plots.material_fit import plot_fit
+    from softcrawl.studies.material.plot_fit import plot_fit
 
     if args.out is not None:
         output_folder(args.out)  # before the fit: a bad folder is reported first

@@ -29,8 +29,8 @@ def _rows(path: Path) -> list[dict]:
 
 def redraw_folder(folder: Path) -> list[Path]:
     """Redraw the figures of one study folder; returns what it wrote ([] if not a study folder)."""
-    from softcrawl.studies.catalogue.actuator_studies import GRIDS, draw_study_figure
-    from softcrawl.studies.catalogue.fe_identification import draw_identification, draw_identify_curves
+    from softcrawl.studies.epsa.grid_studies import GRIDS, draw_study_figure
+    from softcrawl.studies.epsa.identification import draw_identification, draw_identify_curves
 
     spec_path = folder / "spec.json"
     if not spec_path.exists():
@@ -53,7 +53,7 @@ def redraw_folder(folder: Path) -> list[Path]:
             )
         ]
     if name == "optimise-actuator" and (folder / "trials.csv").exists():
-        from softcrawl.studies.catalogue.optimise_actuator import draw_pareto
+        from softcrawl.studies.epsa.optimiser import draw_pareto
 
         return [draw_pareto(settings, _rows(folder / "trials.csv"), folder)]
     return []

@@ -3,7 +3,7 @@
     softcrawl robot --pressures P1,P2,P3 [--first P1,P2,P3] [--steps N] [--mesh quick|default|fine]
                     [--material M] [--rings N] [--d MM] [--gravity] [--out DIR]
 
-The tied assembly of `studies.parts.robot_model` (rear foot hub clamped) follows the pressures
+The tied assembly of `studies.robot_fe.model` (rear foot hub clamped) follows the pressures
 (kPa) from zero: in --steps proportional steps to --pressures, or first to --first and then to
 --pressures (a sequential path: --first 0,40,60 --pressures 100,40,60 is the paper's Fig. 11
 load case). --gravity adds the weight, acting along -y (the robot lying in a horizontal pipe).
@@ -24,7 +24,7 @@ from softcrawl.errors import InputError
 def register(subparsers) -> None:
     from softcrawl.geometry.robot_mesh import MESH_PRESETS
     from softcrawl.studies.commands.options import add_number
-    from softcrawl.studies.parts.robot_model import DEFAULT_MATERIAL
+    from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL
 
     p = subparsers.add_parser(
         "robot",
@@ -84,8 +84,8 @@ def targets_kpa(pressures, first, steps: int) -> list[tuple[float, float, float]
 def run(args) -> int:
     from softcrawl.geometry.design import RobotDesign
     from softcrawl.studies.commands.options import body_material, output_folder
-    from softcrawl.studies.parts.robot_model import build_robot_model
-    from softcrawl.studies.parts.robot_response import simulate_robot
+    from softcrawl.studies.robot_fe.model import build_robot_model
+    from softcrawl.studies.robot_fe.response import simulate_robot
 
     pressures = _triple(args.pressures, "pressures")
     first = _triple(args.first, "first") if args.first else None
@@ -117,7 +117,7 @@ def run(args) -> int:
 def write_outputs(robot, run_, folder: Path) -> None:
     """states.csv, vtu/robot.pvd (one VTU per converged state) and robot.png (the last state)."""
     from softcrawl.fem.vtu import write_pvd, write_state
-    from softcrawl.studies.plots.robot import render_robot
+    from softcrawl.studies.robot_fe.plots import render_robot
     from softcrawl.studies.sweeps.tables import write_csv
 
     write_csv([s.row() | {"material": run_.material} for s in run_.states], folder / "states.csv")

@@ -15,30 +15,30 @@
     softcrawl study kp-mismatch       --out DIR
 
 paper-material: which material (Neo-Hookean, Yeoh, Gent; every shape and shear modulus) reproduces
-the paper's own FE observations of Figs. 8-9; no FE (studies/catalogue/paper_material.py).
+the paper's own FE observations of Figs. 8-9; no FE (studies/material/paper_material.py).
 kp-mismatch: the identify studies under DIR against the confined and unconfined tube stiffness
-(studies/catalogue/kp_mismatch.py), DIR/identify/kp-mismatch.md.
+(studies/epsa/kp_mismatch.py), DIR/identify/kp-mismatch.md.
 
 rings (Fig. 11(c)), foot-radius (Section V-C) and workspace (Fig. 11(d)) are the robot-level
-studies on the tied assembly (studies.catalogue.robot_studies, robot_workspace); they write to
+studies on the tied assembly (studies.robot_fe.robot_studies, robot_workspace); they write to
 DIR/robot-NAME/MATERIAL[-quick]/ and decide their Table 1 rows by the rules of
-studies.review.robot_rules.
+studies.robot_fe.rules.
 
 chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm, N =
 0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1 ePSA under
 weights W = 0, 0.5, 1 N on its guided top at 10-100 kPa; k_p(P) and f_p(P) fitted as the paper does
-and compared with eqs. 19-24 (studies/catalogue/fe_identification.py).
+and compared with eqs. 19-24 (studies/epsa/identification.py).
 optimise-actuator: the paper's selection as a
 constrained problem (optuna TPE or NSGA-II with trial constraints): the least Kevlar thread over r in
 {2..6} mm and N in 0..50 that withstands 100 kPa, keeps |dR| within 5 % of R0 and extends within the N
-rule's tolerance of the N = 50 design of its radius (studies/catalogue/optimise_actuator.py). The
+rule's tolerance of the N = 50 design of its radius (studies/epsa/optimiser.py). The
 Table 1 design (r = 3, N = 20) is evaluated first and marked.
 
 crawl (issue 17): stride and anchoring of the FE crawl (two feet, the ePSAs' axial law) over pipe
-diameter and friction coefficient (studies/catalogue/crawl_study.py), DIR/crawl/rubber-70a[-quick]/.
+diameter and friction coefficient (studies/crawl/crawl_study.py), DIR/crawl/rubber-70a[-quick]/.
 
 groove (Fig. 10(a)) and foot (Fig. 10(b)): contact with the pipe wall, Coulomb friction; see
-studies/catalogue/contact_studies.py for the grids and the stated friction coefficients.
+studies/foot/contact_studies.py for the grids and the stated friction coefficients.
 
 Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick, -hSIZE with --mesh-size): curves.csv
 (every grid point and pressure, with trial and row status and the failure reason), summary.csv (one
@@ -53,16 +53,16 @@ from __future__ import annotations
 import argparse
 import sys
 
-from softcrawl.studies.catalogue.actuator_studies import DEFAULT_MATERIAL, GRIDS
-from softcrawl.studies.catalogue.optimise_actuator import DEFAULT_TRIALS, QUICK_TRIALS
-from softcrawl.studies.catalogue.optimise_actuator import NAME as OPTIMISER
+from softcrawl.studies.epsa.grid_studies import DEFAULT_MATERIAL, GRIDS
+from softcrawl.studies.epsa.optimiser import DEFAULT_TRIALS, QUICK_TRIALS
+from softcrawl.studies.epsa.optimiser import NAME as OPTIMISER
 
 PAPER_MATERIAL = "paper-material"
 KP_MISMATCH = "kp-mismatch"
-CONTACT_STUDIES = ("groove", "foot")  # studies.catalogue.contact_studies
-#: The robot-level studies (studies.catalogue.robot_studies, robot_workspace).
+CONTACT_STUDIES = ("groove", "foot")  # studies.foot.contact_studies
+#: The robot-level studies (studies.robot_fe.robot_studies, robot_workspace).
 ROBOT_STUDIES = ("rings", "foot-radius", "workspace")
-CRAWL = "crawl"  # studies.catalogue.crawl_study
+CRAWL = "crawl"  # studies.crawl.crawl_study
 STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH, *CONTACT_STUDIES, *ROBOT_STUDIES, CRAWL)
 
 
@@ -77,7 +77,7 @@ MAX_SEED = 2**32 - 1
 
 
 def register(subparsers) -> None:
-    from softcrawl.studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
+    from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL as ROBOT_MATERIAL
 
     parser = subparsers.add_parser(
         "study",
@@ -111,8 +111,8 @@ def register(subparsers) -> None:
         "--simulator",
         default=None,
         metavar="MODULE:FUNCTION",
-        help="replace studies.parts.epsa_response:simulate_epsa (same signature), e.g. a "
-        "surrogate or a test fake; for rings and foot-radius, studies.catalogue.robot_studies:run_cases",
+        help="replace studies.epsa.response:simulate_epsa (same signature), e.g. a "
+        "surrogate or a test fake; for rings and foot-radius, studies.robot_fe.robot_studies:run_cases",
     )
     parser.add_argument(
         "--retry-failed",
@@ -127,7 +127,7 @@ def register(subparsers) -> None:
 def _add_run_options(parser) -> None:
     """Workers, mesh, winding and the optimiser's options."""
     from softcrawl.studies.commands.options import add_number
-    from softcrawl.studies.parts.epsa_model import DEFAULT_FIBERS, FIBER_MODELS, MIN_MESH_SIZE
+    from softcrawl.studies.epsa.model import DEFAULT_FIBERS, FIBER_MODELS, MIN_MESH_SIZE
 
     add_number(
         parser,
@@ -184,11 +184,11 @@ def _check(args) -> None:
     sweep in which every point fails."""
     from softcrawl.geometry.design import EPSADesign
     from softcrawl.studies.commands.options import body_material, output_folder
-    from softcrawl.studies.parts.epsa_model import resolve_mesh
+    from softcrawl.studies.epsa.model import resolve_mesh
     from softcrawl.studies.sweeps.spec import StudyError
 
     if args.material is None:
-        from softcrawl.studies.parts.robot_model import DEFAULT_MATERIAL as ROBOT_MATERIAL
+        from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL as ROBOT_MATERIAL
 
         feet = (*CONTACT_STUDIES, CRAWL)
         defaults = dict.fromkeys(feet, "rubber-70a") | dict.fromkeys(ROBOT_STUDIES, ROBOT_MATERIAL)
@@ -235,13 +235,13 @@ def run(args: argparse.Namespace) -> int:
     from softcrawl.studies.sweeps.faults import SweepStopped, machine_fault
 
     _check(args)
-    if args.name == KP_MISMATCH:  # reads the identify studies under --out (studies.catalogue.kp_mismatch)
-        from softcrawl.studies.catalogue.kp_mismatch import write_report
+    if args.name == KP_MISMATCH:  # reads the identify studies under --out (studies.epsa.kp_mismatch)
+        from softcrawl.studies.epsa.kp_mismatch import write_report
 
         print("wrote " + ", ".join(map(str, write_report(args.out))))
         return 0
-    if args.name == PAPER_MATERIAL:  # no FE: the closed-end tube theory (studies.catalogue.paper_material)
-        from softcrawl.studies.catalogue.paper_material import run_paper_material
+    if args.name == PAPER_MATERIAL:  # no FE: the closed-end tube theory (studies.material.paper_material)
+        from softcrawl.studies.material.paper_material import run_paper_material
 
         lines, written = run_paper_material(args.out)
         print("\n".join(lines))
@@ -270,15 +270,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_study(args):
-    """The study's outcome (`studies.catalogue.outcome.StudyOutcome`)."""
-    from softcrawl.studies.catalogue.actuator_studies import run_sweep_study, study_settings
-    from softcrawl.studies.catalogue.optimise_actuator import run_optimiser
+    """The study's outcome (`studies.outcome.StudyOutcome`)."""
+    from softcrawl.studies.epsa.grid_studies import run_sweep_study, study_settings
+    from softcrawl.studies.epsa.optimiser import run_optimiser
 
     progress = not args.no_progress
     if args.name in ROBOT_STUDIES:
         return _run_robot_study(args, progress)
     if args.name == CRAWL:
-        from softcrawl.studies.catalogue.crawl_study import run_crawl_study
+        from softcrawl.studies.crawl.crawl_study import run_crawl_study
 
         return run_crawl_study(
             args.out,
@@ -289,7 +289,7 @@ def _run_study(args):
             retry=args.retry_failed,
         )
     if args.name in CONTACT_STUDIES:
-        from softcrawl.studies.catalogue.contact_runs import run_contact_study
+        from softcrawl.studies.foot.runs import run_contact_study
 
         return run_contact_study(
             args.name,
@@ -327,13 +327,13 @@ def _run_study(args):
 
 
 def _run_robot_study(args, progress: bool):
-    """rings and foot-radius (sweeps, studies.catalogue.robot_studies) and workspace
-    (studies.catalogue.robot_workspace)."""
+    """rings and foot-radius (sweeps, studies.robot_fe.robot_studies) and workspace
+    (studies.robot_fe.workspace)."""
     if args.name == "workspace":
-        from softcrawl.studies.catalogue.robot_workspace import run_workspace
+        from softcrawl.studies.robot_fe.workspace import run_workspace
 
         return run_workspace(args.out, args.material, args.quick, print if progress else None)
-    from softcrawl.studies.catalogue.robot_studies import run_robot_study
+    from softcrawl.studies.robot_fe.robot_studies import run_robot_study
 
     return run_robot_study(
         args.name, args.out, args.material, args.quick, workers=args.workers, progress=progress,

@@ -3,7 +3,7 @@
     softcrawl table1 --out DIR [--results DIR] [--material M ...]
 
 Reads DIR/chamber-radius/<material>/curves.csv and DIR/fiber-turns/<material>/curves.csv (written by
-`softcrawl study`), applies the rules of studies/review/rules.py and writes DIR/table1.md: one section per
+`softcrawl study`), applies the rules of studies/epsa/rules.py and writes DIR/table1.md: one section per
 material (every material found, or those given with --material), one row per Table 1 parameter
 (paper value, our value, rule, material, agreement and why). The foot and ring rows are pending.
 """

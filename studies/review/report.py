@@ -2,7 +2,7 @@
 
 It computes no finite-element solution: it reads the study tables, figures, calibration, renders
 and the verification table under results/, fits the shipped tensile data (a second), and writes
-DIR/index.html (`studies.review.html` says how it stays self-contained). A section whose results
+DIR/index.html (`studies.html` says how it stays self-contained). A section whose results
 are missing says which command makes them.
 
 The first section answers the reviewer's three questions from the tables alone:
@@ -22,9 +22,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-from softcrawl.studies.review import report_robot as R
+from softcrawl.studies.html import page
 from softcrawl.studies.review import report_sections as S
-from softcrawl.studies.review.html import page
+from softcrawl.studies.robot_fe import report as R
 
 #: The Table 1 actuator: r0 = 3 mm, N = 20 (the fiber-turns study's design of the paper).
 TABLE1_TURNS = 20.0

@@ -8,7 +8,7 @@ import math
 import re
 from pathlib import Path
 
-from softcrawl.studies.review.html import csv_rows, esc, figure, markdown, missing, table
+from softcrawl.studies.html import csv_rows, esc, figure, markdown, missing, table
 
 STUDY_COMMAND = 'softcrawl study {name} --workers 2 --material "{material}" --out results/'
 CALIBRATE = "softcrawl calibrate --full-mesh --out results/calibration"
@@ -241,7 +241,7 @@ def material(results: Path) -> str:
     import tempfile
 
     from softcrawl import materials
-    from softcrawl.studies.plots.material_fit import plot_fit
+    from softcrawl.studies.material.plot_fit import plot_fit
 
     data = materials.load_tensile("ecoflex-00-50")
     fit = materials.fit_tensile(data, "neo-hookean")

@@ -16,7 +16,7 @@ import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from softcrawl.studies.review import rules
+from softcrawl.studies.epsa import rules
 
 PAPER = {"chamber_radius": 3.0, "fiber_turns": 20.0}
 #: "The ePSA length with an air chamber radius of r = 4 mm or r = 2 mm fluctuates" (Section V-A).

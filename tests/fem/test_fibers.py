@@ -10,8 +10,8 @@ from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import load_path
 from softcrawl.fem.structured import box
 from softcrawl.geometry.design import EPSADesign
-from softcrawl.studies.parts.epsa_model import MeshSettings
-from softcrawl.studies.parts.epsa_response import simulate_epsa
+from softcrawl.studies.epsa.model import MeshSettings
+from softcrawl.studies.epsa.response import simulate_epsa
 
 MU = 0.03
 

@@ -125,8 +125,8 @@ def test_unknown_tag_and_normal_direction_are_named_errors():
 def test_dense_helix_sheet_suppresses_radial_expansion_and_extends_more():
     """The 40 mm actuator of test_fem_fibers with a 40-turn winding, smeared: no bulging between
     strands, so the radial expansion is a small fraction of the bare tube's (under 2 %)."""
-    from softcrawl.studies.parts.epsa_model import MeshSettings
-    from softcrawl.studies.parts.epsa_response import simulate_epsa
+    from softcrawl.studies.epsa.model import MeshSettings
+    from softcrawl.studies.epsa.response import simulate_epsa
 
     short = dict(length=40.0, end_cap_thickness=4.0, seal_head_thickness=2.0)
     kw = dict(
@@ -150,7 +150,7 @@ def test_table1_epsa_with_tensile_modulus_runs_to_100_kpa_on_the_default_mesh():
     fit mu = 0.03 MPa, smeared winding) with a 1e-4 N sideways probe on its free top reaches
     100 kPa, its length grows with every step and it does not bend over (the tip stays within
     the 5 % sway limit). Measured: 290.7 mm at 100 kPa, tip 1.4 mm off the axis."""
-    from softcrawl.studies.parts.epsa_response import SWAY_WARNING, simulate_epsa
+    from softcrawl.studies.epsa.response import SWAY_WARNING, simulate_epsa
 
     curve = simulate_epsa(EPSADesign(), pressures_kpa=tuple(range(10, 101, 10)), side_load_n=1e-4)
     assert curve.converged, curve.message

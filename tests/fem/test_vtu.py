@@ -12,7 +12,7 @@ import pytest
 
 from softcrawl.fem.vtu import SKFEM_TET_EDGES, VTK_TET10_EDGES, write_path
 from softcrawl.geometry.design import EPSADesign
-from softcrawl.studies.parts.epsa_response import simulate_epsa
+from softcrawl.studies.epsa.response import simulate_epsa
 
 pv = pytest.importorskip("pyvista")
 

@@ -12,12 +12,12 @@ from pathlib import Path
 
 from softcrawl.files import atomic_path
 from softcrawl.geometry.design import DesignError
-from softcrawl.studies.parts.epsa_response import CurveRow
+from softcrawl.studies.epsa.response import CurveRow
 
 
 @dataclass(frozen=True)
 class ActuatorCurve:
-    """The fields of `studies.parts.epsa_response.ActuatorCurve` that the runner reads (no mesh,
+    """The fields of `studies.epsa.response.ActuatorCurve` that the runner reads (no mesh,
     no design)."""
 
     rows: tuple
@@ -232,7 +232,7 @@ def invalid_simulate(design, **kwargs):
 
 
 def fake_robot_cases(design, material, mesh, cases):
-    """A stand-in for `studies.catalogue.robot_studies.run_cases` (no FE): theta falls with the
+    """A stand-in for `studies.robot_fe.robot_studies.run_cases` (no FE): theta falls with the
     ring count and with d, splay falls with the ring count, as the rules expect."""
     n, d = design.n_rings, design.d
     rows = []

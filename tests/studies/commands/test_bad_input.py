@@ -414,7 +414,7 @@ def _api_calls():
     from softcrawl.analytic.pipe import Pipe
     from softcrawl.analytic.planner import plan
     from softcrawl.geometry.design import EPSADesign
-    from softcrawl.studies.parts.epsa_model import MeshSettings, resolve_mesh
+    from softcrawl.studies.epsa.model import MeshSettings, resolve_mesh
 
     huge = 10**400
     return [

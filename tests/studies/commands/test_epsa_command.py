@@ -114,7 +114,7 @@ def test_verify_command_writes_json(tmp_path):
 def test_mesh_presets_are_points_of_the_size_family():
     """The convergence study over sizes contains the presets: quick = h 10 mm, default = h 5 mm."""
     from softcrawl.geometry.design import EPSADesign
-    from softcrawl.studies.parts.epsa_model import MESH_PRESETS, MeshSettings
+    from softcrawl.studies.epsa.model import MESH_PRESETS, MeshSettings
 
     d = EPSADesign()
     assert MeshSettings.from_size(10.0, d) == MESH_PRESETS["quick"]
@@ -124,7 +124,7 @@ def test_mesh_presets_are_points_of_the_size_family():
 
 
 def test_sway_of_the_free_end_is_reported():
-    from softcrawl.studies.parts.epsa_response import CurveRow, _sway_events
+    from softcrawl.studies.epsa.response import CurveRow, _sway_events
 
     def row(p, length, sway, status="converged"):
         return CurveRow(p, length, 9.0, 1.0, 1.0, 0.0, status, float("nan"), sway)
@@ -138,7 +138,7 @@ def test_sway_of_the_free_end_is_reported():
 
 def test_guided_top_stays_on_the_axis():
     from softcrawl.geometry.design import EPSADesign
-    from softcrawl.studies.parts.epsa_response import simulate_epsa
+    from softcrawl.studies.epsa.response import simulate_epsa
 
     free = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), fibers="lines")
     guided = simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), guided=True, fibers="lines")
@@ -158,7 +158,7 @@ def test_side_load_probe_moves_the_free_top_and_is_checked():
     import pytest
 
     from softcrawl.geometry.design import DesignError, EPSADesign
-    from softcrawl.studies.parts.epsa_response import simulate_epsa
+    from softcrawl.studies.epsa.response import simulate_epsa
 
     sway = [
         simulate_epsa(EPSADesign(), quick=True, pressures_kpa=(20.0,), side_load_n=f).rows[-1].tip_lateral_mm

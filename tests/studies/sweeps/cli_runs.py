@@ -9,7 +9,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
-from softcrawl.studies.catalogue.actuator_studies import study_folder, study_settings, sweep_spec
+from softcrawl.studies.epsa.grid_studies import study_folder, study_settings, sweep_spec
 from softcrawl.studies.sweeps.spec import point_key
 from softcrawl.studies.sweeps.worker import open_sweep
 

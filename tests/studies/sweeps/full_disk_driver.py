@@ -26,7 +26,7 @@ def main() -> None:
     running = [t.number for t in _trials(out) if t.state.name == "RUNNING"]
     filler.unlink()  # space freed
     os.environ.update(env)
-    from softcrawl.studies.catalogue.epsa_evaluator import EPSA_TABLE
+    from softcrawl.studies.epsa.evaluator import EPSA_TABLE
     from softcrawl.studies.sweeps.sweep import run_sweep
 
     t0 = time.monotonic()

@@ -18,7 +18,7 @@ import pytest
 
 pytest.importorskip("optuna")
 
-from softcrawl.studies.catalogue.epsa_evaluator import EPSA_TABLE
+from softcrawl.studies.epsa.evaluator import EPSA_TABLE
 from softcrawl.studies.sweeps.sweep import run_sweep
 from tests.studies.sweeps.cli_runs import (
     completed_once,

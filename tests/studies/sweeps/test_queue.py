@@ -9,7 +9,7 @@ import warnings
 import optuna
 import pytest
 
-from softcrawl.studies.catalogue.epsa_evaluator import EPSA_EVALUATOR, EPSA_TABLE
+from softcrawl.studies.epsa.evaluator import EPSA_EVALUATOR, EPSA_TABLE
 from softcrawl.studies.sweeps import queue, worker
 from softcrawl.studies.sweeps.spec import SweepSpec, point_key
 from softcrawl.studies.sweeps.storage import worker_presence

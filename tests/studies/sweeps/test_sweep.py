@@ -13,7 +13,7 @@ import pytest
 optuna = pytest.importorskip("optuna")
 from optuna.trial import TrialState  # noqa: E402
 
-from softcrawl.studies.catalogue.epsa_evaluator import EPSA_EVALUATOR, EPSA_TABLE  # noqa: E402
+from softcrawl.studies.epsa.evaluator import EPSA_EVALUATOR, EPSA_TABLE  # noqa: E402
 from softcrawl.studies.sweeps.spec import SweepSpec, point_key  # noqa: E402
 from softcrawl.studies.sweeps.sweep import run_sweep  # noqa: E402
 from softcrawl.studies.sweeps.tables import collect  # noqa: E402

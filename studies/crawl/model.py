@@ -1,0 +1,266 @@
+r"""The crawl in FE: two grooved feet in a rigid pipe, coupled by the three ePSAs' axial law.
+
+Model (docs/DESIGN.md section 13). Both feet are the `geometry.foot` mesh (P2-P1, Shore 70A),
+placed as on the robot (`studies.crawl.mesh`), each skirt in frictional contact with one
+rigid `CylinderWall` on the pipe axis through two terms per foot (smooth front face + rim with
+mu_smooth, grooved back face with mu_grooved, as in `studies.foot.model`). Neither foot is
+clamped. The hub face each foot's actuators act on is a rigid plate: its nodes share one axial
+displacement (`fem.equal_displacement.EqualDisplacement`) and its lateral displacements are held
+at 0 (the robot's axis stays on the pipe axis: the stiff ePSA bundle and rings are not modelled,
+and this also removes the lateral and twist rigid modes, which only friction would hold). Between
+the two plates acts the actuators' axial law F(P, Delta) (`studies.crawl.schedule`) as a
+`fem.axial_link.AxialLink` whose stiffness and preload follow the pressure schedule.
+
+Ground springs. One `AxialLink` to the ground on each plate: stiff (GROUND_HOLD) while the wall
+shrinks frictionless (axial position otherwise undetermined), then, once friction is on, re-based
+at the inserted position and softened to GROUND_SOFT, so that the axial rigid mode is held by
+friction alone; their forces are reported (and compared with the friction forces).
+
+Stages: insert (the wall shrinks from clear of the tip to the pipe radius, frictionless), friction
+(coefficients on), a ramp to the schedule's start pressures when they are not zero, then each
+cycle of the schedule, segment by segment (`steps` sub-steps per segment at least; run_stages
+refines a hard one). Every converged state is recorded (`studies.crawl.outputs`).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from softcrawl.fem.axial_link import AxialLink
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.equal_displacement import EqualDisplacement
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.studies.crawl.mesh import FEET, attach_tag
+from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
+from softcrawl.studies.crawl.schedule import AxialLaw, Schedule
+from softcrawl.studies.foot.model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING
+
+#: Halvings of a sub-step before a stage is given up: the unloading of a skirt reverses slip
+#: over part of its contact (points flip between stick and slip), which needs sub-steps down to
+#: 1/256 of a schedule segment (4 halvings, the foot study's, stopped at 56 kPa on the way down).
+MAX_CUTBACKS = 8
+
+#: Relative residual at which a stalled Newton iteration is accepted (`fem.newton`, "Stalled
+#: residuals"). On the revolved feet (164k DOFs) the retraction's first sub-steps settle at
+#: 5e-8 against the 1e-8 target: points on the normal law's kink flip between contact and no
+#: contact. 1e-6 of the force scale is far below the forces reported (the momentum balance of
+#: every state, printed, shows the axial imbalance that remains).
+STALL_TOL = 1.0e-6
+CRAWL_NEWTON = replace(FOOT_NEWTON, stall_tol=STALL_TOL)
+
+GROUND_HOLD = 1.0e3  # N/mm: holds the plates during the frictionless insertion
+GROUND_SOFT = 1.0e-4  # N/mm: after friction is on (<< the skirts' axial stiffness, ~10 N/mm)
+FACES = (("smooth", ("front", "rim")), ("grooved", ("back",)))
+
+
+@dataclass(frozen=True)
+class CrawlSetup:
+    pipe_diameter: float = 70.0
+    mu_smooth: float = 0.5
+    mu_grooved: float = 0.5
+    feet: str = "paper"  # "paper" (both lean back), "backward" (both lean forward), "symmetric"
+    insert_steps: int = 8
+    steps: int = 4  # sub-steps per schedule segment
+    cycles: int = 1
+    max_wall_s: float | None = None  # give the schedule up after this wall time (None: no limit)
+    mesher: str = "revolved"  # the feet's mesher (geometry.foot_meshers.FOOT_MESHERS)
+    sectors: int | None = None  # revolved: sectors around the axis (None: 48)
+    thickness_layers: int | None = None  # revolved: cells through the skirt (None: 3)
+    edge_length: float | None = None  # tetwild: foot mesh edge (mm; None: the pytetwild default)
+
+    def mesh_options(self) -> dict:
+        """The keyword arguments of `studies.crawl.mesh.crawl_mesh` for this setup."""
+        return {
+            "mesher": self.mesher,
+            "sectors": self.sectors,
+            "thickness_layers": self.thickness_layers,
+            "edge_length": self.edge_length,
+        }
+
+    @property
+    def mirrored(self) -> tuple[bool, bool]:
+        return {"paper": (False, False), "backward": (True, True), "symmetric": (False, True)}[self.feet]
+
+
+@dataclass
+class CrawlModel:
+    model: SolidModel
+    law: AxialLaw
+    setup: CrawlSetup
+    tip_radius: float
+    terms: dict = field(default_factory=dict)  # "actuator", "ground_rear", "ground_front" -> term
+
+    def contacts_of(self, foot: str) -> list:
+        return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
+
+
+def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None = None) -> CrawlModel:
+    """The two-feet model on `mesh` (skfem MeshTet2 of `crawl_mesh.two_feet`), wall clear of the tips."""
+    law = law or AxialLaw()
+    youngs = 9.0 * material.bulk * material.mu / (3.0 * material.bulk + material.mu)
+    size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
+    eps = 10.0 * youngs / size  # as the foot study
+    wall = CylinderWall(foot_design.tip_radius + 0.5)
+    contacts = [
+        ContactSpec(
+            tuple(f"{foot}:{t}" for t in tags),
+            wall,
+            penalty=eps,
+            name=f"{foot}:{face}",
+            smoothing=SMOOTHING,  # the foot study's contact law
+            slip_band=SLIP_BAND,
+        )
+        for foot in FEET
+        for face, tags in FACES
+    ]
+    rear, front = (attach_tag(f, m) for f, m in zip(FEET, setup.mirrored))
+    k0, _ = law.stiffness_preload((0.0, 0.0, 0.0))
+    terms = [
+        AxialLink(front, rear, 2, k0, 0.0, name="actuator"),
+        AxialLink(rear, None, 2, GROUND_HOLD, name="ground_rear"),
+        AxialLink(front, None, 2, GROUND_HOLD, name="ground_front"),
+        EqualDisplacement(rear, 2, 1e3 * youngs * size),
+        EqualDisplacement(front, 2, 1e3 * youngs * size),
+    ]
+    bcs = [Dirichlet(tag, (0, 1), (0.0, 0.0)) for tag in (rear, front)]
+    model = SolidModel(mesh, material, dirichlet=bcs, contacts=contacts, extra_terms=terms)
+    links = {
+        t.name: t
+        for t in model.terms
+        if getattr(t, "name", None) in ("actuator", "ground_rear", "ground_front")
+    }
+    return CrawlModel(model, law, setup, foot_design.tip_radius, links)
+
+
+class WallBudgetExceeded(Exception):
+    """Raised before a solve attempt once CrawlSetup.max_wall_s has passed (a stall in cut-backs)."""
+
+
+def _cycle_stages(
+    cm: CrawlModel, schedule: Schedule, cycle: int, steps: int, deadline: float
+) -> tuple[list, list]:
+    """One Stage per schedule segment; and per stage (t0, t1, P0, P1) for the recorder. Every
+    solve attempt calls `drive` first, so the wall-time budget is checked there: a stage that
+    grinds in cut-backs (each failed attempt up to 25 Newton iterations) stops within one attempt."""
+    actuator = cm.terms["actuator"]
+    stages, spans = [], []
+    t, P = schedule.times, schedule.pressures_kpa
+    for j in range(len(t) - 1):
+        p0, p1 = P[j].copy(), P[j + 1].copy()
+
+        def drive(s, p0=p0, p1=p1):
+            if time.perf_counter() > deadline:
+                raise WallBudgetExceeded
+            actuator.set_load(*cm.law.stiffness_preload(p0 + s * (p1 - p0)))
+
+        stages.append(Stage(f"cycle{cycle}-seg{j}", drive=drive, steps=steps))
+        base = cycle * schedule.cycle_s
+        spans.append((base + t[j], base + t[j + 1], p0, p1))
+    return stages, spans
+
+
+def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf):
+    """run_stages with the recorder on every converged sub-step, stopped (not converged) at the
+    wall-clock `deadline` (time.perf_counter() seconds)."""
+    names = [s.name for s in stages]
+
+    def on_step(step):
+        t0, t1, p0, p1 = spans[names.index(step.stage)]
+        rise = float(np.sum(p1) - np.sum(p0))
+        phase = "setup" if cycle < 0 else ("extend" if rise > 0 else "retract" if rise < 0 else "hold")
+        recorder.record(step, cycle, t0 + step.s * (t1 - t0), p0 + step.s * (p1 - p0), phase)
+
+    budget = None if not np.isfinite(deadline) else max(deadline - time.perf_counter(), 1e-6)
+    return run_stages(
+        cm.model,
+        stages,
+        x0=x0,
+        options=CRAWL_NEWTON,
+        max_cutbacks=MAX_CUTBACKS,
+        on_step=on_step,
+        max_wall_s=budget,
+        **AUGMENT,
+    )
+
+
+def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
+    """Insert, switch friction on, follow `schedule` for `setup.cycles` cycles (module docstring)."""
+    setup, model = cm.setup, cm.model
+    t0 = time.perf_counter()
+    deadline = t0 + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
+    recorder = StateRecorder(cm, on_state)
+    r0 = cm.tip_radius + 0.5
+    radius = setup.pipe_diameter / 2.0
+
+    def wall_at(s):
+        return CylinderWall(r0 + s * (radius - r0))
+
+    insert = Stage(
+        "insert", surfaces={i: wall_at for i in range(len(model.contacts))}, steps=setup.insert_steps
+    )
+    res = _run(cm, [insert], [(0.0, 0.0, np.zeros(3), np.zeros(3))], None, recorder, -1, deadline)
+    stats = [res]
+    if not res.converged:
+        return recorder.result(False, res.message, stats, time.perf_counter() - t0)
+    x = res.x
+    for name in ("ground_rear", "ground_front"):
+        g = cm.terms[name]
+        g.set_load(GROUND_SOFT, 0.0, g.extension(x))
+    mu = {
+        i: (setup.mu_smooth if c.spec.name.endswith("smooth") else setup.mu_grooved)
+        for i, c in enumerate(model.contacts)
+    }
+    res = _run(
+        cm,
+        [Stage("friction", friction=mu)],
+        [(0.0, 0.0, np.zeros(3), np.zeros(3))],
+        x,
+        recorder,
+        -1,
+        deadline,
+    )
+    stats.append(res)
+    if not res.converged:
+        return recorder.result(False, res.message, stats, time.perf_counter() - t0)
+    x = res.x
+    recorder.mark_start(x)
+    start = schedule.pressures_kpa[0]
+    if np.any(start > 0):
+        actuator = cm.terms["actuator"]
+        ramp = Stage(
+            "start",
+            drive=lambda s: actuator.set_load(*cm.law.stiffness_preload(s * start)),
+            steps=setup.steps,
+        )
+        res = _run(cm, [ramp], [(0.0, 0.0, np.zeros(3), start)], x, recorder, -1, deadline)
+        stats.append(res)
+        if not res.converged:
+            return recorder.result(False, res.message, stats, time.perf_counter() - t0)
+        x = res.x
+    for cycle in range(setup.cycles):
+        recorder.begin_cycle(cycle, x)
+        stages, spans = _cycle_stages(cm, schedule, cycle, setup.steps, deadline)
+        try:
+            res = _run(cm, stages, spans, x, recorder, cycle)
+        except WallBudgetExceeded:
+            last = recorder.states[-1]
+            message = (
+                f"cycle {cycle + 1}: stopped at the wall-time budget max_wall_s = {setup.max_wall_s:g} s "
+                f"(sub-steps shrinking in cut-backs); last converged: stage {last['stage']!r} at "
+                f"t = {last['time_s']:.4g} s, P = {last['p1_kpa']:.4g} kPa (the Newton iterations of "
+                "this cycle are not counted)"
+            )
+            return recorder.result(False, message, stats, time.perf_counter() - t0)
+        stats.append(res)
+        if not res.converged:
+            return recorder.result(
+                False, f"cycle {cycle + 1}: {res.message}", stats, time.perf_counter() - t0
+            )
+        x = res.x
+        recorder.end_cycle(cycle, x, schedule.cycle_s)
+    return recorder.result(True, f"{setup.cycles} cycle(s) reached", stats, time.perf_counter() - t0)

@@ -1,0 +1,250 @@
+"""Selection rules of Table 1 on synthetic study tables (no FE)."""
+
+from __future__ import annotations
+
+import pytest
+
+from softcrawl.studies.epsa import linearity, rules
+
+
+def _rows(
+    param,
+    value,
+    lengths,
+    radii,
+    *,
+    status="completed",
+    limit=None,
+    reason="",
+    pressures=(20, 40, 60, 80, 100),
+):
+    out = []
+    for i, p in enumerate(pressures):
+        ok = i < len(lengths)
+        out.append(
+            {
+                param: str(value),
+                "length": "100",
+                "outer_radius": "9",
+                "trial_status": status,
+                "reason": reason,
+                "limit_pressure_kpa": "" if limit is None else str(limit),
+                "pressure_kpa": str(float(p)),
+                "length_mm": str(lengths[i]) if ok else "",
+                "outer_radius_mm": str(radii[i]) if ok else "",
+                "row_status": "converged" if ok else "failed",
+            }
+        )
+    return out
+
+
+def _linear(slope, start=100.0, n=5):
+    return [start + slope * 20 * (i + 1) for i in range(n)]
+
+
+def paper_like_chamber_rows():
+    rows = []
+    rows += _rows("chamber_radius", 2, [101, 103.5, 104, 107, 107.5], _linear(0.002, 9))
+    rows += _rows("chamber_radius", 3, _linear(0.1), _linear(0.01, 9))
+    rows += _rows("chamber_radius", 4, [102, 106, 107, 112, 113], _linear(0.02, 9))
+    rows += _rows("chamber_radius", 5, _linear(0.2, n=4), _linear(0.03, 9, 4), limit=80)
+    rows += _rows(
+        "chamber_radius",
+        6,
+        _linear(0.3, n=2),
+        _linear(0.05, 9, 2),
+        status="failed",
+        reason="diverged: Newton failed at 60 kPa",
+    )
+    return rows
+
+
+def test_chamber_radius_rule_reproduces_the_paper_reasoning():
+    sel = rules.select_chamber_radius(paper_like_chamber_rows())
+    assert sel.value == 3.0 and sel.status == "selected"
+    text = "\n".join(sel.evidence)
+    assert "r = 5: does not withstand: limit point at 80 kPa" in text
+    sel = rules.select_chamber_radius(paper_like_chamber_rows(), mu=0.03)
+    assert "would withstand 100 kPa for mu >= 0.0375 MPa" in "\n".join(sel.evidence)
+    assert "r = 6: does not withstand: diverged" in text
+    assert "r = 2: withstands; fluctuating" in text and "r = 4: withstands; fluctuating" in text
+
+
+def test_chamber_radius_follows_the_data():
+    rows = [r for r in paper_like_chamber_rows() if r["chamber_radius"] != "2"]
+    rows += _rows("chamber_radius", 2, _linear(0.05), _linear(0.001, 9))  # now smooth
+    assert rules.select_chamber_radius(rows).value == 2.0
+    rows = [r for r in paper_like_chamber_rows() if r["chamber_radius"] != "3"]
+    sel = rules.select_chamber_radius(rows)
+    assert sel.value is None and sel.status == "undetermined" and "all fluctuate" in sel.reason
+    assert rules.select_chamber_radius([]).status == "undetermined"
+    rows = _rows("chamber_radius", 2, _linear(0.1, n=2), _linear(0.01, 9, 2), limit=34.1)
+    rows += _rows("chamber_radius", 3, _linear(0.1, n=1), _linear(0.01, 9, 1), limit=25.0)
+    sel = rules.select_chamber_radius(rows, mu=0.03)
+    assert sel.value is None and sel.reason == "no studied radius withstands 100 kPa"
+    assert "limit point at 25 kPa (would withstand 100 kPa for mu >= 0.12 MPa)" in sel.evidence[1]
+
+
+def fiber_rows(ext=None):
+    ext = ext or {0: 15.0, 10: 20.0, 20: 24.0, 25: 24.5, 50: 25.0}
+    rows = []
+    for n, e in ext.items():
+        rows += _rows("fiber_turns", n, _linear(e / 100), _linear(0.01 / (1 + n), 9))
+    return rows
+
+
+def test_fiber_turns_rule_and_its_dependence_on_the_data():
+    sel = rules.select_fiber_turns(fiber_rows())
+    assert sel.value == 20.0
+    assert (
+        rules.select_fiber_turns(fiber_rows({0: 15.0, 10: 23.0, 20: 24.0, 25: 24.5, 50: 25.0})).value == 10.0
+    )
+    assert (
+        rules.select_fiber_turns(fiber_rows({0: 15.0, 10: 20.0, 20: 21.0, 25: 24.5, 50: 25.0})).value == 25.0
+    )
+    # a curved response is still admissible: the rule is about extension, not an R^2 threshold
+    rows = [r for r in fiber_rows() if r["fiber_turns"] != "20"]
+    rows += _rows("fiber_turns", 20, [101, 104, 110, 116, 124], _linear(0.001, 9))
+    assert rules.select_fiber_turns(rows).value == 20.0
+    # without the most-turned design there is no reference
+    rows = [r for r in fiber_rows() if r["fiber_turns"] != "50"]
+    rows += _rows("fiber_turns", 50, [], [], status="failed", reason="diverged")
+    sel = rules.select_fiber_turns(rows)
+    assert sel.value is None and "N = 50" in sel.reason
+
+
+@pytest.mark.parametrize(
+    "lengths, expected",
+    [
+        ([102, 104, 106, 108, 110], False),  # linear
+        ([101, 103, 106, 110, 115], False),  # softening
+        ([105, 109, 112, 114, 115], False),  # stiffening
+        ([101, 103.5, 104, 107, 107.5], True),  # alternating slope
+        ([102, 104, 103, 105, 107], True),  # length drops
+    ],
+)
+def test_fluctuation_definition(lengths, expected):
+    assert _fluctuating(lengths) is expected
+
+
+def _fluctuating(lengths, pressures=None):
+    pressures = pressures or tuple(20 * (i + 1) for i in range(len(lengths)))
+    rows = _rows("chamber_radius", 3, lengths, [9.0] * len(lengths), pressures=pressures)
+    return rules.fluctuation(rules.design_curves(rows, "chamber_radius")[3.0])[0]
+
+
+# ---- boundary tests: exactly at, just below and just above every named threshold (issue 19) ----
+
+
+@pytest.mark.parametrize(
+    "lengths, changes",
+    [
+        ([101, 103, 106, 108, 110], 1),  # increments 1, 2, 3, 2, 2: one trend change
+        ([101, 103, 104, 107, 110], 2),  # 1, 2, 1, 3, 3: exactly FLUCTUATION_SIGN_CHANGES
+        ([101, 103, 104, 107, 108, 111], 3),  # 1, 2, 1, 3, 1, 3: three
+    ],
+)
+def test_trend_changes_boundary(lengths, changes):
+    """Fluctuating iff the trend changes at least FLUCTUATION_SIGN_CHANGES (= 2) times; the
+    threshold moved by one each way moves the verdict of the curve sitting on it."""
+    assert rules.FLUCTUATION_SIGN_CHANGES == 2
+    assert _fluctuating(lengths) is (changes >= 2)
+
+
+def test_trend_changes_threshold_is_inclusive(monkeypatch):
+    on_boundary = [101, 103, 104, 107, 110]  # exactly 2 changes
+    monkeypatch.setattr(rules, "FLUCTUATION_SIGN_CHANGES", 3)
+    assert _fluctuating(on_boundary) is False
+    monkeypatch.setattr(rules, "FLUCTUATION_SIGN_CHANGES", 2)
+    assert _fluctuating(on_boundary) is True
+
+
+@pytest.mark.parametrize("step, expected", [(0.2499, False), (0.25, False), (0.2501, True)])
+def test_fluctuation_tolerance_boundary(monkeypatch, step, expected):
+    """Increments 4, 4 - s, 4, 4 - s, 4 alternate by s; with FLUCTUATION_REL_TOL x 4 = 0.25
+    (binary exact) a trend change must exceed the tolerance: at it or below it is noise."""
+    monkeypatch.setattr(rules, "FLUCTUATION_REL_TOL", 0.0625)
+    increments = [4.0, 4.0 - step, 4.0, 4.0 - step, 4.0]
+    lengths, total = [], 100.0
+    for d in increments:
+        total += d
+        lengths.append(total)
+    assert _fluctuating(lengths) is expected
+
+
+def test_decreasing_length_boundary(monkeypatch):
+    monkeypatch.setattr(rules, "FLUCTUATION_REL_TOL", 0.0625)  # tol = 0.25 of the largest step 4
+    curve = lambda drop: rules.design_curves(  # noqa: E731
+        _rows(
+            "chamber_radius",
+            3,
+            [104.0, 108.0, 108.0 - drop, 112.0 - drop],
+            [9.0] * 4,
+            pressures=(20, 40, 60, 80),
+        ),
+        "chamber_radius",
+    )[3.0]
+    assert "decreases" in rules.fluctuation(curve(0.2501))[1]
+    assert "decreases" not in rules.fluctuation(curve(0.25))[1]
+    assert "decreases" not in rules.fluctuation(curve(0.2499))[1]
+
+
+@pytest.mark.parametrize("ext20, chosen", [(17.99, 25.0), (18.0, 20.0), (18.01, 20.0)])
+def test_similar_extension_boundary(ext20, chosen):
+    """N = 50 extends 20 mm: N = 20 differs little at 18 mm (exactly 10 % short) and above, not
+    below; N = 25 (19.5 mm) is always within."""
+    assert rules.SIMILAR_EXTENSION_REL == 0.10
+    rows = fiber_rows({0: 10.0, 10: 15.0, 20: ext20, 25: 19.5, 50: 20.0})
+    assert rules.select_fiber_turns(rows).value == chosen
+
+
+def test_similar_extension_sensitivity_is_reported_not_used():
+    rows = fiber_rows({0: 10.0, 10: 16.5, 20: 18.5, 25: 19.5, 50: 20.0})
+    assert rules.fiber_turns_sensitivity(rows) == {0.05: 25.0, 0.10: 20.0, 0.20: 10.0}
+    assert rules.select_fiber_turns(rows).value == 20.0
+
+
+@pytest.mark.parametrize("limit, withstands", [(99.9, False), (100.0, True), (100.1, True), (None, True)])
+def test_target_pressure_boundary(limit, withstands):
+    """A limit point at the target still reaches it (the state at 100 kPa is computed); one
+    just below does not."""
+    assert rules.TARGET_PRESSURE_KPA == 100.0
+    rows = _rows("chamber_radius", 3, _linear(0.1), _linear(0.01, 9), limit=limit)
+    assert rules.design_curves(rows, "chamber_radius")[3.0].withstands is withstands
+
+
+def test_no_state_at_the_target_does_not_withstand():
+    rows = _rows("chamber_radius", 3, _linear(0.1, n=4), _linear(0.01, 9, 4))
+    assert rules.design_curves(rows, "chamber_radius")[3.0].withstands is False
+
+
+def test_nonlinearity_measure():
+    """0 for a straight line, the exact value for a parabola, None below LINEARITY_MIN_POINTS."""
+    straight = rules.design_curves(_rows("fiber_turns", 20, _linear(0.1), [9.0] * 5), "fiber_turns")[20.0]
+    assert linearity.nonlinearity(straight) == pytest.approx(0.0, abs=1e-12)
+    # L = 100 + p^2/1000 at p = 0, 20, ..., 100: residuals of the LSQ line, RMS / extension 10 mm
+    parab = [100 + (20 * (i + 1)) ** 2 / 1000 for i in range(5)]
+    curve = rules.design_curves(_rows("fiber_turns", 20, parab, [9.0] * 5), "fiber_turns")[20.0]
+    p = [0, 20, 40, 60, 80, 100]
+    y = [q * q / 1000 for q in p]
+    mp, my = sum(p) / 6, sum(y) / 6
+    slope = sum((a - mp) * (b - my) for a, b in zip(p, y)) / sum((a - mp) ** 2 for a in p)
+    rms = (sum((b - my - slope * (a - mp)) ** 2 for a, b in zip(p, y)) / 6) ** 0.5
+    assert linearity.nonlinearity(curve) == pytest.approx(rms / 10.0, rel=1e-12)
+    assert linearity.LINEARITY_MIN_POINTS == 3
+    assert linearity.nonlinearity(curve, up_to_kpa=20) is None  # 2 points: (0, L0), (20, L)
+    assert linearity.nonlinearity(curve, up_to_kpa=40) is not None  # 3 points
+
+
+def test_linearity_claim_is_relative_to_the_unreinforced_actuator():
+    """The claim holds when every fibered curve is straighter than N = 0's (over the pressures
+    both reached), and fails for a fibered curve more curved than N = 0's."""
+    bare = _rows("fiber_turns", 0, [101, 103, 108, 116], [9.5] * 4, pressures=(20, 40, 60, 80), limit=90)
+    straight = _rows("fiber_turns", 20, _linear(0.2), [9.0] * 5)
+    sel = linearity.linearity_claim(bare + straight)
+    assert sel.value == 1.0 and "holds" in sel.reason
+    assert "up to 80 kPa" in sel.evidence[0]
+    curved = _rows("fiber_turns", 25, [100.2, 100.5, 104, 115, 130], [9.0] * 5)
+    sel = linearity.linearity_claim(bare + straight + curved)
+    assert sel.value == 0.5 and "not closer to linear" in sel.evidence[1]
+    assert linearity.linearity_claim(straight).status == "undetermined"
