@@ -1,46 +1,12 @@
 """`softcrawl study NAME`: the finite element studies (ePSA, contact, robot, crawl) as resumable sweeps.
 
-    softcrawl study chamber-radius    [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study fiber-turns       [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study identify          [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study optimise-actuator [--quick] [--material M] [--storage URL] [--workers N]
-                                      [--trials T] [--sampler nsga2|tpe] [--seed S] --out DIR
-    softcrawl study groove            [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study foot              [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study rings             [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study foot-radius       [--quick] [--material M] [--storage URL] [--workers N] --out DIR
-    softcrawl study workspace         [--quick] [--material M] --out DIR
-    softcrawl study crawl             [--quick] [--storage URL] [--workers N] --out DIR
-    softcrawl study paper-material    --out DIR
-    softcrawl study kp-mismatch       --out DIR
+    softcrawl study NAME [--quick] [--material M] [--storage URL] [--workers N] [...] --out DIR
 
-paper-material: which material (Neo-Hookean, Yeoh, Gent; every shape and shear modulus) reproduces
-the paper's own FE observations of Figs. 8-9; no FE (studies/material/paper_material.py).
-kp-mismatch: the identify studies under DIR against the confined and unconfined tube stiffness
-(studies/epsa/kp_mismatch.py), DIR/identify/kp-mismatch.md.
+The studies are those of the registry (`studies.registry`), each declared once in its feature
+folder (`studies/<feature>/study.py`); this command names none of them. The list below is built
+from their declarations.
 
-rings (Fig. 11(c)), foot-radius (Section V-C) and workspace (Fig. 11(d)) are the robot-level
-studies on the tied assembly (studies.robot_fe.robot_studies, robot_workspace); they write to
-DIR/robot-NAME/MATERIAL[-quick]/ and decide their Table 1 rows by the rules of
-studies.robot_fe.rules.
-
-chamber-radius (paper Fig. 8): no fibers, r = 2, 3, 4, 5, 6 mm. fiber-turns (Fig. 9): r = 3 mm, N =
-0, 10, 20, 25, 50. Both at 20, 40, 60, 80, 100 kPa. identify (Section VII-A): the Table 1 ePSA under
-weights W = 0, 0.5, 1 N on its guided top at 10-100 kPa; k_p(P) and f_p(P) fitted as the paper does
-and compared with eqs. 19-24 (studies/epsa/identification.py).
-optimise-actuator: the paper's selection as a
-constrained problem (optuna TPE or NSGA-II with trial constraints): the least Kevlar thread over r in
-{2..6} mm and N in 0..50 that withstands 100 kPa, keeps |dR| within 5 % of R0 and extends within the N
-rule's tolerance of the N = 50 design of its radius (studies/epsa/optimiser.py). The
-Table 1 design (r = 3, N = 20) is evaluated first and marked.
-
-crawl (issue 17): stride and anchoring of the FE crawl (two feet, the ePSAs' axial law) over pipe
-diameter and friction coefficient (studies/crawl/crawl_study.py), DIR/crawl/rubber-70a[-quick]/.
-
-groove (Fig. 10(a)) and foot (Fig. 10(b)): contact with the pipe wall, Coulomb friction; see
-studies/foot/contact_studies.py for the grids and the stated friction coefficients.
-
-Results go to DIR/NAME/MATERIAL/ (MATERIAL-quick with --quick, -hSIZE with --mesh-size): curves.csv
+Results go to DIR/FOLDER/MATERIAL/ (MATERIAL-quick with --quick, -hSIZE with --mesh-size): curves.csv
 (every grid point and pressure, with trial and row status and the failure reason), summary.csv (one
 row per design), NAME.png, vtu/ (the last computed shape of each design, when the evaluator can
 return its model), spec.json and, without --storage, the SQLite study study.db. Running the same
@@ -52,19 +18,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+import textwrap
 
-from softcrawl.studies.epsa.grid_studies import DEFAULT_MATERIAL, GRIDS
+from softcrawl.studies import registry
+from softcrawl.studies.declaration import StudyRequest, resolve
 from softcrawl.studies.epsa.optimiser import DEFAULT_TRIALS, QUICK_TRIALS
-from softcrawl.studies.epsa.optimiser import NAME as OPTIMISER
-
-PAPER_MATERIAL = "paper-material"
-KP_MISMATCH = "kp-mismatch"
-CONTACT_STUDIES = ("groove", "foot")  # studies.foot.contact_studies
-#: The robot-level studies (studies.robot_fe.robot_studies, robot_workspace).
-ROBOT_STUDIES = ("rings", "foot-radius", "workspace")
-CRAWL = "crawl"  # studies.crawl.crawl_study
-STUDIES = (*GRIDS, OPTIMISER, PAPER_MATERIAL, KP_MISMATCH, *CONTACT_STUDIES, *ROBOT_STUDIES, CRAWL)
-
 
 #: Most worker processes: each is a process with its own solver (0.3-1 GB on the default mesh);
 #: more workers than cores only share the cores, and the sweeps have 5-60 points.
@@ -76,17 +34,31 @@ MAX_TRIALS = 10_000
 MAX_SEED = 2**32 - 1
 
 
-def register(subparsers) -> None:
-    from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL as ROBOT_MATERIAL
+def _epilog() -> str:
+    """The module docstring's body, then one paragraph per registered study."""
+    lines = __doc__.splitlines()[1:]
+    for study in registry.studies():
+        lines += ["", textwrap.fill(study.help or f"{study.name}: {study.summary}", width=100)]
+    return "\n".join(lines)
 
+
+def _material_defaults() -> str:
+    defaults: dict[str, list[str]] = {}
+    for study in registry.studies():
+        if study.default_material is not None:
+            defaults.setdefault(study.default_material, []).append(study.name)
+    return "; ".join(f"{m} for {', '.join(names)}" for m, names in defaults.items())
+
+
+def register(subparsers) -> None:
     parser = subparsers.add_parser(
         "study",
         help="FE studies as resumable sweeps: ePSA, foot contact, robot, crawl",
         description=__doc__.splitlines()[0],
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="\n".join(__doc__.splitlines()[1:]),
+        epilog=_epilog(),
     )
-    parser.add_argument("name", choices=STUDIES, help="which study")
+    parser.add_argument("name", choices=registry.names(), help="which study")
     parser.add_argument("--out", required=True, help="results folder (DIR/NAME/MATERIAL/...)")
     parser.add_argument(
         "--quick",
@@ -96,9 +68,8 @@ def register(subparsers) -> None:
     parser.add_argument(
         "--material",
         default=None,
-        help=f"silicone of the ePSA body (default {DEFAULT_MATERIAL}), the foot's rubber for groove "
-        "and foot (default rubber-70a), or the robot studies' silicone (default "
-        f"{ROBOT_MATERIAL}, the calibrated modulus); see `softcrawl material list`",
+        help="silicone of the ePSA body, the feet's rubber or the robot's silicone, by study (default: "
+        f"{_material_defaults()}); see `softcrawl material list`",
     )
     parser.add_argument(
         "--storage",
@@ -187,15 +158,10 @@ def _check(args) -> None:
     from softcrawl.studies.epsa.model import resolve_mesh
     from softcrawl.studies.sweeps.spec import StudyError
 
+    study = registry.get(args.name)
     if args.material is None:
-        from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL as ROBOT_MATERIAL
-
-        feet = (*CONTACT_STUDIES, CRAWL)
-        defaults = dict.fromkeys(feet, "rubber-70a") | dict.fromkeys(ROBOT_STUDIES, ROBOT_MATERIAL)
-        args.material = defaults.get(args.name, DEFAULT_MATERIAL)
+        args.material = study.default_material or "ecoflex-00-50"
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
-    if args.name == CRAWL and args.material != "rubber-70a":
-        raise StudyError("material", "the crawl study's feet are rubber-70a (the foot study's rubber)")
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
     if args.mesh_size is not None:
@@ -212,6 +178,27 @@ def _check(args) -> None:
             f"postgresql://USER@HOST/DB, got {args.storage!r}",
         )
     output_folder(args.out)
+    if study.check is not None:
+        resolve(study.check)(_request(args))
+
+
+def _request(args: argparse.Namespace) -> StudyRequest:
+    return StudyRequest(
+        study=args.name,
+        out=args.out,
+        quick=args.quick,
+        material=args.material,
+        storage=args.storage,
+        workers=args.workers,
+        progress=not args.no_progress,
+        retry=args.retry_failed,
+        mesh_size=args.mesh_size,
+        fibers=args.fibers,
+        trials=args.trials,
+        sampler=args.sampler,
+        seed=args.seed,
+        simulator=args.simulator,
+    )
 
 
 def _check_simulator(ref: str) -> None:
@@ -235,20 +222,8 @@ def run(args: argparse.Namespace) -> int:
     from softcrawl.studies.sweeps.faults import SweepStopped, machine_fault
 
     _check(args)
-    if args.name == KP_MISMATCH:  # reads the identify studies under --out (studies.epsa.kp_mismatch)
-        from softcrawl.studies.epsa.kp_mismatch import write_report
-
-        print("wrote " + ", ".join(map(str, write_report(args.out))))
-        return 0
-    if args.name == PAPER_MATERIAL:  # no FE: the closed-end tube theory (studies.material.paper_material)
-        from softcrawl.studies.material.paper_material import run_paper_material
-
-        lines, written = run_paper_material(args.out)
-        print("\n".join(lines))
-        print("wrote " + ", ".join(map(str, written)))
-        return 0
     try:
-        outcome = _run_study(args)
+        outcome = resolve(registry.get(args.name).run)(_request(args))
     except SweepStopped as exc:  # a signal, a full disk, a lost database: one line, then resume
         print(f"softcrawl study {args.name}: {exc.line}", file=sys.stderr)
         return exc.exit_code
@@ -267,75 +242,3 @@ def run(args: argparse.Namespace) -> int:
         print(line, file=sys.stderr)
     print("wrote " + ", ".join(map(str, outcome.written)))
     return 0 if outcome.ok else 1
-
-
-def _run_study(args):
-    """The study's outcome (`studies.outcome.StudyOutcome`)."""
-    from softcrawl.studies.epsa.grid_studies import run_sweep_study, study_settings
-    from softcrawl.studies.epsa.optimiser import run_optimiser
-
-    progress = not args.no_progress
-    if args.name in ROBOT_STUDIES:
-        return _run_robot_study(args, progress)
-    if args.name == CRAWL:
-        from softcrawl.studies.crawl.crawl_study import run_crawl_study
-
-        return run_crawl_study(
-            args.out,
-            quick=args.quick,
-            storage=args.storage,
-            workers=args.workers,
-            progress=progress,
-            retry=args.retry_failed,
-        )
-    if args.name in CONTACT_STUDIES:
-        from softcrawl.studies.foot.runs import run_contact_study
-
-        return run_contact_study(
-            args.name,
-            args.out,
-            material=args.material,
-            quick=args.quick,
-            storage=args.storage,
-            workers=args.workers,
-            progress=progress,
-            retry=args.retry_failed,
-        )
-    settings = study_settings(
-        args.name, args.material, args.quick, args.mesh_size, args.fibers, args.simulator
-    )
-    if args.name == OPTIMISER:
-        return run_optimiser(
-            args.out,
-            settings,
-            trials=args.trials,
-            sampler=args.sampler,
-            seed=args.seed,
-            storage=args.storage,
-            workers=args.workers,
-            progress=progress,
-        )
-    return run_sweep_study(
-        args.name,
-        args.out,
-        settings,
-        storage=args.storage,
-        workers=args.workers,
-        progress=progress,
-        retry=args.retry_failed,
-    )
-
-
-def _run_robot_study(args, progress: bool):
-    """rings and foot-radius (sweeps, studies.robot_fe.robot_studies) and workspace
-    (studies.robot_fe.workspace)."""
-    if args.name == "workspace":
-        from softcrawl.studies.robot_fe.workspace import run_workspace
-
-        return run_workspace(args.out, args.material, args.quick, print if progress else None)
-    from softcrawl.studies.robot_fe.robot_studies import run_robot_study
-
-    return run_robot_study(
-        args.name, args.out, args.material, args.quick, workers=args.workers, progress=progress,
-        retry=args.retry_failed, runner=args.simulator, storage=args.storage,
-    )  # fmt: skip

@@ -24,7 +24,9 @@ import json
 from pathlib import Path
 
 from softcrawl import jsonio
+from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.spec import StudyError, sweep_spec_from_file
 
 NAME = "crawl"
 GRID = {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0), "mu": (0.3, 0.5)}
@@ -34,7 +36,7 @@ QUICK_WALL_S = 1200.0
 #: 1 h for a default point (8 insertion steps, two cycles): a stall in the insertion or a cycle
 #: ends as a recorded failure instead of holding a worker indefinitely.
 DEFAULT_WALL_S = 3600.0
-EVALUATOR = "softcrawl.studies.crawl.crawl_study:evaluate_crawl"
+EVALUATOR = "crawl"  # its registry name (studies/crawl/study.py)
 
 
 def point_stem(params: dict) -> str:
@@ -169,11 +171,8 @@ def write_markdown(rows, path: Path) -> Path:
     return path
 
 
-def write_study_outputs(spec, folder: Path) -> StudyOutcome:
-    """summary.csv and crawl-study.png from the stored point files (every grid point, done or not)."""
-    from softcrawl.studies.crawl.plot import plot_crawl_study
-    from softcrawl.studies.sweeps.tables import write_csv
-
+def point_rows(spec, folder: Path) -> list[dict]:
+    """One row per grid point from the stored point files (done, failed or missing)."""
     rows = []
     for params in spec.points():
         path = folder / "points" / f"crawl-{point_stem(params)}.json"
@@ -181,6 +180,15 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
         status = "completed" if data.get("converged") else ("failed" if path.exists() else "missing")
         row = dict(params) | {"status": status} | {k: v for k, v in data.items() if k != "params"}
         rows.append(row | sliding_feet(folder / "points" / point_stem(params) / "cycles.csv"))
+    return rows
+
+
+def write_study_outputs(spec, folder: Path) -> StudyOutcome:
+    """summary.csv and crawl-study.png from the stored point files (every grid point, done or not)."""
+    from softcrawl.studies.crawl.plot import plot_crawl_study
+    from softcrawl.studies.sweeps.tables import write_csv
+
+    rows = point_rows(spec, folder)
     written = [
         write_csv(rows, folder / "summary.csv"),
         plot_crawl_study(rows, folder / "crawl-study.png"),
@@ -199,3 +207,29 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
         if r["status"] != "completed"
     )
     return StudyOutcome(tuple(lines), tuple(written), not problems, problems)
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study crawl` (the registry's entry point)."""
+    return run_crawl_study(
+        request.out,
+        quick=request.quick,
+        storage=request.storage,
+        workers=request.workers,
+        progress=request.progress,
+        retry=request.retry,
+    )
+
+
+def check_request(request: StudyRequest) -> None:
+    """The crawl study's feet are the foot study's rubber."""
+    if request.material != "rubber-70a":
+        raise StudyError("material", "the crawl study's feet are rubber-70a (the foot study's rubber)")
+
+
+def replot_folder(folder: Path) -> list[Path]:
+    """crawl-study.png from the stored point files."""
+    from softcrawl.studies.crawl.plot import plot_crawl_study
+
+    folder = Path(folder)
+    return [plot_crawl_study(point_rows(sweep_spec_from_file(folder), folder), folder / "crawl-study.png")]

@@ -21,7 +21,7 @@ from softcrawl.studies.sweeps.spec import Evaluation, TableLayout, load_callable
 from softcrawl.studies.sweeps.spec import jsonable as _jsonable
 
 #: The evaluator, as the sweep engine imports it in its worker processes.
-EPSA_EVALUATOR = "softcrawl.studies.epsa.evaluator:evaluate_epsa"
+EPSA_EVALUATOR = "epsa"  # its registry name (studies/epsa/study.py)
 #: Columns of an ActuatorCurve row, in CSV order.
 CURVE_COLUMNS = (
     "pressure_kpa",

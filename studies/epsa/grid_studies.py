@@ -16,9 +16,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcrawl import jsonio
+from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.epsa.evaluator import PAPER_PRESSURES_KPA
 from softcrawl.studies.epsa.identification import LOADS_N, PRESSURES_KPA
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.spec import read_spec
+from softcrawl.studies.sweeps.tables import read_csv
 
 #: Grids of the paper's sweeps (Section V-A) and the fixed parameters of each.
 GRIDS = {
@@ -179,3 +182,30 @@ def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
     written = (folder / "curves.csv", folder / "summary.csv", folder / f"{name}.png")
     ok = all(s["trial_status"] in ("completed", "failed") for s in summary)
     return StudyOutcome(tuple(lines), written, ok)
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study chamber-radius | fiber-turns | identify` (the registry's entry point)."""
+    settings = study_settings(
+        request.study, request.material, request.quick, request.mesh_size, request.fibers, request.simulator
+    )
+    return run_sweep_study(
+        request.study,
+        request.out,
+        settings,
+        storage=request.storage,
+        workers=request.workers,
+        progress=request.progress,
+        retry=request.retry,
+    )
+
+
+def replot_folder(folder: Path) -> list[Path]:
+    """NAME.png of a chamber-radius or fiber-turns run from its spec.json and curves.csv."""
+    spec = read_spec(folder)
+    name = next((n for n in ("chamber-radius", "fiber-turns") if spec.get("name", "").startswith(n)), None)
+    if name is None or not (folder / "curves.csv").exists():
+        return []
+    param = next(iter(spec["grid"]))
+    rows = read_csv(folder / "curves.csv")
+    return [draw_study_figure(name, param, spec.get("fixed", {}), spec.get("settings", {}), rows, folder)]

@@ -23,6 +23,7 @@ behaviour of eq. 3 that the identification fits.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,6 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.spec import read_spec
+from softcrawl.studies.sweeps.tables import read_csv
 
 #: Weights on the seal head, N (0, 51 and 102 g): within the paper's measured output force range
 #: (8.42 N blocked at 100 kPa) and small enough to keep the response linear in W.
@@ -238,3 +241,15 @@ def write_outputs(spec, rows, folder) -> StudyOutcome:
     if ident.message:
         lines.append(f"identify: {ident.message}")
     return StudyOutcome(tuple(lines), tuple(written), True)
+
+
+def replot_folder(folder: Path) -> list[Path]:
+    """identify.png and identification.png of an identify run from its files alone."""
+    if not (folder / "curves.csv").exists():
+        return []
+    settings = read_spec(folder).get("settings", {})
+    written = [draw_identify_curves(settings, read_csv(folder / "curves.csv"), folder)]
+    if (folder / "identification.csv").exists() and (folder / "identification.json").exists():
+        laws = json.loads((folder / "identification.json").read_text())
+        written.append(draw_identification(settings, read_csv(folder / "identification.csv"), laws, folder))
+    return written

@@ -34,6 +34,9 @@ import json
 import math
 from pathlib import Path
 
+from softcrawl.studies.declaration import StudyRequest
+from softcrawl.studies.outcome import StudyOutcome
+
 #: The Table 1 actuator (mm).
 OUTER_RADIUS, CHAMBER_RADIUS, LENGTH = 9.0, 3.0, 100.0
 #: The identification studies compared (label -> (identification.csv under RESULTS, initial mu)):
@@ -127,3 +130,8 @@ def write_report(results, cases=None) -> tuple[Path, Path]:
     path_md = folder / "kp-mismatch.md"
     path_md.write_text("\n".join(lines) + "\n")
     return path_md, folder / "kp-mismatch.json"
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study kp-mismatch`: reads the identify studies under --out (no FE)."""
+    return StudyOutcome(written=tuple(write_report(request.out)))

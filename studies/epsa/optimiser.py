@@ -29,9 +29,12 @@ import json
 from pathlib import Path
 
 from softcrawl import jsonio
+from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.epsa.constrained_objective import MAX_RADIUS_CHANGE_REL
-from softcrawl.studies.epsa.grid_studies import run_tag, study_folder
+from softcrawl.studies.epsa.grid_studies import run_tag, study_folder, study_settings
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.spec import read_spec
+from softcrawl.studies.sweeps.tables import read_csv
 
 #: Search space and budget of optimise-actuator.
 SPACE = {"chamber_radius": ("int", 2, 6), "fiber_turns": ("int", 0, 50)}
@@ -40,7 +43,7 @@ OBJECTIVES = ("thread_length_mm",)
 DIRECTIONS = ("minimize",)
 DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 NAME = "optimise-actuator"
-CONSTRAINED_EVALUATOR = "softcrawl.studies.epsa.constrained_objective:evaluate_constrained"
+CONSTRAINED_EVALUATOR = "epsa-constrained"  # its registry name (studies/epsa/study.py)
 
 
 def draw_pareto(settings: dict, rows, folder) -> Path:
@@ -153,3 +156,27 @@ def optimum_record(best: list[dict], material: str) -> dict:
         "verdict": f"optimum r = {r:g} mm, N = {n}: "
         + ("the paper's Table 1 design" if same else "not the paper's r = 3 mm, N = 20"),
     }
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study optimise-actuator` (the registry's entry point)."""
+    settings = study_settings(
+        NAME, request.material, request.quick, request.mesh_size, request.fibers, request.simulator
+    )
+    return run_optimiser(
+        request.out,
+        settings,
+        trials=request.trials,
+        sampler=request.sampler,
+        seed=request.seed,
+        storage=request.storage,
+        workers=request.workers,
+        progress=request.progress,
+    )
+
+
+def replot_folder(folder: Path) -> list[Path]:
+    """pareto.png of an optimiser run from its spec.json and trials.csv."""
+    if not (folder / "trials.csv").exists():
+        return []
+    return [draw_pareto(read_spec(folder).get("settings", {}), read_csv(folder / "trials.csv"), folder)]

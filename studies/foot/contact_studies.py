@@ -45,8 +45,8 @@ QUICK_GRIDS = {
 }
 FOOT_FRICTION = {"mu_smooth": 0.5, "mu_grooved": 0.5}
 EVALUATORS = {
-    GROOVE: "softcrawl.studies.foot.contact_studies:evaluate_groove",
-    FOOT: "softcrawl.studies.foot.contact_studies:evaluate_foot",
+    GROOVE: "groove",  # registry names (studies/foot/study.py)
+    FOOT: "foot",
 }
 
 

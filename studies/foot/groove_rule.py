@@ -34,6 +34,9 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from softcrawl.studies.epsa import rules
+from softcrawl.studies.table1_row import StudyRow, fmt_value, material_of
+
 PAPER_H = 1.0
 
 
@@ -164,3 +167,33 @@ def markdown(decision: GrooveDecision, source: Path | None) -> list[str]:
             f"{e['strain_p99']:.3f} | {e['deformation_mm']:.3f} |"
         )
     return lines
+
+
+#: The rule in words, as Table 1 shows it.
+GROOVE_RULE = (
+    "largest h >= 0.5 mm whose p99 strain after the drag stays <= 10 % at every mu, with the friction "
+    "checked to be almost independent of h (studies/foot/groove_rule.py)"
+)
+
+
+def table1_rows(results: str | Path) -> dict[str, StudyRow]:
+    """The groove study's Table 1 row, groove height h, from RESULTS/groove/<material>/summary.csv
+    (its declaration's ``table1``)."""
+    decision, source = decide_from_results(results)
+    lines = tuple(markdown(decision, source))
+    material, quick = material_of(source)
+    if decision.value is None:
+        why = f"{decision.reason} (run `softcrawl study groove --out DIR`)"
+        return {
+            "groove_height": StudyRow(rules.pending("groove_height", why), material, source, quick, lines)
+        }
+    evidence = tuple(
+        f"h = {e['h_mm']:g}: mu = {e['mu']:g}, plateau / mu N {fmt_value(e['plateau_over_mu_n'])}, "
+        f"strain p99 {fmt_value(e['strain_p99'])}, von Mises p99 {fmt_value(e['von_mises_p99_mpa'])} MPa"
+        for e in decision.evidence
+    )
+    reason = decision.reason if decision.status == "decided" else f"fallback: {decision.reason}"
+    selection = rules.Selection(
+        "groove_height", float(decision.value), GROOVE_RULE, evidence, "selected", reason
+    )
+    return {"groove_height": StudyRow(selection, material, source, quick, lines)}

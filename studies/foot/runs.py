@@ -14,6 +14,7 @@ import json
 from pathlib import Path
 
 from softcrawl import jsonio
+from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.foot.contact_studies import (
     DEFAULT_MATERIAL,
     EVALUATORS,
@@ -26,6 +27,7 @@ from softcrawl.studies.foot.contact_studies import (
     point_file,
 )
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.spec import sweep_spec_from_file
 
 
 def study_folder(out, name: str, material: str, quick: bool) -> Path:
@@ -187,10 +189,29 @@ def _report_lines(name: str, summary) -> list[str]:
 def rebuild_outputs(name: str, folder) -> StudyOutcome:
     """Tables and plot of a run from its spec.json and stored point results alone (a run that
     was stopped: the points it finished count by their own converged flag)."""
-    from softcrawl.studies.sweeps.spec import SweepSpec
-
     folder = Path(folder)
-    data = json.loads((folder / "spec.json").read_text())
-    data["grid"] = {k: tuple(v) for k, v in data["grid"].items()}
-    data["directions"] = tuple(data.get("directions", ("maximize",)))
-    return write_contact_outputs(name, SweepSpec(**data), [], folder)
+    return write_contact_outputs(name, sweep_spec_from_file(folder), [], folder)
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study groove | foot` (the registry's entry point)."""
+    return run_contact_study(
+        request.study,
+        request.out,
+        material=request.material,
+        quick=request.quick,
+        storage=request.storage,
+        workers=request.workers,
+        progress=request.progress,
+        retry=request.retry,
+    )
+
+
+def replot_folder(folder: Path) -> list[Path]:
+    """groove.png or foot.png of a run from its spec.json and stored point results."""
+    from softcrawl.studies.foot.plots import plot_foot, plot_groove
+
+    spec = sweep_spec_from_file(folder)
+    name = GROOVE if spec.name.startswith(GROOVE) else FOOT
+    plot = plot_groove if name == GROOVE else plot_foot
+    return [plot(load_points(spec, []), Path(folder) / f"{name}.png", spec.settings)]

@@ -39,6 +39,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.studies.declaration import StudyRequest
+from softcrawl.studies.outcome import StudyOutcome
+
 #: "the ePSA with an air chamber radius of r = 6 mm or r = 5 mm ... cannot withstand a pressure of
 #: more than 80 kPa" (Section V-A): these radii reach FAIL_WINDOW_KPA[0] and fail below [1].
 FAIL_RADII = (5.0, 6.0)
@@ -304,3 +307,9 @@ def why_not_all(windows: list[ShapeWindow]) -> str:
         f"~{1 / max(ratios):.2f}-{1 / min(ratios):.2f} of the r = 5 pressure whatever the law); "
         f"stiffer shapes remove the r = 5 limit point altogether ({len(no_r5)} shapes) before the ratio drops"
     )
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study paper-material` (no FE: the closed-end tube theory)."""
+    lines, written = run_paper_material(request.out)
+    return StudyOutcome(tuple(lines), tuple(written))

@@ -8,6 +8,8 @@ import math
 import re
 from pathlib import Path
 
+from softcrawl.studies import registry
+from softcrawl.studies.declaration import resolve
 from softcrawl.studies.html import csv_rows, esc, figure, markdown, missing, table
 
 STUDY_COMMAND = 'softcrawl study {name} --workers 2 --material "{material}" --out results/'
@@ -189,21 +191,13 @@ def renders(results: Path) -> str:
     return f"<p>Command: <code>{esc(RENDERS)}</code></p><div class='figrow'>{figs}</div>"
 
 
-#: Study folders under results/ in the review's order -> the `softcrawl study` name that makes them.
-STUDY_FOLDERS = {
-    "chamber-radius": "chamber-radius",
-    "fiber-turns": "fiber-turns",
-    "identify": "identify",
-    "optimise-actuator": "optimise-actuator",
-    "groove": "groove",
-    "foot": "foot",
-    "robot-rings": "rings",
-    "robot-foot-radius": "foot-radius",
-}
-#: The material of each study's example command when its results are missing.
-DEFAULT_STUDY_MATERIAL = dict.fromkeys(("groove", "foot"), "rubber-70a") | dict.fromkeys(
-    ("robot-rings", "robot-foot-radius"), "ecoflex-00-50@mu=0.0638"
-)
+def _study_names() -> dict[str, str]:
+    """Results folder -> the `softcrawl study` name that makes it (the first study declared for a
+    folder: identify/ is the identify study's, which kp-mismatch reads)."""
+    names: dict[str, str] = {}
+    for study in registry.studies():
+        names.setdefault(study.folder, study.name)
+    return names
 
 
 def _study_block(folder: Path, name: str) -> str:
@@ -213,7 +207,7 @@ def _study_block(folder: Path, name: str) -> str:
     material = spec["settings"].get("material")
     quick = bool(spec["settings"].get("quick")) or spec["settings"].get("mesh") == "quick"
     head = f"<h3>{esc(study_title(name, material, quick))}</h3>"
-    command = STUDY_COMMAND.format(name=STUDY_FOLDERS.get(name, name), material=material)
+    command = STUDY_COMMAND.format(name=_study_names().get(name, name), material=material)
     if quick:
         command = command.replace(" --workers", " --quick --workers")
     body = [f"<p>Material {esc(material_label(material))}. Command: <code>{esc(command)}</code></p>"]
@@ -226,14 +220,19 @@ def _study_block(folder: Path, name: str) -> str:
 
 
 def studies(results: Path) -> str:
+    """One block per run of every study that the registry puts in this section, in its order; a
+    study's own `report` function, where it declares one, replaces the generic block."""
     out = []
-    for name, command_name in STUDY_FOLDERS.items():
-        folders = _materials(results, name)
+    for study in registry.studies():
+        if not study.in_review:
+            continue
+        folders = study.results_folders(results)
         if not folders:
-            material = DEFAULT_STUDY_MATERIAL.get(name, "ecoflex-00-50")
-            command = STUDY_COMMAND.format(name=command_name, material=material)
-            out.append(missing(f"The {name} study", command))
-        out.extend(_study_block(f, name) for f in folders)
+            material = study.default_material or "ecoflex-00-50"
+            command = STUDY_COMMAND.format(name=study.name, material=material)
+            out.append(missing(f"The {study.folder} study", command))
+        block = resolve(study.report) if study.report else lambda f, s=study: _study_block(f, s.folder)
+        out.extend(block(f) for f in folders)
     return "".join(out)
 
 
@@ -325,7 +324,7 @@ def provenance(results: Path) -> str:
         spec = json.loads(spec_path.read_text())
         settings = spec.get("settings", {})
         name = re.sub(r"-ecoflex.*|-dragon.*", "", spec.get("name", ""))
-        name = STUDY_FOLDERS.get(spec_path.parent.parent.name, name)
+        name = _study_names().get(spec_path.parent.parent.name, name)
         quick = bool(settings.get("quick")) or settings.get("mesh") == "quick"
         command = STUDY_COMMAND.format(name=name, material=settings.get("material"))
         rows.append(

@@ -18,8 +18,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from softcrawl.studies import registry
+from softcrawl.studies.declaration import resolve
 from softcrawl.studies.epsa import rules
 from softcrawl.studies.epsa.linearity import linearity_claim
+from softcrawl.studies.table1_row import StudyRow
 
 #: The paper's Table 1 (docs/DESIGN.md section 4): parameter key -> (label, value, unit).
 PAPER_TABLE1 = {
@@ -31,8 +34,9 @@ PAPER_TABLE1 = {
     "foot_radius": ("foot radius d", 14.0, "mm"),
     "rings": ("connecting rings", 3.0, ""),
 }
-#: Study folders under the results folder that feed the ePSA rows.
-STUDY_DIRS = {"chamber_radius": "chamber-radius", "fiber_turns": "fiber-turns"}
+#: The ePSA rows decided per silicone from the studies' curves.csv: Table 1 parameter -> the
+#: results folder of the study that declares it (`rule`, with no `table1` of its own).
+STUDY_DIRS = {p: s.folder for s in registry.studies() if s.table1 is None for p in s.rule}
 QUICK_SUFFIX = "-quick"
 
 
@@ -71,7 +75,7 @@ def material_run(results: str | Path, material: str) -> MaterialRun:
 
 def select_all(run: MaterialRun, robot_rows: dict | None = None) -> dict[str, rules.Selection]:
     """Apply every rule of one material's study data; the robot-level and foot rows come from
-    `studies.robot_fe.rows.study_rows` (the same for every silicone; read once by `render`)."""
+    `study_rows` (the same for every silicone; read once by `render`)."""
     from softcrawl.studies.sweeps.tables import read_csv
 
     out = {
@@ -104,6 +108,15 @@ def select_all(run: MaterialRun, robot_rows: dict | None = None) -> dict[str, ru
             out["linearity"] = linearity_claim(rows)
     out |= {param: row.selection for param, row in (robot_rows or {}).items()}
     return out
+
+
+def study_rows(results: str | Path) -> dict[str, StudyRow]:
+    """The Table 1 rows of every study that declares its own (`Study.table1`), in Table 1 order."""
+    rows: dict[str, StudyRow] = {}
+    for study in registry.studies():
+        if study.table1 is not None:
+            rows |= resolve(study.table1)(results)
+    return {p: rows[p] for p in PAPER_TABLE1 if p in rows} | rows
 
 
 def _rule_text(param: str) -> str:
@@ -182,8 +195,6 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             "`softcrawl study fiber-turns` first (see README).",
             "",
         ]
-    from softcrawl.studies.robot_fe.rows import study_rows
-
     robot_rows = study_rows(results)
     selections = {}
     for material in materials:

@@ -22,12 +22,13 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.files import write_text_atomic
+from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
-from softcrawl.studies.sweeps.spec import Evaluation, SweepSpec, load_callable
+from softcrawl.studies.sweeps.spec import Evaluation, SweepSpec, load_callable, sweep_spec_from_file
 from softcrawl.studies.sweeps.sweep import run_sweep
 from softcrawl.studies.sweeps.tables import write_csv
 
-EVALUATOR = "softcrawl.studies.robot_fe.robot_studies:evaluate_robot"
+EVALUATOR = "robot"  # its registry name (studies/robot_fe/study.py)
 #: Load cases (kPa): the paper's Fig. 11(c) case, sequential (P2 = 40 and P3 = 60 kPa first, then
 #: P1 ramped in 10 kPa targets), and equal pressures. Newton's quadratic convergence sets in late
 #: on the bending robot (r_{k+1} ~ 700 r_k^2 at the quick mesh), so a segment needs small
@@ -79,7 +80,7 @@ def evaluate_robot(params, fixed, settings) -> Evaluation:
     """Build the robot of the grid point and follow each load case of `settings["cases"]`
     (`settings["runner"]`, "module:function" with the signature of `run_cases`, replaces the FE
     in tests)."""
-    runner = load_callable(settings["runner"]) if settings.get("runner") else run_cases
+    runner = load_callable(settings["runner"], parameter="simulator") if settings.get("runner") else run_cases
     attrs = runner(_design(params), settings["material"], settings["mesh"], settings["cases"])
     folder = Path(settings["out_dir"]) / "points"
     folder.mkdir(parents=True, exist_ok=True)
@@ -133,12 +134,8 @@ def run_robot_study(name: str, out, material: str, quick: bool, *, workers: int 
     return write_tables(name, spec, material)
 
 
-def write_tables(name: str, spec: SweepSpec, material: str) -> StudyOutcome:
-    """curves.csv, summary.csv, decision.json, spec.json and the figure from the points/ files of
-    the study folder (the points computed so far; a missing one is a row that says so)."""
-    from softcrawl.studies.robot_fe.plots import plot_robot_study
-    from softcrawl.studies.robot_fe.rules import foot_radius_rule, ring_rule
-
+def point_rows(spec: SweepSpec, material: str) -> tuple[list[dict], list[dict]]:
+    """(curves, summary) rows of a study from the points/ files of its folder."""
     folder = Path(spec.out_dir)
     curves, summary = [], []
     for params in spec.points():
@@ -147,6 +144,17 @@ def write_tables(name: str, spec: SweepSpec, material: str) -> StudyOutcome:
         summary.append(summary_row(params, data))
         for row in (data or {}).get("rows", []) or [{}]:
             curves.append(dict(params) | {"material": material} | row)
+    return curves, summary
+
+
+def write_tables(name: str, spec: SweepSpec, material: str) -> StudyOutcome:
+    """curves.csv, summary.csv, decision.json, spec.json and the figure from the points/ files of
+    the study folder (the points computed so far; a missing one is a row that says so)."""
+    from softcrawl.studies.robot_fe.plots import plot_robot_study
+    from softcrawl.studies.robot_fe.rules import foot_radius_rule, ring_rule
+
+    folder = Path(spec.out_dir)
+    curves, summary = point_rows(spec, material)
     written = [write_csv(curves, folder / "curves.csv"), write_csv(summary, folder / "summary.csv")]
     decision = ring_rule(summary) if name == "rings" else foot_radius_rule(summary)
     write_text_atomic(folder / "decision.json", decision.to_json() + "\n")
@@ -175,3 +183,21 @@ def study_spec(name: str, out, material: str, quick: bool, runner: str | None = 
         name=f"robot-{name}", grid=grid, out_dir=str(folder), evaluator=EVALUATOR, settings=settings,
         storage=storage,
     )  # fmt: skip
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study rings | foot-radius` (the registry's entry point)."""
+    return run_robot_study(
+        request.study, request.out, request.material, request.quick, workers=request.workers,
+        progress=request.progress, retry=request.retry, runner=request.simulator, storage=request.storage,
+    )  # fmt: skip
+
+
+def replot_folder(folder: Path) -> list[Path]:
+    """NAME.png of a rings or foot-radius run from its spec.json and points/ files."""
+    from softcrawl.studies.robot_fe.plots import plot_robot_study
+
+    spec = sweep_spec_from_file(folder)
+    name = spec.name.removeprefix("robot-")
+    curves, summary = point_rows(spec, spec.settings["material"])
+    return [plot_robot_study(name, summary, curves, folder)]

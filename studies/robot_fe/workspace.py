@@ -26,14 +26,16 @@ the convex-hull volumes (CC / FE) and the largest theta of each cloud.
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
 import numpy as np
 
 from softcrawl import jsonio
+from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
-from softcrawl.studies.sweeps.tables import write_csv
+from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
 LEVELS_KPA = (0.0, 25.0, 50.0, 75.0, 100.0)
 QUICK_LEVELS_KPA = (0.0, 50.0, 100.0)
@@ -217,9 +219,8 @@ def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcom
         folder.mkdir(parents=True, exist_ok=True)
         written[:] = [write_csv(rows, folder / "workspace.csv"), folder / "summary.json"]
         jsonio.write(folder / "summary.json", summary)
-        title = f"workspace: FE robot vs constant curvature ({material}, {mesh} mesh, ends at z = L0)"
         arrays = [np.array(clouds[k]) for k in ("fe", "cc_fe", "cc_eq3")]
-        written.append(plot_workspace(*arrays, folder / "workspace.png", title))
+        written.append(plot_workspace(*arrays, folder / "workspace.png", _title(material, mesh)))
         return summary
 
     full, messages = fe_cloud(robot, levels, progress, on_line=write)
@@ -237,3 +238,27 @@ def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcom
         f"{summary['hull_ratio_cc_eq3']:.3f} (eq. 3)",
     ]
     return StudyOutcome(tuple(lines), tuple(written), ok=not messages, problems=tuple(messages))
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study workspace` (the registry's entry point)."""
+    return run_workspace(request.out, request.material, request.quick, print if request.progress else None)
+
+
+def _title(material: str, mesh: str) -> str:
+    return f"workspace: FE robot vs constant curvature ({material}, {mesh} mesh, ends at z = L0)"
+
+
+def replot_folder(folder: Path) -> list[Path]:
+    """workspace.png from workspace.csv and summary.json."""
+    from softcrawl.studies.robot_fe.plots import plot_workspace
+
+    if not (folder / "workspace.csv").exists():
+        return []
+    summary = json.loads((folder / "summary.json").read_text())
+    rows = read_csv(folder / "workspace.csv")
+    arrays = [
+        np.array([[float(r[f"{k}_{c}"]) for c in "xyz"] for r in rows]) for k in ("fe", "cc_fe", "cc_eq3")
+    ]
+    title = _title(summary["material"], summary["mesh"])
+    return [plot_workspace(*arrays, folder / "workspace.png", title)]

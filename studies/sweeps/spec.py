@@ -170,8 +170,10 @@ def _normalise(spec: SweepSpec | SearchSpec) -> None:
     object.__setattr__(spec, "settings", dict(spec.settings))
     object.__setattr__(spec, "out_dir", str(spec.out_dir))
     object.__setattr__(spec, "directions", tuple(spec.directions))
-    if not isinstance(spec.evaluator, str) or ":" not in spec.evaluator:
-        raise StudyError("evaluator", f"expected 'module:function', got {spec.evaluator!r}")
+    if not isinstance(spec.evaluator, str) or not spec.evaluator.strip():
+        raise StudyError(
+            "evaluator", f"expected a registry name or 'module:function', got {spec.evaluator!r}"
+        )
 
 
 def _check_heartbeat(spec: SweepSpec | SearchSpec) -> None:
@@ -197,8 +199,11 @@ def point_key(params: Mapping[str, Any]) -> str:
 
 
 def load_callable(ref: str, parameter: str = "evaluator") -> Callable:
-    """Import ``"module:function"``; a reference that does not import is an input error that
-    names ``parameter`` (the option the reference came from)."""
+    """Import ``"module:function"``, or the evaluator of that registry name (``"epsa"``, or an
+    import path of a study computed before the registry); a reference that does not import is an
+    input error that names ``parameter`` (the option the reference came from)."""
+    if isinstance(ref, str) and parameter == "evaluator":
+        ref = _registry().evaluator_reference(ref) if ":" not in ref or _legacy(ref) else ref
     if not isinstance(ref, str) or ":" not in ref:
         raise StudyError(parameter, f"expected 'module:function', got {ref!r}")
     module, _, name = ref.partition(":")
@@ -213,6 +218,17 @@ def load_callable(ref: str, parameter: str = "evaluator") -> Callable:
     return obj
 
 
+def _registry() -> Any:
+    """`studies.registry`, imported by name: the registry sits above this engine (it lists the
+    features, which use the engine), so the engine looks evaluator names up late, as a plug-in
+    lookup, in whichever process (a spawned worker too) runs the evaluation."""
+    return importlib.import_module("softcrawl.studies.registry")
+
+
+def _legacy(ref: str) -> bool:
+    return ref in _registry().LEGACY_EVALUATORS
+
+
 def jsonable(value: Any) -> Any:
     """``value`` with non-finite floats as None and tuples as lists (what JSON can store)."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -222,3 +238,17 @@ def jsonable(value: Any) -> Any:
     if isinstance(value, (list, tuple)):
         return [jsonable(v) for v in value]
     return value
+
+
+def read_spec(folder: str | Path) -> dict[str, Any]:
+    """The spec.json of a study folder, as stored."""
+    return json.loads((Path(folder) / "spec.json").read_text())
+
+
+def sweep_spec_from_file(folder: str | Path) -> SweepSpec:
+    """The `SweepSpec` stored in a study folder's spec.json (to rebuild its tables or figure); its
+    output folder is the folder it was read from, wherever the study was computed."""
+    data = read_spec(folder) | {"out_dir": str(folder)}
+    data["grid"] = {k: tuple(v) for k, v in data["grid"].items()}
+    data["directions"] = tuple(data.get("directions", ("maximize",)))
+    return SweepSpec(**data)

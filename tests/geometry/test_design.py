@@ -109,7 +109,7 @@ def test_frozen_and_keyword_only():
 
 def test_hash_stable_across_processes():
     h = RobotDesign().short_hash()
-    code = "from geometry.design import RobotDesign; print(RobotDesign().short_hash())"
+    code = "from softcrawl.geometry.design import RobotDesign; print(RobotDesign().short_hash())"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == h and len(h) == 12
     assert EPSADesign(chamber_radius=4).short_hash() != EPSADesign().short_hash()
