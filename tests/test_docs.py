@@ -127,7 +127,7 @@ def _references(paths: list[Path]) -> list[str]:
                 if number not in sections:
                     bad.append(f"{where}: {m.group(0)!r}: docs/DESIGN.md has no section {number}")
         for m in HEADING_REF.finditer(text):
-            if m.group(1).strip().lower() not in headings:
+            if " ".join(m.group(1).split()).lower() not in headings:
                 bad.append(f"{where}: {m.group(0)!r}: docs/DESIGN.md has no heading {m.group(1)!r}")
         for m in DECISION_REF.finditer(text):
             name = m.group(1).rstrip(".")

@@ -1,7 +1,8 @@
 """The documented example commands run as written, and print what their comments say.
 
 The pages are README.md and the docs pages that took over its examples (`DOCS`: docs/results.md,
-docs/sweeps.md). Every `softcrawl ...` line of a ```bash block (outside the results-regeneration loop, which takes
+docs/sweeps.md). Every `softcrawl ...` line of a ```bash block (outside the results-regeneration
+loop, which takes
 35 minutes and is documented as such) is run in a temporary folder (the autouse fixture of
 conftest.py makes it the working directory, so `--out out/...` writes there). A decimal number with
 a unit in the line's comment ("2.505 kg", "118.032 mm"; whole numbers are mostly inputs, figures
