@@ -2,7 +2,7 @@
 
 Two disjoint bodies in one mesh, each with its own chamber: the per-chamber pressures, their
 load vectors and tangents are right exactly when each body follows its own single-chamber closed
-form (docs/DESIGN.md section 6) at its own pressure. Volume control along a two-chamber load
+form (docs/decisions/010-verification.md) at its own pressure. Volume control along a two-chamber load
 direction is checked past the limit point of one sphere while the other stays on its stable branch.
 """
 
@@ -17,7 +17,7 @@ from softcrawl.fem.path import load_path
 from softcrawl.fem.reference_models import MU
 from softcrawl.fem.structured import curved, joined, mirrored, sphere_octant, tag_boundaries, tube_sector
 
-A, B = 1.0, 20.0  # the verification tube (docs/DESIGN.md section 6)
+A, B = 1.0, 20.0  # the verification tube (docs/decisions/010-verification.md)
 
 
 def two_tubes():

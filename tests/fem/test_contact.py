@@ -164,7 +164,7 @@ def test_verification_cases_hold_with_a_smoothed_normal_law(name, smoothing):
     tolerances (plane 0.5 %, mu N 0.5 %, stick 0.5 %, Hertz 5 %, order >= 1.8). The Newton case
     uses 1/4 of it: its wall starts 2-4 um from the block, and with a 2 um band points of the
     last increment cross the band's edges, where dp_N/dq has a kink (order 1.41 measured; 2.1
-    at 0.1 um, 3.3 at 0.5 um; docs/DESIGN.md section 11)."""
+    at 0.1 um, 3.3 at 0.5 um; docs/decisions/040-contact-fixes.md)."""
     case = {
         "press": cv.press_test,
         "drag": cv.drag_test,

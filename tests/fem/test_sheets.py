@@ -161,7 +161,8 @@ def test_table1_epsa_with_tensile_modulus_runs_to_100_kpa_on_the_default_mesh():
     assert all(r.tip_lateral_mm < SWAY_WARNING * r.length_mm for r in rows)
     assert not curve.events
     # the committed figure (results/epsa-default-mesh/curve-probe_mu03.csv: 290.656 mm; 290.667 mm
-    # with one pressure field continuous across the silicone/ABS interface, docs/DESIGN.md section 12)
+    # with one pressure field continuous across the silicone/ABS interface,
+    # docs/decisions/044-pressure-fields.md)
     assert lengths[-1] == pytest.approx(290.656, abs=0.005)
 
 

@@ -1,4 +1,4 @@
-"""The solver against closed-form solutions (docs/DESIGN.md section 6), on coarse meshes."""
+"""The solver against closed-form solutions (docs/decisions/010-verification.md), on coarse meshes."""
 
 import numpy as np
 import pytest

@@ -166,7 +166,7 @@ def test_ecoflex_00_50_neo_hookean_fit_is_in_literature_range():
     lam, stress = materials.select_fit_points(data.stretch, data.nominal_stress)
     g = lam - lam**-2
     assert fit.params["mu"] == pytest.approx(np.sum(g * stress) / np.sum(g * g), rel=1e-12)
-    assert fit.params["mu"] == pytest.approx(0.022416, abs=2e-6)  # docs/DESIGN.md section 3: 0.0224
+    assert fit.params["mu"] == pytest.approx(0.022416, abs=2e-6)  # docs/decisions/001-materials.md: 0.0224
     assert fit.strain_range[1] <= 1.0 and fit.n_points >= 30
     assert fit.relative_rms_error < 0.08 and fit.r_squared > 0.98
     # Over the whole pull-to-failure curve the large strains dominate: much stiffer, worse fit.

@@ -12,7 +12,7 @@ insertion in 4 steps, mu = 0.5 on both faces (FOOT_FRICTION), the paper's protot
   the ground springs carry less than 1e-3 of it;
 - the centre's advance in the extension changes by less than 5 % between 4 and 8 sub-steps;
 - a whole inflate cycle of the paper's feet at mu = 0.5 completes (it stalled in cut-backs near an
-  actuator force of -6 N with the exact Coulomb cone; the rounded cone, docs/DESIGN.md section 11,
+  actuator force of -6 N with the exact Coulomb cone; the rounded cone, docs/decisions/037-coulomb-cone.md,
   lets it finish: the front foot slides out, and neither foot slides in the retraction).
 """
 
