@@ -3,8 +3,8 @@
     python bench/crawl_bench.py [--quick-only] [--pipe 70] [--cycle]
 
 By default the run is the extension (0 -> 100 kPa, 2 segments' worth of sub-steps), because the
-retraction of the paper's feet at mu = 0.5 stalls in cut-backs near -6 N (docs/DESIGN.md section
-13); --cycle runs the whole inflate cycle (and reports where it stops).
+retraction of the paper's feet at mu = 0.5 stalls in cut-backs near -6 N
+(docs/decisions/054-crawl-tetwild.md); --cycle runs the whole inflate cycle (and reports where it stops).
 
 Targets (issue 17): one gait cycle on the default settings at most 15 minutes, --quick at most 3
 minutes, on an idle 2-core machine. Prints per run: DOFs, states (increments), Newton iterations,

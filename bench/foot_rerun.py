@@ -4,7 +4,7 @@ spec.json; the other diameters keep their stored results).
 
     python bench/foot_rerun.py results/foot/rubber-70a 55 75 [--mesh-cache DIR]
 
-Used for issue 16's convergence fixes (docs/DESIGN.md section 11), where a full rerun of the
+Used for issue 16's convergence fixes (docs/decisions/040-contact-fixes.md), where a full rerun of the
 five pipes did not fit the time available; the README of the folder says which points predate
 which change. Prints one line per diameter (converged, ratio, wall time).
 """

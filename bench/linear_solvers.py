@@ -8,7 +8,7 @@ large-strain state). Candidates:
 - GMRES with the block preconditioner of bench/krylov_amg.py (smoothed-aggregation AMG on the
   displacement block, pressure mass matrix / mu for the Schur complement), to 1e-8; memory is the
   tracemalloc peak of the AMG set-up and the solve (numpy arrays only: a lower bound).
-  pyamg is not a dependency of the project (it did not win, docs/DESIGN.md section 7.1):
+  pyamg is not a dependency of the project (it did not win, docs/decisions/013-pardiso.md):
   `pip install pyamg` to run this candidate.
 - scipy's SuperLU (MMD_AT_PLUS_A, SymmetricMode) on the default mesh only (the fallback; minutes
   and gigabytes beyond it).

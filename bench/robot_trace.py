@@ -9,7 +9,7 @@ or cut back: the relative force residual, the share of the squared residual held
 displacement dofs of the ABS parts (rings, seal heads: nodes touching only ABS elements), the
 silicone, the feet and the interfaces, the pressure-constraint residual / solid volume, the line-
 search step length and the largest displacement increment. --abs-modulus replaces the ABS
-Young's modulus (MPa) for a measurement of its effect (docs/DESIGN.md section 12).
+Young's modulus (MPa) for a measurement of its effect (docs/decisions/050-rigid-abs.md).
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Problem (issue 3): the 1/8 thick tube, inner radius 3 mm, outer 9 mm, half-length 50 mm,
 symmetry planes x = 0, y = 0, z = 0 and u_z = 0 at z = 50 (plane strain). Neo-Hookean,
 mu = 0.03 MPa, K = 1000 mu. Follower pressure 0 -> 20 kPa in 5 steps. Error: inner radius
-against the plane-strain analytic solution (docs/DESIGN.md section 6).
+against the plane-strain analytic solution (docs/decisions/010-verification.md).
 
 Each solver runs in its own child process (so its peak resident memory is its own) on the same
 linear tetrahedral mesh; softcrawl curves the edge midpoints onto the cylinders (`fem.structured`),

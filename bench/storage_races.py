@@ -1,4 +1,5 @@
-"""Measure the races that decide where the sweep engine needs its study lock (docs/DESIGN.md 8).
+"""Measure the races that decide where the sweep engine needs its study lock
+(docs/decisions/022-study-lock.md).
 
 For SQLite (a file in WAL mode, opened as the engine opens it) and PostgreSQL (a throwaway server
 on 127.0.0.1, see tests/studies/sweeps/pg_server.py), N processes released together by a barrier:

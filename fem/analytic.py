@@ -1,4 +1,5 @@
-r"""Closed-form solutions for incompressible Neo-Hookean solids (shear modulus mu), docs/DESIGN.md section 6.
+r"""Closed-form solutions for incompressible Neo-Hookean solids (shear modulus mu),
+docs/decisions/010-verification.md.
 
 Uniaxial stretch lam, free lateral faces: nominal stress  P = mu (lam - lam^-2).
 Thick tube, plane strain, radii A < B, inner stretch la = a/A, lb^2 = (la^2 A^2 + B^2 - A^2)/B^2:

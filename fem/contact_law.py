@@ -15,7 +15,7 @@ still drives the penetration of pressed points to zero) and 0 below. p_N and dp_
 continuous, so a point at the edge of the contact zone no longer switches the stiffness eps_N
 n n (and the slip-normal coupling mu eps_N m n) on and off between Newton iterations: at g = 0
 it has dp_N/dq = 1/2. The price: points within delta / 2 outside the surface carry at most
-eps_N delta / 8 (docs/DESIGN.md section 11).
+eps_N delta / 8 (docs/decisions/040-contact-fixes.md).
 
 Friction (penalty regularised Coulomb law, elastic predictor and return mapping). The stick
 point x_s is history, fixed during the Newton iterations of an increment. With v = x - x_s,
@@ -37,7 +37,7 @@ commit has put exactly on the Coulomb limit stick at the start of the next incre
 predictor of return mapping): without it their status at the start is decided by round-off, and a
 foot in full slip whose load then decreases gets the slip tangent, which has no stiffness along
 the slip: the first Newton step of the unloading is a free rigid slide that no line search can
-repair at any step size (seen in the crawl, docs/DESIGN.md section 13).
+repair at any step size (seen in the crawl, docs/decisions/053-crawl-solver.md).
 
 Rounded cone (optional, `ContactSpec.slip_band` = w, a share of the Coulomb radius; off by
 default). With r = |t*| / (mu p_N), the traction is f_T = mu p_N phi(r) m, where phi(r) = min(r, 1)
@@ -56,7 +56,7 @@ stick value by at most mu p_N w / 8) and the tangent is continuous across the co
 1 + w/2. Why: with the exact cone a point at the Coulomb limit switches between the stick tangent
 eps_T P and the slip tangent (no stiffness along m) from one Newton iteration to the next, and in
 the foot's backward drag two such points flip ten times in a solve without converging
-(docs/DESIGN.md section 11); with the rounded cone the residual is C1 and Newton's local
+(docs/decisions/037-coulomb-cone.md); with the rounded cone the residual is C1 and Newton's local
 convergence holds.
 
 History update, after an increment has converged (never inside Newton): stick points keep x_s;

@@ -121,7 +121,7 @@ def _solve_augmented(solver, model, x, P, f, tol, max_augment):
     problem with its own multipliers whose penetration (above tol) is returned and reported.
     Before, such a failure threw away the converged first solve and cut the load step back: in
     the foot's backward drag most cut-backs came from here (the update moves p_N, hence the
-    Coulomb limit mu p_N, at every point at once; docs/DESIGN.md section 11)."""
+    Coulomb limit mu p_N, at every point at once; docs/decisions/037-coulomb-cone.md)."""
     x, record = solver.load_step(x, P, f)
     iterations, residuals = [record.iterations], record.residuals
     relax, failures, updates = 1.0, 0, 0

@@ -5,8 +5,8 @@ A Newton iteration needs the step dx with K dx = -R to the accuracy of the forci
 on one scale). When the factorisation of an earlier tangent K0 is at hand, GMRES on K with the
 right preconditioner K0^{-1} gets there in a few iterations as long as K0^{-1} K is close to the
 identity: each iteration costs one product with K and one solve with the old factors (forward and
-back substitution), an order of magnitude less than a new factorisation (docs/DESIGN.md
-section 7 has the measurements).
+back substitution), an order of magnitude less than a new factorisation (docs/decisions/016-solver-pass1.md
+has the measurements).
 
 GMRES (Saad & Schultz 1986) builds an orthonormal basis v_1..v_m of the Krylov space of
 A = W K M^{-1} from v_1 = W b / ||W b|| (Arnoldi, classical Gram-Schmidt with one
@@ -18,7 +18,7 @@ is x = M^{-1} V y. No restart: the callers cap the iterations far below any memo
 The vector operations are `np.einsum` (numpy's own loops), not BLAS: numpy's OpenBLAS runs a
 dot product of 22k entries on its threads, and on a machine busy with other jobs each call waited
 1-25 ms for them (12 GMRES iterations without the preconditioner: 0.32 s with BLAS dot products,
-0.03 s on one BLAS thread; docs/DESIGN.md section 7.2).
+0.03 s on one BLAS thread; docs/decisions/017-solver-pass2.md).
 """
 
 from __future__ import annotations

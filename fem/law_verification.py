@@ -1,5 +1,5 @@
 """Verification of the strain-stiffening laws (Yeoh, Gent) against the thick-tube theory for any
-W(I1) (`fem.tube_theory`, docs/DESIGN.md section 6); `fem.verification.CASES` lists them.
+W(I1) (`fem.tube_theory`, docs/decisions/010-verification.md); `fem.verification.CASES` lists them.
 
 - yeoh-tube, gent-tube: the 1/4 plane-strain tube A = 3, B = 9 mm, pressure-controlled to the
   analytic pressures of inner stretches 1.5 and 2.5 (Gent: 1.5 and 2.2, its Jm = 10 locks near 3);

@@ -1,6 +1,6 @@
 """Sparse direct solvers for the Newton systems, with a measured default.
 
-Candidates (measured by `bench/solver_bench.py`, docs/DESIGN.md section 7): MKL PARDISO through
+Candidates (measured by `bench/solver_bench.py`, docs/decisions/013-pardiso.md): MKL PARDISO through
 `pypardiso` (a PyPI wheel that brings MKL) and scipy's SuperLU. SuperLU is the pure-scipy
 fallback; it runs with the MMD_AT_PLUS_A ordering and SymmetricMode, which suit the structurally
 symmetric FE matrices (COLAMD, or no SymmetricMode, is 2x-60x slower). `default_solver()` picks
@@ -54,7 +54,8 @@ FLOPS_PER_RATIO = 35.0
 #: KMP_BLOCKTIME. Intel's default, 200 ms, keeps both MKL threads spinning on the 2 cores after
 #: each factorisation while the assembly that follows runs: measured (default mesh, loaded
 #: machine) the process used 0.08-0.11 s of CPU for an assembly right after a factorisation
-#: against 0.045-0.05 s with 0; the factorisation itself took the same time (docs/DESIGN.md 7.2).
+#: against 0.045-0.05 s with 0; the factorisation itself took the same time
+#: (docs/decisions/017-solver-pass2.md).
 KMP_BLOCKTIME_MS = "0"
 
 
@@ -185,7 +186,8 @@ class StepSolver:
     weights)` returns X with ||W (K X - B)|| <= rtol ||W B|| per column, by a factorisation of K
     or by GMRES preconditioned with the last factorisation. Counts and times everything."""
 
-    MAX_KRYLOV = 20  # a GMRES attempt costs at most this many substitutions (docs/DESIGN.md 7.2)
+    #: A GMRES attempt costs at most this many substitutions (docs/decisions/017-solver-pass2.md).
+    MAX_KRYLOV = 20
 
     def __init__(self, name: str | None, symmetric: bool, reuse: bool = True) -> None:
         self.direct = LinearSolver(name)

@@ -1,6 +1,6 @@
 r"""Isotropic hyperelasticity in I1: the law protocol, Neo-Hookean, and the tensor algebra.
 
-Every law of the solver is decoupled and isochoric-in-I1 (docs/DESIGN.md section 3):
+Every law of the solver is decoupled and isochoric-in-I1 (docs/decisions/002-laws.md):
 
     W(F) = Psi(I1bar) + K/2 (J - 1)^2,   I1bar = J^{-2/3} I1,  I1 = F:F,  J = det F,  H = F^{-T}.
 

@@ -42,7 +42,7 @@ iterations: then the state is accepted as converged (its `NewtonRecord` keeps th
 the floor shows). This is for non-smooth problems: a penalty contact whose points sit on the kink
 of the normal law (gap = 0) or on the Coulomb cone flip between the two branches from one
 iteration to the next, and the residual settles at a floor set by the few flipping points rather
-than by the physics (docs/DESIGN.md section 13). `tol` stays the target; `stall_tol` only bounds
+than by the physics (docs/decisions/056-newton-stall.md). `tol` stays the target; `stall_tol` only bounds
 what a stall may leave.
 
 A diverged iteration raises `Diverged` (stalling residual, a non-finite residual, an inverted
@@ -87,7 +87,7 @@ class NewtonOptions:
 PREDICTORS = ("tangent", "secant", "none")
 #: Newton iterations try the last factorisation only when GMRES may take this many iterations
 #: within half a factorisation (the predictor's tangent solve, on nearly the same matrix, 2).
-#: Measured (docs/DESIGN.md 7.2): with 9 allowed, a win at 22k DOFs (-18 % wall time) since
+#: Measured (docs/decisions/017-solver-pass2.md): with 9 allowed, a win at 22k DOFs (-18 % wall time) since
 #: GMRES runs without BLAS threads and abandons hopeless attempts; a win at 165k.
 REUSE_MIN_KRYLOV = 6
 
@@ -171,7 +171,7 @@ class NewtonSolver:
         # Reusing the last factorisation in a Newton iteration pays only when GMRES may run long
         # enough (REUSE_MIN_KRYLOV iterations within half a factorisation), and never at the
         # first iteration, which starts from a predicted state far from where the last
-        # factorisation was made (measured: docs/DESIGN.md section 7).
+        # factorisation was made (measured: docs/decisions/016-solver-pass1.md).
         out = self.linear.solve(K, B, rtol, weights, 0 if first else REUSE_MIN_KRYLOV)
         self.iterations += 1
         return out

@@ -20,7 +20,7 @@ part stretches it, and the spurious stress costs Newton iterations).
 Step size. A sub-step whose Newton iteration diverges is halved; after a converged one the next
 grows or shrinks with the Newton iterations it took (`_growth`: the iteration count measures how
 far the predictor was off), and the next target along the same load direction starts with the
-last step length (`StepMemory`). docs/DESIGN.md section 7.1 has the measurements.
+last step length (`StepMemory`). docs/decisions/016-solver-pass1.md has the measurements.
 
 Guards. A segment ends in a divergence after `max_cutbacks` halvings in a row, after
 `max_substeps` sub-steps, or when the step shrinks below `min_step_fraction` of the segment;

@@ -1,5 +1,5 @@
 """Small structured models with closed-form solutions: the plane-strain thick tube and the
-thick-sphere octant (docs/DESIGN.md section 6), and measures on them.
+thick-sphere octant (docs/decisions/010-verification.md), and measures on them.
 
 The verification cases (`fem.verification`), the benchmarks and the tests build their models here.
 """
@@ -14,7 +14,7 @@ from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import load_path
 from softcrawl.fem.structured import sphere_octant, tube_sector
 
-MU = 0.03  # MPa, Ecoflex 00-50 default (docs/DESIGN.md section 3)
+MU = 0.03  # MPa, Ecoflex 00-50 default (docs/decisions/001-materials.md)
 
 
 def tube_model(

@@ -18,7 +18,7 @@ original Neo-Hookean path (no Psi'' term, no extra product), so it is not slowed
 the D (x) D term is one more batched product per chunk, sum_q d dx (D g_a)_i (D g_b)_k.
 
 Assembly is vectorised over all elements and quadrature points (batched matrix products), never a
-per-basis-function loop: docs/DESIGN.md section 7 says why this matters. The pointwise
+per-basis-function loop: docs/decisions/012-assembly.md says why this matters. The pointwise
 algebra (F, J, F^-T, P) runs on contiguous component arrays of the whole mesh; the element
 matrices are built per chunk of elements (temporaries stay in cache) on the assembly threads
 (`fem.parallel`) and written straight into the sparsity pattern's value array, only the upper

@@ -7,7 +7,7 @@ to silicone with mu = 0.06 MPa) that spurious strain carries stresses far above 
 ones, and Newton spends its first iterations taking it out again: on the whole robot the
 residual of the predicted state sat in the ABS rings and seal heads and their interfaces
 (~95 % of its square), and a 10 kPa load target took 4-10 iterations and cut-backs
-(docs/DESIGN.md section 12, `bench/robot_trace.py`).
+(docs/decisions/050-rigid-abs.md, `bench/robot_trace.py`).
 
 What. Stiff elements: shear modulus >= `ratio` x the smallest in the body. Their connected
 components (elements sharing a node) are the stiff parts. For each part, with a_n = X_n + u_n the

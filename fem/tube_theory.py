@@ -1,5 +1,5 @@
 r"""Inflation of an incompressible thick tube for any law W(I1) (Psi' from the law's
-`psi_derivatives`): plane strain and closed ends (docs/DESIGN.md section 6).
+`psi_derivatives`): plane strain and closed ends (docs/decisions/010-verification.md).
 
 Reference radii A < B, inner radius a = la A, uniform axial stretch lz. Incompressibility gives
 the current radius of the material at R,

@@ -1,4 +1,4 @@
-"""Verification cases: the solver against closed-form solutions (docs/DESIGN.md section 6).
+"""Verification cases: the solver against closed-form solutions (docs/decisions/010-verification.md).
 
 Each case builds a coarse structured mesh, solves, and returns a frozen `CaseResult` with the
 worst relative error against the analytic solution and the tolerance it must meet. The same

@@ -5,7 +5,7 @@ Defaults are the paper's Table 1 (ePSA length 100 mm, radius 9 mm, chamber radiu
 turns, groove height 1 mm, foot radius d = 14 mm, 3 connecting rings) plus dimensions the paper
 gives or implies (Sections II, V, VI):
 
-* Kevlar fiber diameter 0.3 mm (docs/DESIGN.md, section 3).
+* Kevlar fiber diameter 0.3 mm (docs/decisions/001-materials.md).
 * End caps: the silicone body closes each end of the air chamber with ``end_cap_thickness`` = 5 mm.
   The paper gives no value; 5 mm is close to the 6 mm side wall (R0 - r0), so the ends are not the
   weak spot of the chamber, and leaves 90 % of the body length (90 mm) pressurised.

@@ -4,7 +4,7 @@ Why a second foot mesher. pytetwild (`geometry.tetwild.mesh_foot`) meshes the fo
 its default 4.5 mm edge puts about one quadratic element through the 3 mm skirt, and a finer edge
 multiplies the tetrahedra of the whole foot. In the 55 mm pipe the skirt is folded into the 3.5 mm
 between the hub rim and the wall, and in the 75 mm pipe's backward drag it is wedged; with one
-element through its thickness the crushed fold has no Newton basin (docs/DESIGN.md section 11).
+element through its thickness the crushed fold has no Newton basin (docs/decisions/041-revolved-foot.md).
 The foot is a solid of revolution, so a revolved mesh resolves the thickness with a few layers,
 keeps the elements long along the skirt and around the axis, and is the same in every sector
 (the mesh itself does not break the axial symmetry, unlike the irregular pytetwild mesh).

@@ -1,6 +1,6 @@
 r"""Conforming swept mesh of the whole robot: three ePSAs, seal heads, n rings and two foot hubs.
 
-Why swept and conforming (docs/DESIGN.md section 12). The parts are tied in the paper (Abaqus
+Why swept and conforming (docs/decisions/043-robot-mesh.md). The parts are tied in the paper (Abaqus
 *Tie*). A mesh whose parts share their interface nodes is a perfect tie: the interface carries
 any force exactly and needs no constraint equations. Everything in the robot's load path is a
 prism over one cross-section: the actuators are cylinders along z, the rings are plates with

@@ -1,7 +1,7 @@
 """The project core shared by every package: the input-error base class and the version.
 
 It imports nothing heavy and nothing of the project, so `geometry`, `fem`, `materials`, `robot` and
-`studies` can all depend on it without an upward import (docs/DESIGN.md section 1).
+`studies` can all depend on it without an upward import (docs/DESIGN.md#layer-rules).
 """
 
 from __future__ import annotations

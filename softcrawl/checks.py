@@ -6,7 +6,7 @@ error naming its parameter, not an `OverflowError`. The bounds are closed unless
 `integer=True` asks for a whole number (a float such as 3.0 is accepted and returned as 3).
 Each package passes its own `InputError` subclass as `error`, so the error names the domain.
 
-Bounds are the caller's named constants (docs/DESIGN.md, "Input limits"): a physical range, or a
+Bounds are the caller's named constants (docs/decisions/024-input-limits.md): a physical range, or a
 cap where a larger value would exhaust memory or time.
 """
 

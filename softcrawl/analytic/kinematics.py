@@ -1,6 +1,7 @@
 """Constant-curvature kinematics of the three-ePSA body (paper Section III-C/D, eqs. 4-15).
 
-Geometry (docs/DESIGN.md section 2). The body axis is z at the rear foot; ePSA i sits at angle psi_i on
+Geometry (docs/DESIGN.md#units-and-conventions). The body axis is z at the rear foot; ePSA i sits at angle
+psi_i on
 a circle of radius d, psi = (90, 210, 330) deg. A configuration (kappa, theta, phi) is the
 curvature, the bending angle and the direction of bending (phi measured from x, towards y).
 

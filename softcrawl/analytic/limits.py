@@ -1,4 +1,4 @@
-"""Input limits of the analytic models, each with its reason (docs/DESIGN.md, "Input limits").
+"""Input limits of the analytic models, each with its reason (docs/decisions/024-input-limits.md).
 
 The models are closed forms and small searches, so the limits are of two kinds: physical ranges
 (a length, a force, a gravity) wide enough for any robot of this kind and narrow enough that a

@@ -1,7 +1,8 @@
 """The paper's prototype: identified ePSA parameters (eqs. 19-24) and robot constants.
 
 This module is the units boundary. The paper prints eqs. (19)-(24) with P in kPa, k_p in N/m,
-f_p in N and the extension y in m (docs/DESIGN.md section 5). Inside `robot` lengths are mm, so every
+f_p in N and the extension y in m (docs/decisions/007-analytic-models.md). Inside `robot` lengths are mm, so
+every
 k_p coefficient printed here in N/m is divided by 1000 (N/mm); f_p stays in N. Masses are in tonne
 (1 g = 1e-6 t), g in mm/s^2.
 

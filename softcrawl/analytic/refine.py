@@ -14,7 +14,7 @@ solved with SLSQP (forward-difference Jacobians, batched; per cycle and stage on
 sample distance enters, an order statistic and so continuous in the lengths). t > 0 means a gait
 with t mm of wall clearance to spare; by default SLSQP stops once t >= 0.02 mm. Lengths in the
 upward 0.17 mm gap of the nominal l(P) at 60 kPa are reached by no pressure and are pinned to its
-ends. The bend-plane form of `analytic.cycle` (docs/DESIGN.md section 5, eqs. 16-18): the robot
+ends. The bend-plane form of `analytic.cycle` (docs/decisions/007-analytic-models.md, eqs. 16-18): the robot
 is rolled so that ePSA 1 faces the inside of the bend, triples (P1, P23, P23) bend in the bend
 plane with signed curvature k (> 0 towards the bend)
 

@@ -26,7 +26,7 @@ For every model the small-strain constants are related by
 
     lambda = K - 2 mu / 3,   E = 9 K mu / (3 K + mu),   nu = (3 K - 2 mu) / (2 (3 K + mu)).
 
-Nearly incompressible solids default to K = 1000 mu (docs/DESIGN.md section 3: K/mu >= 1000),
+Nearly incompressible solids default to K = 1000 mu (docs/decisions/001-materials.md: K/mu >= 1000),
 i.e. nu = 0.4995: the volume change under the actuator's stresses stays below about 0.1 %, which is
 incompressible for every purpose of this project, while the real bulk modulus of silicone
 (K ~ 1 GPa, K/mu ~ 10^4-10^5) would make the stiffness matrix badly conditioned and aggravate

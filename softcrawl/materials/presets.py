@@ -37,9 +37,9 @@ def _ecoflex_00_50() -> Material:
         model="neo-hookean",
         mu=0.030,
         density=_SILICONE_DENSITY["ecoflex-00-50"],
-        source="docs/DESIGN.md section 3 default mu = 0.030 MPa (literature 0.022-0.047 MPa; Smooth-On "
-        "TDS (not re-checked) 100 % modulus 12 psi = 0.083 MPa -> NH secant mu = 0.047 MPa); SG 1.07 "
-        "(Smooth-On TDS)",
+        source="docs/decisions/001-materials.md default mu = 0.030 MPa (literature 0.022-0.047 MPa; "
+        "Smooth-On TDS (not re-checked) 100 % modulus 12 psi = 0.083 MPa -> NH secant mu = 0.047 MPa); "
+        "SG 1.07 (Smooth-On TDS)",
     )
 
 
@@ -75,7 +75,7 @@ def _rubber_70a() -> Material:
         mu=shear_modulus_nearly_incompressible(youngs),
         density=1.15 * _G_PER_CM3,
         source=f"3D-printed rubber foot, Shore 70A: E = {youngs:.3f} MPa by Gent's relation "
-        "(docs/DESIGN.md section 3), mu from E with K = 1000 mu; density 1.15 g/cm^3 assumed "
+        "(docs/decisions/001-materials.md), mu from E with K = 1000 mu; density 1.15 g/cm^3 assumed "
         "(typical of rubber-like PolyJet photopolymers, not measured)",
     )
 
@@ -87,7 +87,7 @@ def _abs() -> Material:
         youngs=2000.0,
         poisson=0.35,
         density=1.04 * _G_PER_CM3,
-        source="docs/DESIGN.md section 3 (rings, seal heads): E = 2000 MPa, nu = 0.35; density "
+        source="docs/decisions/001-materials.md (rings, seal heads): E = 2000 MPa, nu = 0.35; density "
         "1.04 g/cm^3 (typical ABS)",
     )
 
@@ -99,8 +99,8 @@ def _kevlar() -> Material:
         youngs=31067.0,
         poisson=0.36,
         density=1.44 * _G_PER_CM3,
-        source="docs/DESIGN.md section 3 fiber thread E = 31067 MPa (for a truss; diameter 0.3 mm is a "
-        "geometry parameter); nu = 0.36 nominal (Kevlar 49), unused by truss elements; "
+        source="docs/decisions/001-materials.md fiber thread E = 31067 MPa (for a truss; diameter 0.3 mm "
+        "is a geometry parameter); nu = 0.36 nominal (Kevlar 49), unused by truss elements; "
         "density 1.44 g/cm^3 (Kevlar 49)",
     )
 

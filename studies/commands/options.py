@@ -5,7 +5,7 @@ Every check ends in one line that names the option: `add_number` turns a bad num
 argparse error (``argument --length: must be ...``, exit code 2), the other helpers raise
 `CommandLineError`, an `InputError` that `studies.cli` prints as one line with exit code 2. The
 limits are named constants here or in the library module that owns the quantity
-(docs/DESIGN.md, "Input limits").
+(docs/decisions/024-input-limits.md).
 """
 
 from __future__ import annotations

@@ -7,7 +7,8 @@ The feet: the revolved mesh (`studies.crawl.mesh`), 48 sectors.
 --quick: D in {60, 65, 70} x mu in {0.3, 0.5} (mu outermost, so the mu = 0.3 points, which
 complete a cycle at 70 mm, come first), 4 insertion steps, 24 sectors, one cycle, and a wall-time budget of
 QUICK_WALL_S per point (DEFAULT_WALL_S without --quick), insertion included: a stall in
-cut-backs (the retraction at mu = 0.5 before the rounded cone, docs/DESIGN.md 13) must end as a
+cut-backs (the retraction at mu = 0.5 before the rounded cone, docs/decisions/054-crawl-tetwild.md) must end
+as a
 recorded failure, not as a point that never returns. Each point runs
 `studies.crawl.files` into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json,
 crawl.png; no VTU) and its summary is kept in points/crawl-D..-mu...json, so a stopped study

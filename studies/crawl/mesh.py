@@ -12,7 +12,7 @@ Meshers (`geometry.foot_meshers`). "revolved" (the default): `geometry.foot_revo
 structured mesh, every vertex and P2 midside node on the exact surfaces, refined by its sectors
 and its cells through the skirt; "tetwild": `geometry.tetwild.mesh_foot` (pytetwild, refined by
 its edge length), the mesh of the crawl results computed before the revolved mesh existed
-(docs/DESIGN.md section 13 says why the crawl moved).
+(docs/decisions/055-crawl-revolved.md says why the crawl moved).
 
 Tags: "rear:TAG" and "front:TAG" for every foot tag (hub_top, hub_bottom, front, back, rim, ...).
 `attach_tag(foot, mirrored)` names the hub face the actuators are glued to: the rear foot's face
@@ -79,7 +79,7 @@ def two_feet(
 
 
 #: Sectors of the revolved feet in the --quick crawl and crawl study (82k DOFs against 164k at the
-#: default 48); their stride against the default mesh's: docs/DESIGN.md section 13.
+#: default 48); their stride against the default mesh's: docs/decisions/055-crawl-revolved.md.
 QUICK_SECTORS = 24
 
 

@@ -1,6 +1,6 @@
 r"""The crawl in FE: two grooved feet in a rigid pipe, coupled by the three ePSAs' axial law.
 
-Model (docs/DESIGN.md section 13). Both feet are the `geometry.foot` mesh (P2-P1, Shore 70A),
+Model (docs/decisions/051-crawl-model.md). Both feet are the `geometry.foot` mesh (P2-P1, Shore 70A),
 placed as on the robot (`studies.crawl.mesh`), each skirt in frictional contact with one
 rigid `CylinderWall` on the pipe axis through two terms per foot (smooth front face + rim with
 mu_smooth, grooved back face with mu_grooved, as in `studies.foot.model`). Neither foot is

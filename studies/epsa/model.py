@@ -9,12 +9,12 @@ allowed); the ABS seal head on top is tied to it (one mesh) and is a stiff Neo-H
 the ABS shear and bulk moduli: at 20-100 kPa its strains are ~1e-4, so the hyperelastic and the
 linear-elastic ABS agree. Each material has its own P1 pressure field (`fem.model`, per-material
 pressure groups): a field continuous across the silicone/ABS interface is wrong there
-(docs/DESIGN.md section 12; the length at 100 kPa changes by 1.5e-5).
+(docs/decisions/044-pressure-fields.md; the length at 100 kPa changes by 1.5e-5).
 
 Winding (`FIBER_MODELS`). "sheet", the default: the double helix smeared over the outer surface
 as two fiber families (`fem.sheets`, `geometry.epsa_shape.helix_families`); it converges under
 mesh refinement. "lines": the paper's embedded trusses on the helix polylines (`fem.fibers`);
-they do not converge (docs/DESIGN.md section 7).
+they do not converge (docs/decisions/014-winding.md).
 
 End conditions. The base z = 0 is fixed (glued to the robot's foot). Free: the seal head's top is
 free. Blocked: the top is fixed too (the blocked force of the paper's Fig. 19). Guided: the top

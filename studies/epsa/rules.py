@@ -1,4 +1,4 @@
-"""The paper's Table 1 selection reasons (Section V-A; docs/DESIGN.md section 4) as explicit rules.
+"""The paper's Table 1 selection reasons (Section V-A; docs/decisions/005-table1-rules.md) as explicit rules.
 
 Pure functions over study tables: the rows of ``curves.csv`` written by ``softcrawl study``
 (one row per design and pressure; values may be strings as read from CSV). Each rule returns a

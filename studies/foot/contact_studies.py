@@ -142,7 +142,7 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
 #: The foot study's mesher: on the revolved mesh (`geometry.foot_revolved`, three cells through
 #: the skirt) every pipe of 55-75 mm inserts and drags forward, and the backward drags that stop do
 #: so past a limit point; on the pytetwild mesh (about one cell through the skirt) the 55 and 75 mm
-#: drags stalled without one, and two meshes were 5 % apart (docs/DESIGN.md section 11). A
+#: drags stalled without one, and two meshes were 5 % apart (docs/decisions/041-revolved-foot.md). A
 #: spec.json without the key predates the revolved mesh and means pytetwild.
 FOOT_MESHER = "revolved"
 

@@ -52,24 +52,24 @@ FOOT_MAX_WALL_S = 900.0
 #: cut-backs alternate with tiny converged sub-steps at a limit point.
 MIN_STEP_FRACTION = 1e-3
 #: A drag that stopped after its resistance fell more than this share below its largest value
-#: has passed a limit point (docs/DESIGN.md section 11); its largest resistance is a lower bound.
+#: has passed a limit point (docs/decisions/041-revolved-foot.md); its largest resistance is a lower bound.
 LIMIT_DROP = 1e-3
 
 FACES = {"smooth": ("front", "rim"), "grooved": ("back",)}
 #: Uzawa loop of the foot runs: 10 um of penetration (1/300 of the skirt) is far below the
 #: deformations of interest; each further update costs a solve at ~50k unknowns.
 AUGMENT = {"penetration_tol": 0.01, "max_augment": 2}
-#: eps_T / eps_N of the foot (docs/DESIGN.md section 11).
+#: eps_T / eps_N of the foot (docs/decisions/036-contact.md).
 TANGENTIAL_RATIO = 1.0
 #: Gap band (mm) over which the normal contact law's kink is rounded (`fem.contact_law`). 0: the
 #: exact law of the committed results. 0.01 mm (the Uzawa tolerance) removed the contact-edge
 #: chatter of the 75 mm backward drag but moved its path (+6 % normal force at 2.1 mm) without
-#: making it finish, so it is not the default (docs/DESIGN.md section 11).
+#: making it finish, so it is not the default (docs/decisions/040-contact-fixes.md).
 SMOOTHING = 0.0
 #: Width w of the rounded Coulomb cone, a share of mu p_N (`fem.contact_law`). With the exact
 #: cone the 75 mm backward drag and the crawl's retraction at mu = 0.5 stalled in stick/slip
 #: cycles of a few points; 0.05 lowers the traction of points on the band by at most 0.6 % of
-#: mu p_N and leaves full slip and the Coulomb limit exact (docs/DESIGN.md section 11). Also the
+#: mu p_N and leaves full slip and the Coulomb limit exact (docs/decisions/037-coulomb-cone.md). Also the
 #: crawl's contact law (`studies.crawl.model`).
 SLIP_BAND = 0.05
 

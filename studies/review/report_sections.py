@@ -19,6 +19,8 @@ RENDERS = (
     "--out results/epsa-renders"
 )
 VERIFY = "softcrawl verify --json results/verify/verify.json"
+#: The decision records whose measurements the benchmarks section shows (the solver's efficiency).
+SOLVER_RECORDS = ("016-solver-pass1.md", "017-solver-pass2.md")
 
 
 def _num(v):
@@ -299,12 +301,12 @@ def benchmarks(results: Path) -> str:
     bench = sorted((results / "bench").glob("*.txt")) if (results / "bench").exists() else []
     for path in bench:
         out.append(f"<h3>{esc(path.name)}</h3><pre>{esc(path.read_text())}</pre>")
-    design = results.parent / "docs" / "DESIGN.md"
-    if design.exists():
-        text = design.read_text()
-        match = re.search(r"^## 7\..*?(?=^## )", text, flags=re.S | re.M)
-        if match:
-            out.append("<h3>Recorded measurements (docs/DESIGN.md section 7)</h3>" + markdown(match.group(0)))
+    for record in SOLVER_RECORDS:
+        path = results.parent / "docs" / "decisions" / record
+        if path.exists():
+            out.append(
+                f"<h3>Recorded measurements (docs/decisions/{record})</h3>" + markdown(path.read_text())
+            )
     if not bench:
         out.append(
             missing(

@@ -24,7 +24,7 @@ from softcrawl.studies.epsa import rules
 from softcrawl.studies.epsa.linearity import linearity_claim
 from softcrawl.studies.table1_row import StudyRow
 
-#: The paper's Table 1 (docs/DESIGN.md section 4): parameter key -> (label, value, unit).
+#: The paper's Table 1 (docs/decisions/005-table1-rules.md): parameter key -> (label, value, unit).
 PAPER_TABLE1 = {
     "length": ("ePSA length l0", 100.0, "mm"),
     "outer_radius": ("ePSA radius R0", 9.0, "mm"),

@@ -23,7 +23,7 @@ PAPER = {"chamber_radius": 3.0, "fiber_turns": 20.0}
 PAPER_FLUCTUATING_RADII = (2.0, 4.0)
 #: The order of the assumptions in the summary.
 ROLE_ORDER = ("literature", "tensile", "calibrated", "Yeoh fit", "Gent fit", "paper's-material")
-#: The literature shear modulus of Ecoflex 00-50 (preset `ecoflex-00-50`, docs/DESIGN.md section 3).
+#: The literature shear modulus of Ecoflex 00-50 (preset `ecoflex-00-50`, docs/decisions/001-materials.md).
 LITERATURE_MU = 0.030
 
 

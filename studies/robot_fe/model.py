@@ -18,8 +18,9 @@ The robot is open to extra terms (contact: `SolidModel.terms`) and to other supp
 None leaves both feet free for a term that holds them.
 
 Materials are stated in every result (`RobotModel.materials`). With the tensile-range modulus
-(mu = 0.03 MPa) the paper's Fig. 11 load case bends the robot into a loop (docs/DESIGN.md section
-12); the robot studies run with the calibrated modulus unless told otherwise.
+(mu = 0.03 MPa) the paper's Fig. 11 load case bends the robot into a loop
+(docs/decisions/046-robot-material.md); the robot studies run with the calibrated modulus unless told
+otherwise.
 """
 
 from __future__ import annotations
@@ -31,8 +32,9 @@ import numpy as np
 from softcrawl.geometry.design import DesignError, RobotDesign
 from softcrawl.geometry.robot_mesh import MESH_PRESETS, RobotMeshSettings, mesh_robot_swept
 
-#: The robot studies' silicone: the calibrated modulus of `softcrawl calibrate` (docs/DESIGN.md
-#: section 3), at which the Fig. 11 load case bends the robot ~120 deg instead of a full loop.
+#: The robot studies' silicone: the calibrated modulus of `softcrawl calibrate`
+#: (docs/decisions/001-materials.md), at which the Fig. 11 load case bends the robot ~120 deg instead of a
+#: full loop.
 DEFAULT_MATERIAL = "ecoflex-00-50@mu=0.0638"
 RING_MATERIAL = "abs"
 SEAL_MATERIAL = "abs"

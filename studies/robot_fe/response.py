@@ -41,7 +41,7 @@ THETA_MIN_FOR_D = math.radians(0.5)
 #: its first iterations undoing the spurious stress, so the prediction of every part 100 x
 #: stiffer than the softest is a rigid motion (`fem.stiff_parts`; the rubber feet, ~30 x, keep
 #: theirs): quick mesh, Fig. 11 path in 10 kPa targets, 94 -> 54 Newton iterations, the same
-#: states (docs/DESIGN.md section 12). Cut-backs: up to 8 halvings of a segment.
+#: states (docs/decisions/050-rigid-abs.md). Cut-backs: up to 8 halvings of a segment.
 ROBOT_NEWTON = NewtonOptions(max_cutbacks=8, rigid_ratio=100.0)
 
 

@@ -1,7 +1,7 @@
 """The study lock, and which worker processes of an SQLite study are alive.
 
 The study lock serialises the few steps that optuna does not make atomic across processes
-(docs/DESIGN.md section 8 has the measurements behind each):
+(docs/decisions/022-study-lock.md has the measurements behind each):
 
 * creating the tables of an empty database (two processes race on ``CREATE TABLE`` in SQLite,
   on ``CREATE TYPE studydirection`` in PostgreSQL);
