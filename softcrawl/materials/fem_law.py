@@ -8,8 +8,7 @@ at 100 kPa).
 
 from __future__ import annotations
 
-from softcrawl.fem.laws import Gent, Yeoh
-from softcrawl.fem.neohooke import IsochoricI1Law, NeoHookean
+from softcrawl.fem.laws import Gent, IsochoricI1Law, NeoHookean, Yeoh
 from softcrawl.materials.material import Material, MaterialError
 
 

@@ -104,8 +104,7 @@ def shape_window(law_name: str, shape: str, unit_law) -> ShapeWindow:
 
 
 def scan(yeoh_shapes=YEOH_SHAPES, gent_jm=GENT_JM) -> list[ShapeWindow]:
-    from softcrawl.fem.laws import Gent, Yeoh
-    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.fem.laws import Gent, NeoHookean, Yeoh
     from softcrawl.materials import get_material
 
     fit_yeoh, fit_gent = get_material("ecoflex-00-50-yeoh"), get_material("ecoflex-00-50-gent")
@@ -186,7 +185,7 @@ def centres(windows: list[ShapeWindow]) -> dict[str, dict]:
 
 def run_paper_material(out, results=None) -> tuple[list[str], list[Path]]:
     """Scan, write windows.csv, paper-material.json and .md; returns (lines, written)."""
-    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.fem.laws import NeoHookean
     from softcrawl.studies.epsa import rules
     from softcrawl.studies.sweeps.tables import write_csv
 
