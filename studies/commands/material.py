@@ -18,6 +18,8 @@ DATA_CHOICES_HELP = "ecoflex-00-50 | ecoflex-00-30 | dragon-skin-30 | PATH to a 
 
 
 def register(subparsers) -> None:
+    from softcrawl.fem.laws import LAWS
+
     parser = subparsers.add_parser(
         "material", help="material presets and tensile-data fits", description=__doc__.splitlines()[0]
     )
@@ -37,7 +39,7 @@ def register(subparsers) -> None:
     fit.add_argument(
         "--model",
         default="neo-hookean",
-        choices=("neo-hookean", "yeoh", "gent"),
+        choices=tuple(LAWS),
         help="law (default neo-hookean)",
     )
     fit.add_argument(
@@ -191,11 +193,12 @@ def _print_fit(record: dict) -> None:
 
 def _run_fit_table(args: argparse.Namespace) -> int:
     from softcrawl import jsonio, materials
+    from softcrawl.fem.laws import LAWS
 
     records = []
     for name in materials.TENSILE_FILES:
         data = materials.load_tensile(name)
-        for model in materials.FIT_MODELS:
+        for model in LAWS:
             records.append(_fit_record(data, materials.fit_tensile(data, model, _max_strain(args))))
     if args.json:
         print(jsonio.dumps(records, indent=2))
