@@ -34,7 +34,7 @@ def register(subparsers) -> None:
     show.add_argument("--json", action="store_true", help="print JSON")
     show.set_defaults(func=_run_show)
 
-    fit = sub.add_parser("fit", help="fit Neo-Hookean or Yeoh constants to uniaxial tensile data")
+    fit = sub.add_parser("fit", help="fit a law's constants (--model) to uniaxial tensile data")
     fit.add_argument("--data", default="ecoflex-00-50", help=f"{DATA_CHOICES_HELP} (default ecoflex-00-50)")
     fit.add_argument(
         "--model",
@@ -53,7 +53,7 @@ def register(subparsers) -> None:
     fit.add_argument("--json", action="store_true", help="print JSON")
     fit.set_defaults(func=_run_fit)
 
-    table = sub.add_parser("fit-table", help="both models fitted to every shipped data set")
+    table = sub.add_parser("fit-table", help="every law fitted to every shipped data set")
     _max_strain_option(table, "upper engineering strain of the fits")
     table.add_argument("--json", action="store_true", help="print JSON")
     table.set_defaults(func=_run_fit_table)
