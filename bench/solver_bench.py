@@ -54,8 +54,8 @@ def tube_model(points, tets):
     """The softcrawl model of the benchmark tube on the given linear mesh (midside nodes curved)."""
     import skfem
 
+    from softcrawl.fem.laws import NeoHookean
     from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
-    from softcrawl.fem.neohooke import NeoHookean
     from softcrawl.fem.structured import curved, tag_boundaries
 
     mesh = skfem.MeshTet(points.T, tets.T)

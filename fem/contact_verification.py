@@ -32,8 +32,8 @@ import skfem
 
 from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.rigid_surfaces import CylinderWall, Plane
 from softcrawl.fem.structured import box, curved, tag_boundaries

@@ -1,19 +1,16 @@
-r"""Isotropic hyperelasticity in I1: the law protocol, Neo-Hookean, and the tensor algebra.
+r"""The tensor algebra of isotropic hyperelasticity in I1, and the Neo-Hookean kernel.
 
-Every law of the solver is decoupled and isochoric-in-I1 (docs/decisions/002-laws.md):
-
-    W(F) = Psi(I1bar) + K/2 (J - 1)^2,   I1bar = J^{-2/3} I1,  I1 = F:F,  J = det F,  H = F^{-T}.
-
-`IsochoricI1Law` turns Psi'(I1bar) and Psi''(I1bar) into stress and tangent for any such law
-(`fem.laws` has Yeoh and Gent). With c = 2 Psi' J^{-2/3}, D = F - I1/3 H and d = 4 Psi'' J^{-4/3}:
+The laws themselves (energy, Psi', Psi'', uniaxial stress, fit) are in `fem.laws` (docs/decisions/002-laws.md); this module has
+what their stress and tangent are made of (`fem.laws.base.IsochoricI1Law`): for a law
+W(F) = Psi(I1bar) + K/2 (J - 1)^2, I1bar = J^{-2/3} I1,  I1 = F:F,  J = det F,  H = F^{-T}, with
+c = 2 Psi' J^{-2/3}, D = F - I1/3 H and d = 4 Psi'' J^{-4/3}:
 
     P_iso = c D
     A_iso = c [ dd - 2/3 (F (x) H + H (x) F) + 2/9 I1 H (x) H + I1/3 H (.) H ] + d D (x) D
 
 (the bracket is the Neo-Hookean tangent per unit c; the last term is d c / dF (x) D, zero for
-Neo-Hookean, whose Psi = mu/2 (I1bar - 3) has Psi' = mu/2, Psi'' = 0).
-
-Neo-Hookean hyperelasticity: strain energy, first Piola stress and its tangent.
+Neo-Hookean, whose Psi = mu/2 (I1bar - 3) has Psi' = mu/2, Psi'' = 0). `fem.solid` uses the
+Neo-Hookean kernel below (`iso_stress`, `mixed_tangent`) directly for the laws linear in I1.
 
 Decoupled (isochoric/volumetric) Neo-Hookean solid with shear modulus mu and bulk modulus K:
 
@@ -43,100 +40,7 @@ shape (3, 3, 3, 3, ...). Units: MPa.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
-
-from softcrawl.fem.errors import SolverInputError
-
-
-class IsochoricI1Law:
-    """Base of the solver's laws: W = Psi(I1bar) + K/2 (J - 1)^2 (module docstring).
-
-    A law has `mu` (initial shear modulus, 2 Psi'(3)) and `bulk` (MPa) and defines
-    `psi(x)` and `psi_derivatives(x) -> (Psi', Psi'')` at x = I1bar - 3 >= 0 (arrays). Laws
-    with `LINEAR_IN_I1` (Neo-Hookean) take the solver's fast path, which skips the Psi'' term.
-    `check_state(x)` raises ValueError where the law is undefined (Gent's locking stretch).
-    """
-
-    LINEAR_IN_I1 = False
-    mu: float
-    bulk: float
-
-    def psi(self, x: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
-
-    def psi_derivatives(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        raise NotImplementedError
-
-    def check_state(self, x: np.ndarray) -> None:
-        """Raise ValueError where the law is undefined (nothing for most laws)."""
-
-    @property
-    def x_limit(self) -> float:
-        """Supremum of the admissible I1bar - 3 (infinite unless the law locks, as Gent does)."""
-        return float("inf")
-
-    @property
-    def poisson_ratio(self) -> float:
-        return (3 * self.bulk - 2 * self.mu) / (2 * (3 * self.bulk + self.mu))
-
-    def _validate_moduli(self) -> None:
-        if not np.isfinite(self.mu) or self.mu <= 0:
-            raise SolverInputError("mu", f"shear modulus must be positive, got {self.mu} MPa")
-        if not np.isfinite(self.bulk) or self.bulk <= 0:
-            raise SolverInputError("bulk", f"bulk modulus must be positive, got {self.bulk} MPa")
-        if self.bulk < 2.0 / 3.0 * self.mu:
-            raise SolverInputError(
-                "bulk", f"K = {self.bulk} MPa < 2/3 mu gives a negative Poisson ratio; use K >= 2/3 mu"
-            )
-
-    def _state(self, F):
-        J, H = det3(F), inv_transpose3(F)
-        I1 = np.einsum("ij...,ij...->...", F, F)
-        x = J ** (-2.0 / 3.0) * I1 - 3.0
-        self.check_state(x)
-        return J, H, I1, x
-
-    def energy(self, F: np.ndarray) -> np.ndarray:
-        J, _, _, x = self._state(F)
-        return self.psi(x) + 0.5 * self.bulk * (J - 1) ** 2
-
-    def stress(self, F: np.ndarray) -> np.ndarray:
-        """First Piola stress P = dW/dF of the full (displacement-only) energy."""
-        J, H, I1, x = self._state(F)
-        d1, _ = self.psi_derivatives(x)
-        return (2.0 * d1 * J ** (-2 / 3)) * (F - I1 / 3 * H) + self.bulk * (J - 1) * J * H
-
-    def tangent(self, F: np.ndarray) -> np.ndarray:
-        """A = dP/dF of the full energy."""
-        J, H, I1, x = self._state(F)
-        d1, d2 = self.psi_derivatives(x)
-        A = general_iso_tangent(F, 2.0 * d1 * J ** (-2 / 3), 4.0 * d2 * J ** (-4 / 3), J, H)
-        return A + self.bulk * J * J * _outer(H, H) + pressure_tangent(self.bulk * (J - 1), J, H)
-
-
-@dataclass(frozen=True, kw_only=True)
-class NeoHookean(IsochoricI1Law):
-    """Shear modulus `mu` and bulk modulus `bulk`, both in MPa: Psi = mu/2 (I1bar - 3)."""
-
-    LINEAR_IN_I1 = True
-    mu: float
-    bulk: float
-
-    def __post_init__(self):
-        self._validate_moduli()
-
-    @classmethod
-    def nearly_incompressible(cls, mu: float, k_over_mu: float = 1000.0) -> NeoHookean:
-        return cls(mu=mu, bulk=k_over_mu * mu)
-
-    def psi(self, x):
-        return 0.5 * self.mu * x
-
-    def psi_derivatives(self, x):
-        x = np.asarray(x, dtype=float)
-        return np.full_like(x, 0.5 * self.mu), np.zeros_like(x)
 
 
 def det3(F: np.ndarray) -> np.ndarray:
@@ -167,7 +71,7 @@ def iso_stress(F, mu, J, H):
     return mu * J ** (-2 / 3) * (F - I1 / 3 * H)
 
 
-def _outer(A, B):
+def outer(A, B):
     """out[i,J,k,L] = A[i,J] B[k,L] (trailing axes broadcast)."""
     return A[:, :, None, None] * B[None, None, :, :]
 
@@ -182,10 +86,10 @@ def iso_tangent(F, mu, J, H):
     c = mu * J ** (-2 / 3)
     eye = np.eye(3)
     dd = (eye[:, None, :, None] * eye[None, :, None, :]).reshape((3, 3, 3, 3) + (1,) * (F.ndim - 2))
-    A = _outer(F, H)
-    A += _outer(H, F)
+    A = outer(F, H)
+    A += outer(H, F)
     A *= -2.0 / 3.0
-    A += (2.0 / 9.0 * I1) * _outer(H, H)
+    A += (2.0 / 9.0 * I1) * outer(H, H)
     A += (I1 / 3.0) * _cross(H, H)
     A += dd
     A *= c
@@ -197,7 +101,7 @@ def general_iso_tangent(F, c, d, J, H):
     I1 = np.einsum("ij...,ij...->...", F, F)
     A = iso_tangent(F, 1.0, J, H) * (c * J ** (2 / 3))
     D = F - I1 / 3 * H
-    return A + d * _outer(D, D)
+    return A + d * outer(D, D)
 
 
 def mixed_tangent(F, mu, p, J, H):
@@ -206,10 +110,10 @@ def mixed_tangent(F, mu, p, J, H):
     I1 = np.einsum("ij...,ij...->...", F, F)
     c = mu * J ** (-2 / 3)
     pJ = p * J
-    A = _outer(F, H)
-    A += _outer(H, F)
+    A = outer(F, H)
+    A += outer(H, F)
     A *= -2.0 / 3.0 * c
-    A += (2.0 / 9.0 * c * I1 + pJ) * _outer(H, H)
+    A += (2.0 / 9.0 * c * I1 + pJ) * outer(H, H)
     A += (c * I1 / 3.0 - pJ) * _cross(H, H)
     eye = np.eye(3)
     A += c * (eye[:, None, :, None] * eye[None, :, None, :]).reshape((3, 3, 3, 3) + (1,) * (F.ndim - 2))
@@ -221,7 +125,7 @@ def pressure_stress(p, J, H):
 
 
 def pressure_tangent(p, J, H):
-    return (p * J) * (_outer(H, H) - _cross(H, H))
+    return (p * J) * (outer(H, H) - _cross(H, H))
 
 
 def cauchy_stress(P: np.ndarray, F: np.ndarray) -> np.ndarray:

@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 
 from softcrawl.fem import analytic
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import load_path
 from softcrawl.fem.structured import sphere_octant, tube_sector
 

@@ -1,7 +1,7 @@
 r"""The hyperelastic body: nearly incompressible, mixed u-p or displacement only, any law W_iso(I1bar).
 
-Energy. With W_iso(F) = Psi(I1bar), I1bar = J^{-2/3} I1 (Neo-Hookean Psi = mu/2 (I1bar - 3),
-`fem.neohooke`; Yeoh and Gent, `fem.laws`) the mixed ("p2p1") energy is
+Energy. With W_iso(F) = Psi(I1bar), I1bar = J^{-2/3} I1 (any law of `fem.laws`: Neo-Hookean
+Psi = mu/2 (I1bar - 3), Yeoh, Gent) the mixed ("p2p1") energy is
 
     Pi(u, p) = int_Omega [ W_iso(F) + p (J - 1) - p^2 / (2K) ] dV
 
@@ -51,7 +51,8 @@ import numpy as np
 
 from softcrawl.fem.discretisation import Discretisation
 from softcrawl.fem.errors import SolverInputError
-from softcrawl.fem.neohooke import IsochoricI1Law, cofactor3, det3
+from softcrawl.fem.laws.base import IsochoricI1Law
+from softcrawl.fem.neohooke import cofactor3, det3
 from softcrawl.fem.parallel import for_chunks
 from softcrawl.fem.pattern import Mirrored
 

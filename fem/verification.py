@@ -39,8 +39,8 @@ import numpy as np
 from softcrawl.fem import analytic
 from softcrawl.fem.case_result import CaseResult
 from softcrawl.fem.law_verification import CASES as LAW_CASES
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import NewtonOptions, load_path, volume_path
 from softcrawl.fem.reference_models import MU, mean_radius, sphere_inner_stretch, sphere_model, tube_model
 from softcrawl.fem.structured import box

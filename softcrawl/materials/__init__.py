@@ -1,9 +1,10 @@
 """Materials of the robot's parts: validated constants, tensile data, hyperelastic fits, presets.
 
 Modules (one job each):
-    material  `Material` (Neo-Hookean, Yeoh, linear elastic), small-strain relations, Shore A
+    material  `Material` (a name, a law, a density, a source), `LinearElastic`, small-strain
+              relations, Shore A; the hyperelastic laws are the solver's (`fem.laws`)
     tensile   the shipped tensile tests (Soft Robotics Materials Database) and their CSV reader
-    fitting   least-squares fits of hyperelastic laws to a tensile test
+    fitting   least-squares fits of any registered law (`fem.laws.LAWS`) to a tensile test
     presets   named presets with their sources; `NAME@mu=VALUE` overrides
     fem_law   a `Material` as the constitutive law the FE solver takes
 
@@ -13,22 +14,17 @@ nothing in `geometry`, `fem`, `robot` or `materials` imports `studies`.
 
 from softcrawl.materials.fitting import (
     DEFAULT_MAX_STRAIN,
-    FIT_MODELS,
     FitResult,
-    fit_neo_hookean,
     fit_tensile,
-    fit_yeoh,
+    fit_uniaxial,
     select_fit_points,
 )
 from softcrawl.materials.material import (
     DEFAULT_K_OVER_MU,
-    MODELS,
+    LinearElastic,
     Material,
     MaterialError,
-    neo_hookean_uniaxial,
     shore_a_to_youngs,
-    yeoh_is_stable,
-    yeoh_uniaxial,
 )
 from softcrawl.materials.presets import PRESETS, get_material, material_names
 from softcrawl.materials.tensile import (
@@ -44,23 +40,18 @@ __all__ = [
     "DATA_LICENSE",
     "DEFAULT_K_OVER_MU",
     "DEFAULT_MAX_STRAIN",
-    "FIT_MODELS",
     "FitResult",
-    "MODELS",
+    "LinearElastic",
     "Material",
     "MaterialError",
     "PRESETS",
     "TENSILE_FILES",
     "TensileData",
-    "fit_neo_hookean",
     "fit_tensile",
-    "fit_yeoh",
+    "fit_uniaxial",
     "get_material",
     "load_tensile",
     "material_names",
-    "neo_hookean_uniaxial",
     "select_fit_points",
     "shore_a_to_youngs",
-    "yeoh_is_stable",
-    "yeoh_uniaxial",
 ]

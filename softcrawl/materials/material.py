@@ -1,28 +1,19 @@
-"""Isotropic materials of the robot's parts, validated on construction.
+"""Isotropic materials of the robot's parts: a name, a constitutive law, a density, a source.
 
 Units are the project's: mm, N, MPa (= N/mm^2), s, tonne. Density is in t/mm^3
 (1.07 g/cm^3 = 1.07e-9 t/mm^3). Stretch is dimensionless.
 
-Constitutive models
--------------------
-``neo-hookean`` (compressible, for the FE solver)::
-
-    W = mu/2 (I1_bar - 3) + K/2 (J - 1)^2,   I1_bar = J^(-2/3) tr(C)
-
-``yeoh``::
-
-    W = C10 (I1_bar - 3) + C20 (I1_bar - 3)^2 + C30 (I1_bar - 3)^3 + K/2 (J - 1)^2
-
-with initial shear modulus mu = 2 C10. ``gent`` (initial shear modulus mu, locking parameter Jm)::
-
-    W = -mu Jm / 2 ln(1 - (I1_bar - 3) / Jm) + K/2 (J - 1)^2
-
-``linear-elastic`` (ABS rings, Kevlar fiber trusses) is given
-by Young's modulus E and Poisson's ratio nu; mu and K follow from
+Constitutive laws
+-----------------
+A `Material` holds a law object. The hyperelastic laws are the solver's own, one module each in
+`fem.laws` (registry `fem.laws.LAWS`: Neo-Hookean, Yeoh, Gent; each states its energy, uniaxial
+stress, validity and fit), e.g. ``Material(name=..., law=Yeoh.nearly_incompressible(c10, c20,
+c30), density=...)``. `LinearElastic` (ABS rings, Kevlar fiber trusses, here) is given by Young's
+modulus E and Poisson's ratio nu; mu and K follow from
 
     mu = E / (2 (1 + nu)),   K = E / (3 (1 - 2 nu)).
 
-For every model the small-strain constants are related by
+For every law the small-strain constants are related by
 
     lambda = K - 2 mu / 3,   E = 9 K mu / (3 K + mu),   nu = (3 K - 2 mu) / (2 (3 K + mu)).
 
@@ -31,33 +22,21 @@ i.e. nu = 0.4995: the volume change under the actuator's stresses stays below ab
 incompressible for every purpose of this project, while the real bulk modulus of silicone
 (K ~ 1 GPa, K/mu ~ 10^4-10^5) would make the stiffness matrix badly conditioned and aggravate
 volumetric locking of displacement elements for no gain in accuracy.
-
-Uniaxial tension of an incompressible solid: with stretch lam = 1 + engineering strain and
-I1 = lam^2 + 2/lam, the nominal (engineering) stress P = force / undeformed area is
-
-    Neo-Hookean:  P = mu (lam - lam^-2)
-    Yeoh:         P = 2 (lam - lam^-2) (C10 + 2 C20 (I1 - 3) + 3 C30 (I1 - 3)^2)
-    Gent:         P = mu (lam - lam^-2) / (1 - (I1 - 3) / Jm)
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from softcrawl.checks import brief
 from softcrawl.errors import InputError
-
-MODELS = ("neo-hookean", "yeoh", "gent", "linear-elastic")
-HYPERELASTIC_MODELS = ("neo-hookean", "yeoh", "gent")
-
-#: Default bulk-to-shear modulus ratio of the nearly incompressible solids (nu = 0.4995).
-DEFAULT_K_OVER_MU = 1000.0
+from softcrawl.fem.laws import DEFAULT_K_OVER_MU, IsochoricI1Law, NeoHookean, with_mu
 
 #: Largest density accepted (t/mm^3): 100 g/cm^3, four times the densest element (osmium,
 #: 22.6 g/cm^3); a larger value is almost surely given in g/cm^3 or kg/m^3.
@@ -65,6 +44,9 @@ MAX_DENSITY = 1.0e-7
 #: Largest modulus accepted (MPa), for mu, K, E and the Yeoh constants: 1e6 MPa = 1 TPa, the Young's
 #: modulus of diamond, the stiffest bulk solid. Larger values are unit mistakes (Pa for MPa).
 MAX_MODULUS = 1.0e6
+#: The law constants of a material's record (`Material.to_dict`, `softcrawl material show`), in
+#: their order; None where the law has no such constant (a new law's constants follow them).
+RECORD_CONSTANTS = ("yeoh_c", "gent_jm", "youngs", "poisson")
 
 
 class MaterialError(InputError):
@@ -111,32 +93,60 @@ def shore_a_to_youngs(shore_a: float) -> float:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Material:
-    """An isotropic material, validated on construction.
+class LinearElastic:
+    """Small-strain isotropic elasticity by Young's modulus `youngs` (MPa) and Poisson's ratio
+    `poisson` (ABS rings, Kevlar fiber trusses); `mu` and `bulk` follow (module docstring)."""
 
-    Give ``mu`` (and optionally ``bulk``, default ``DEFAULT_K_OVER_MU * mu``) for
-    ``neo-hookean``; ``yeoh_c = (C10, C20, C30)`` for ``yeoh`` (``mu`` is then 2 C10);
-    ``mu`` and ``gent_jm`` for ``gent``;
-    ``youngs`` and ``poisson`` for ``linear-elastic`` (``mu`` and ``bulk`` are derived). After
-    construction ``mu`` and ``bulk`` are always set. Moduli in MPa, density in t/mm^3.
+    NAME: ClassVar[str] = "linear-elastic"
+    MODULI: ClassVar[tuple[str, ...]] = ("youngs",)
+    youngs: float
+    poisson: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "youngs", modulus(self.youngs, "youngs"))
+        poisson = finite_number(self.poisson, "poisson")
+        if not -1.0 < poisson < 0.5:
+            raise MaterialError("poisson", f"must be in (-1, 0.5), got {poisson:g}")
+        object.__setattr__(self, "poisson", poisson)
+
+    @property
+    def mu(self) -> float:
+        return shear_modulus_from_youngs(self.youngs, self.poisson)
+
+    @property
+    def bulk(self) -> float:
+        return bulk_modulus_from_youngs(self.youngs, self.poisson)
+
+    @property
+    def label(self) -> str:
+        return f"linear elastic E = {self.youngs:.4g} MPa, nu = {self.poisson:.3g}"
+
+    def record(self) -> dict:
+        return {"youngs": self.youngs, "poisson": self.poisson}
+
+    def solver_law(self) -> NeoHookean:
+        """The FE solver's law: a Neo-Hookean solid with the small-strain mu and K, which agrees
+        with linear elasticity at the strains of a stiff part (~1e-4 at 100 kPa)."""
+        return NeoHookean(mu=self.mu, bulk=self.bulk)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Material:
+    """An isotropic material, validated on construction: `law` is a hyperelastic law of
+    `fem.laws` (e.g. ``NeoHookean.nearly_incompressible(0.03)``, K = 1000 mu) or a
+    `LinearElastic`; `mu` and `bulk` are the law's. Moduli in MPa, density in t/mm^3.
     """
 
     name: str
-    model: str
+    law: IsochoricI1Law | LinearElastic
     density: float
-    mu: float | None = None
-    bulk: float | None = None
-    yeoh_c: tuple[float, float, float] | None = None
-    gent_jm: float | None = None
-    youngs: float | None = None
-    poisson: float | None = None
     source: str = ""
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
             raise MaterialError("name", "must be a non-empty string")
-        if self.model not in MODELS:
-            raise MaterialError("model", f"unknown model {self.model!r}; valid: {', '.join(MODELS)}")
+        if not isinstance(self.law, (IsochoricI1Law, LinearElastic)):
+            raise MaterialError("law", f"must be a law of fem.laws or a LinearElastic, got {brief(self.law)}")
         density = finite_number(self.density, "density")
         if density <= 0.0:
             raise MaterialError("density", f"must be > 0 t/mm^3, got {density:g}")
@@ -147,74 +157,39 @@ class Material:
             )
         if not isinstance(self.source, str):
             raise MaterialError("source", "must be a string")
-        if self.model == "linear-elastic":
-            mu, bulk = self._linear_elastic_moduli()
-        else:
-            mu, bulk = self._hyperelastic_moduli()
+        for name in self.law.MODULI:  # a larger value is a unit mistake (Pa for MPa)
+            limit = DEFAULT_K_OVER_MU * MAX_MODULUS if name == "bulk" else MAX_MODULUS
+            if abs(getattr(self.law, name)) > limit:
+                raise MaterialError(name, f"must be within +-{limit:g} MPa, got {getattr(self.law, name):g}")
+        if self.law.mu > MAX_MODULUS:
+            raise MaterialError("mu", f"shear modulus {self.law.mu:g} MPa exceeds {MAX_MODULUS:g} MPa")
         object.__setattr__(self, "density", density)
-        object.__setattr__(self, "mu", mu)
-        object.__setattr__(self, "bulk", bulk)
 
-    def _linear_elastic_moduli(self) -> tuple[float, float]:
-        if self.yeoh_c is not None:
-            raise MaterialError("yeoh_c", "only for model 'yeoh'")
-        if self.gent_jm is not None:
-            raise MaterialError("gent_jm", "only for model 'gent'")
-        if self.youngs is None:
-            raise MaterialError("youngs", "required for model 'linear-elastic'")
-        if self.poisson is None:
-            raise MaterialError("poisson", "required for model 'linear-elastic'")
-        youngs = modulus(self.youngs, "youngs")
-        poisson = finite_number(self.poisson, "poisson")
-        if not -1.0 < poisson < 0.5:
-            raise MaterialError("poisson", f"must be in (-1, 0.5), got {poisson:g}")
-        object.__setattr__(self, "youngs", youngs)
-        object.__setattr__(self, "poisson", poisson)
-        mu = shear_modulus_from_youngs(youngs, poisson)
-        bulk = bulk_modulus_from_youngs(youngs, poisson)
-        _check_consistent(self.mu, mu, "mu")
-        _check_consistent(self.bulk, bulk, "bulk")
-        return mu, bulk
+    # -- the law's constants ---------------------------------------------------------------
 
-    def _hyperelastic_moduli(self) -> tuple[float, float]:
-        for field_name in ("youngs", "poisson"):
-            if getattr(self, field_name) is not None:
-                raise MaterialError(
-                    field_name,
-                    f"only for model 'linear-elastic'; give mu (and bulk) for model {self.model!r}",
-                )
-        if self.model == "yeoh":
-            coefficients = _yeoh_coefficients(self.yeoh_c)
-            object.__setattr__(self, "yeoh_c", coefficients)
-            mu = 2.0 * coefficients[0]
-            _check_consistent(self.mu, mu, "mu")
-        else:
-            if self.yeoh_c is not None:
-                raise MaterialError("yeoh_c", "only for model 'yeoh'")
-            if self.model == "gent":
-                jm = finite_number(self.gent_jm, "gent_jm") if self.gent_jm is not None else None
-                if jm is None or jm <= 0.0:
-                    raise MaterialError("gent_jm", f"model 'gent' needs a locking parameter Jm > 0, got {jm}")
-                object.__setattr__(self, "gent_jm", jm)
-            elif self.gent_jm is not None:
-                raise MaterialError("gent_jm", "only for model 'gent'")
-            if self.mu is None:
-                raise MaterialError("mu", f"required for model {self.model!r}")
-            mu = modulus(self.mu, "mu")
-        if mu > MAX_MODULUS:  # 2 C10 of a Yeoh law
-            raise MaterialError("yeoh_c", f"2 C10 = {mu:g} MPa exceeds {MAX_MODULUS:g} MPa")
-        bulk = DEFAULT_K_OVER_MU * mu if self.bulk is None else finite_number(self.bulk, "bulk")
-        if bulk <= 0.0:
-            raise MaterialError("bulk", f"must be > 0 MPa, got {bulk:g}")
-        if bulk > DEFAULT_K_OVER_MU * MAX_MODULUS:
-            raise MaterialError("bulk", f"must be <= {DEFAULT_K_OVER_MU * MAX_MODULUS:g} MPa, got {bulk:g}")
-        if bulk < 2.0 * mu / 3.0:
-            raise MaterialError(
-                "bulk",
-                f"K/mu = {bulk / mu:g} < 2/3 gives a negative Poisson "
-                f"ratio; nearly incompressible solids use K/mu >= 1000",
-            )
-        return mu, bulk
+    @property
+    def model(self) -> str:
+        """The law's registry name ('neo-hookean', 'yeoh', 'gent', 'linear-elastic')."""
+        return self.law.NAME
+
+    @property
+    def mu(self) -> float:
+        """Initial shear modulus [MPa]."""
+        return self.law.mu
+
+    @property
+    def bulk(self) -> float:
+        """Bulk modulus K [MPa]."""
+        return self.law.bulk
+
+    @property
+    def is_hyperelastic(self) -> bool:
+        return isinstance(self.law, IsochoricI1Law)
+
+    @property
+    def law_label(self) -> str:
+        """The constitutive law and its constants in one line (every study and row names it)."""
+        return self.law.label
 
     # -- derived constants (small strain) ------------------------------------------------------
 
@@ -238,60 +213,30 @@ class Material:
         """Bulk-to-shear modulus ratio K / mu."""
         return self.bulk / self.mu
 
-    @property
-    def is_hyperelastic(self) -> bool:
-        return self.model in HYPERELASTIC_MODELS
-
-    @property
-    def law_label(self) -> str:
-        """The constitutive law and its constants in one line (every study and row names it)."""
-        if self.model == "yeoh":
-            c = ", ".join(f"{v:.4g}" for v in self.yeoh_c)
-            return f"Yeoh (C10, C20, C30) = ({c}) MPa"
-        if self.model == "gent":
-            return f"Gent mu = {self.mu:.4g} MPa, Jm = {self.gent_jm:.4g}"
-        if self.model == "neo-hookean":
-            return f"Neo-Hookean mu = {self.mu:.4g} MPa"
-        return f"linear elastic E = {self.youngs:.4g} MPa, nu = {self.poisson:.3g}"
-
     def with_mu(self, mu: float) -> Material:
-        """A copy with shear modulus `mu` [MPa] and everything else scaled along.
-
-        K/mu is kept (so the compressibility, nu, is unchanged); for Yeoh all three constants are
-        scaled by mu_new / mu_old (same curve shape); for linear-elastic E is scaled and nu kept.
-        The source text records the change. Used for calibration studies.
+        """A copy with shear modulus `mu` [MPa] and every modulus of the law scaled along
+        (`fem.laws.with_mu`): K/mu and the curve's shape are kept (Yeoh: all three constants
+        scaled; Gent: Jm kept; linear elastic: E scaled, nu kept). The source text records the
+        change. Used for calibration studies.
         """
         new_mu = modulus(mu, "mu")
-        scale = new_mu / self.mu
         note = f"{self.source}; mu rescaled {self.mu:.6g} -> {new_mu:.6g} MPa (K/mu kept)"
-        if self.model == "linear-elastic":
-            return dataclasses.replace(self, youngs=self.youngs * scale, mu=None, bulk=None, source=note)
-        if self.model == "yeoh":
-            return dataclasses.replace(
-                self,
-                yeoh_c=tuple(c * scale for c in self.yeoh_c),
-                mu=None,
-                bulk=self.bulk * scale,
-                source=note,
-            )
-        return dataclasses.replace(self, mu=new_mu, bulk=self.bulk * scale, source=note)
+        return dataclasses.replace(self, law=with_mu(self.law, new_mu), source=note)
 
     def uniaxial_nominal_stress(self, stretch: ArrayLike) -> np.ndarray:
-        """Nominal stress [MPa] in incompressible uniaxial tension (hyperelastic models only)."""
-        if self.model == "neo-hookean":
-            return neo_hookean_uniaxial(stretch, self.mu)
-        if self.model == "yeoh":
-            return yeoh_uniaxial(stretch, self.yeoh_c)
-        if self.model == "gent":
-            return gent_uniaxial(stretch, self.mu, self.gent_jm)
-        raise MaterialError("model", "uniaxial_nominal_stress is for hyperelastic models")
+        """Nominal stress [MPa] in incompressible uniaxial tension (hyperelastic laws only)."""
+        if not self.is_hyperelastic:
+            raise MaterialError("model", "uniaxial_nominal_stress is for hyperelastic laws")
+        return self.law.uniaxial_nominal_stress(stretch)
 
     def to_dict(self) -> dict:
-        """Fields plus derived constants, JSON-ready (units: MPa, t/mm^3)."""
-        record = dataclasses.asdict(self)
-        if record["yeoh_c"] is not None:
-            record["yeoh_c"] = list(record["yeoh_c"])
+        """Name, law and constants (`RECORD_CONSTANTS`), source and derived constants, JSON-ready
+        (units: MPa, t/mm^3)."""
+        record = {"name": self.name, "model": self.model, "density": self.density}
+        record.update(mu=self.mu, bulk=self.bulk, **dict.fromkeys(RECORD_CONSTANTS))
+        record.update(self.law.record())
         record.update(
+            source=self.source,
             youngs_modulus=self.youngs_modulus,
             poisson_ratio=self.poisson_ratio,
             lame_lambda=self.lame_lambda,
@@ -320,80 +265,3 @@ def modulus(value: object, parameter: str) -> float:
     if not 0.0 < number <= MAX_MODULUS:
         raise MaterialError(parameter, f"must be in (0, {MAX_MODULUS:g}] MPa, got {number:g}")
     return number
-
-
-def _check_consistent(given: object, derived: float, parameter: str) -> None:
-    """A redundant field may be given only if it equals the derived value."""
-    if given is None:
-        return
-    value = finite_number(given, parameter)
-    if not math.isclose(value, derived, rel_tol=1e-9):
-        raise MaterialError(
-            parameter,
-            f"{value:g} contradicts the value {derived:g} derived from the other constants; leave it out",
-        )
-
-
-def _yeoh_coefficients(yeoh_c: Sequence[float] | None) -> tuple[float, float, float]:
-    """Validate (C10, C20, C30): C10 > 0 and dW/dI1 > 0 for every I1 >= 3.
-
-    dW/dI1 = C10 + 2 C20 x + 3 C30 x^2 with x = I1 - 3 >= 0 stays positive for all x iff
-    C30 >= 0 and (C20 >= 0 or C20^2 < 3 C10 C30). Otherwise the model loses stability (the
-    uniaxial stress turns down) at some finite stretch, which a path-following solver would find.
-    """
-    if yeoh_c is None:
-        raise MaterialError("yeoh_c", "required for model 'yeoh': (C10, C20, C30) in MPa")
-    try:
-        values = tuple(yeoh_c)
-    except TypeError:
-        raise MaterialError("yeoh_c", f"must be a sequence (C10, C20, C30), got {yeoh_c!r}") from None
-    if len(values) != 3:
-        raise MaterialError("yeoh_c", f"needs 3 constants (C10, C20, C30), got {len(values)}")
-    c10, c20, c30 = (finite_number(v, "yeoh_c") for v in values)
-    if max(abs(c10), abs(c20), abs(c30)) > MAX_MODULUS:
-        raise MaterialError("yeoh_c", f"constants must be within +-{MAX_MODULUS:g} MPa")
-    if c10 <= 0.0:
-        raise MaterialError("yeoh_c", f"initial shear modulus 2 C10 must be > 0, got C10 = {c10:g}")
-    if not yeoh_is_stable((c10, c20, c30)):
-        raise MaterialError(
-            "yeoh_c",
-            f"(C10, C20, C30) = ({c10:g}, {c20:g}, {c30:g}) is unstable: "
-            "dW/dI1 turns negative at large strain (need C30 >= 0 and "
-            "C20 >= 0 or C20^2 < 3 C10 C30)",
-        )
-    return (c10, c20, c30)
-
-
-def yeoh_is_stable(yeoh_c: Sequence[float]) -> bool:
-    """True if dW/dI1 = C10 + 2 C20 x + 3 C30 x^2 > 0 for all x = I1 - 3 >= 0."""
-    c10, c20, c30 = yeoh_c
-    return c10 > 0.0 and c30 >= 0.0 and (c20 >= 0.0 or c20 * c20 < 3.0 * c10 * c30)
-
-
-# --------------------------------------------------------------------------------------------
-# Uniaxial response of the incompressible models
-# --------------------------------------------------------------------------------------------
-
-
-def neo_hookean_uniaxial(stretch: ArrayLike, mu: float) -> np.ndarray:
-    """Nominal stress P = mu (lam - lam^-2) [MPa], incompressible uniaxial tension."""
-    lam = np.asarray(stretch, dtype=float)
-    return mu * (lam - lam**-2)
-
-
-def yeoh_uniaxial(stretch: ArrayLike, yeoh_c: Sequence[float]) -> np.ndarray:
-    """Nominal stress P = 2 (lam - lam^-2)(C10 + 2 C20 x + 3 C30 x^2), x = lam^2 + 2/lam - 3."""
-    lam = np.asarray(stretch, dtype=float)
-    return yeoh_design_matrix(lam) @ np.asarray(yeoh_c, dtype=float)
-
-
-def gent_uniaxial(stretch: ArrayLike, mu: float, jm: float) -> np.ndarray:
-    """Nominal stress P = mu (lam - lam^-2) / (1 - x/Jm), x = lam^2 + 2/lam - 3 (x < Jm)."""
-    lam = np.asarray(stretch, dtype=float)
-    return mu * (lam - lam**-2) / (1.0 - (lam**2 + 2.0 / lam - 3.0) / jm)
-
-
-def yeoh_design_matrix(lam: np.ndarray) -> np.ndarray:
-    x = lam**2 + 2.0 / lam - 3.0
-    g = 2.0 * (lam - lam**-2)
-    return np.column_stack([g, 2.0 * g * x, 3.0 * g * x**2])

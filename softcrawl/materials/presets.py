@@ -10,8 +10,10 @@ from dataclasses import replace
 import numpy as np
 
 from softcrawl.checks import brief
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.materials.fitting import DEFAULT_MAX_STRAIN, FULL_RANGE_STRAIN, fit_tensile
 from softcrawl.materials.material import (
+    LinearElastic,
     Material,
     MaterialError,
     shear_modulus_nearly_incompressible,
@@ -34,8 +36,7 @@ _SILICONE_DENSITY = {
 def _ecoflex_00_50() -> Material:
     return Material(
         name="ecoflex-00-50",
-        model="neo-hookean",
-        mu=0.030,
+        law=NeoHookean.nearly_incompressible(0.030),
         density=_SILICONE_DENSITY["ecoflex-00-50"],
         source="docs/decisions/001-materials.md default mu = 0.030 MPa (literature 0.022-0.047 MPa; "
         "Smooth-On TDS (not re-checked) 100 % modulus 12 psi = 0.083 MPa -> NH secant mu = 0.047 MPa); "
@@ -46,8 +47,7 @@ def _ecoflex_00_50() -> Material:
 def _ecoflex_00_30() -> Material:
     return Material(
         name="ecoflex-00-30",
-        model="neo-hookean",
-        mu=0.018,
+        law=NeoHookean.nearly_incompressible(0.018),
         density=_SILICONE_DENSITY["ecoflex-00-30"],
         source="literature mu ~ 0.0125-0.023 MPa, mid value 0.018 MPa (SRMD tensile fit 0-100 % "
         "gives 0.016 MPa; Smooth-On TDS (not re-checked) 100 % modulus 10 psi = 0.069 MPa -> NH secant "
@@ -58,8 +58,7 @@ def _ecoflex_00_30() -> Material:
 def _dragon_skin_30() -> Material:
     return Material(
         name="dragon-skin-30",
-        model="neo-hookean",
-        mu=0.20,
+        law=NeoHookean.nearly_incompressible(0.20),
         density=_SILICONE_DENSITY["dragon-skin-30"],
         source="literature mu ~ 0.1-0.2 MPa, upper value 0.20 MPa since the SRMD tensile fit "
         "0-100 % gives 0.22 MPa (0-50 %: 0.19 MPa; Smooth-On TDS (not re-checked) 100 % modulus 86 psi = "
@@ -71,8 +70,7 @@ def _rubber_70a() -> Material:
     youngs = shore_a_to_youngs(70.0)
     return Material(
         name="rubber-70a",
-        model="neo-hookean",
-        mu=shear_modulus_nearly_incompressible(youngs),
+        law=NeoHookean.nearly_incompressible(shear_modulus_nearly_incompressible(youngs)),
         density=1.15 * _G_PER_CM3,
         source=f"3D-printed rubber foot, Shore 70A: E = {youngs:.3f} MPa by Gent's relation "
         "(docs/decisions/001-materials.md), mu from E with K = 1000 mu; density 1.15 g/cm^3 assumed "
@@ -83,9 +81,7 @@ def _rubber_70a() -> Material:
 def _abs() -> Material:
     return Material(
         name="abs",
-        model="linear-elastic",
-        youngs=2000.0,
-        poisson=0.35,
+        law=LinearElastic(youngs=2000.0, poisson=0.35),
         density=1.04 * _G_PER_CM3,
         source="docs/decisions/001-materials.md (rings, seal heads): E = 2000 MPa, nu = 0.35; density "
         "1.04 g/cm^3 (typical ABS)",
@@ -95,9 +91,7 @@ def _abs() -> Material:
 def _kevlar() -> Material:
     return Material(
         name="kevlar",
-        model="linear-elastic",
-        youngs=31067.0,
-        poisson=0.36,
+        law=LinearElastic(youngs=31067.0, poisson=0.36),
         density=1.44 * _G_PER_CM3,
         source="docs/decisions/001-materials.md fiber thread E = 31067 MPa (for a truss; diameter 0.3 mm "
         "is a geometry parameter); nu = 0.36 nominal (Kevlar 49), unused by truss elements; "
@@ -122,7 +116,7 @@ def _fitted(data_name: str) -> Material:
 
 @functools.cache
 def _fitted_full_range(data_name: str, model: str) -> Material:
-    """Yeoh or Gent fit over the whole pull-to-failure curve with relative residuals
+    """A fit of the law `model` (Yeoh or Gent) over the whole pull-to-failure curve with relative residuals
     (`materials.fitting` says why), computed at first use and cached."""
     data = load_tensile(data_name)
     fit = fit_tensile(data, model, FULL_RANGE_STRAIN, weighting="relative")
@@ -141,8 +135,7 @@ def _fitted_full_range(data_name: str, model: str) -> Material:
         f"mu = {working.values[0]:.4g} MPa has {100 * working.relative_rms_error:.1f} % of RMS "
         f"stress). {DATA_ATTRIBUTION} {DATA_LICENSE}"
     )
-    suffix = {"yeoh": "yeoh", "gent": "gent"}[model]
-    return fit.to_material(name=f"{data_name}-{suffix}", density=_SILICONE_DENSITY[data_name], source=source)
+    return fit.to_material(name=f"{data_name}-{model}", density=_SILICONE_DENSITY[data_name], source=source)
 
 
 PRESETS: dict[str, Callable[[], Material]] = {

@@ -18,6 +18,8 @@ DATA_CHOICES_HELP = "ecoflex-00-50 | ecoflex-00-30 | dragon-skin-30 | PATH to a 
 
 
 def register(subparsers) -> None:
+    from softcrawl.fem.laws import LAWS
+
     parser = subparsers.add_parser(
         "material", help="material presets and tensile-data fits", description=__doc__.splitlines()[0]
     )
@@ -32,12 +34,12 @@ def register(subparsers) -> None:
     show.add_argument("--json", action="store_true", help="print JSON")
     show.set_defaults(func=_run_show)
 
-    fit = sub.add_parser("fit", help="fit Neo-Hookean or Yeoh constants to uniaxial tensile data")
+    fit = sub.add_parser("fit", help="fit a law's constants (--model) to uniaxial tensile data")
     fit.add_argument("--data", default="ecoflex-00-50", help=f"{DATA_CHOICES_HELP} (default ecoflex-00-50)")
     fit.add_argument(
         "--model",
         default="neo-hookean",
-        choices=("neo-hookean", "yeoh", "gent"),
+        choices=tuple(LAWS),
         help="law (default neo-hookean)",
     )
     fit.add_argument(
@@ -51,7 +53,7 @@ def register(subparsers) -> None:
     fit.add_argument("--json", action="store_true", help="print JSON")
     fit.set_defaults(func=_run_fit)
 
-    table = sub.add_parser("fit-table", help="both models fitted to every shipped data set")
+    table = sub.add_parser("fit-table", help="every law fitted to every shipped data set")
     _max_strain_option(table, "upper engineering strain of the fits")
     table.add_argument("--json", action="store_true", help="print JSON")
     table.set_defaults(func=_run_fit_table)
@@ -191,11 +193,12 @@ def _print_fit(record: dict) -> None:
 
 def _run_fit_table(args: argparse.Namespace) -> int:
     from softcrawl import jsonio, materials
+    from softcrawl.fem.laws import LAWS
 
     records = []
     for name in materials.TENSILE_FILES:
         data = materials.load_tensile(name)
-        for model in materials.FIT_MODELS:
+        for model in LAWS:
             records.append(_fit_record(data, materials.fit_tensile(data, model, _max_strain(args))))
     if args.json:
         print(jsonio.dumps(records, indent=2))

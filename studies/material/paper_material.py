@@ -107,21 +107,20 @@ def shape_window(law_name: str, shape: str, unit_law) -> ShapeWindow:
 
 
 def scan(yeoh_shapes=YEOH_SHAPES, gent_jm=GENT_JM) -> list[ShapeWindow]:
-    from softcrawl.fem.laws import Gent, Yeoh
-    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.fem.laws import Gent, NeoHookean, Yeoh
     from softcrawl.materials import get_material
 
-    fit_yeoh, fit_gent = get_material("ecoflex-00-50-yeoh"), get_material("ecoflex-00-50-gent")
-    c10, c20, c30 = fit_yeoh.yeoh_c
-    out = [shape_window("neo-hookean", "-", NeoHookean(mu=1.0, bulk=1000.0))]
+    fit_yeoh, fit_gent = get_material("ecoflex-00-50-yeoh").law, get_material("ecoflex-00-50-gent").law
+    c10, c20, c30 = fit_yeoh.c10, fit_yeoh.c20, fit_yeoh.c30
+    out = [shape_window(NeoHookean.NAME, "-", NeoHookean(mu=1.0, bulk=1000.0))]
     shapes = sorted({*yeoh_shapes, round(c20 / c10, 6)})
     for a in shapes:
         c3 = c30 / c10 if math.isclose(a, c20 / c10, rel_tol=1e-6) else 0.0
         out.append(
-            shape_window("yeoh", f"C20/C10={a:g}", Yeoh(c10=0.5, c20=0.5 * a, c30=0.5 * c3, bulk=1000.0))
+            shape_window(Yeoh.NAME, f"C20/C10={a:g}", Yeoh(c10=0.5, c20=0.5 * a, c30=0.5 * c3, bulk=1000.0))
         )
-    for jm in sorted({*gent_jm, round(fit_gent.gent_jm, 2)}):
-        out.append(shape_window("gent", f"Jm={jm:g}", Gent(mu=1.0, jm=jm, bulk=1000.0)))
+    for jm in sorted({*gent_jm, round(fit_gent.jm, 2)}):
+        out.append(shape_window(Gent.NAME, f"Jm={jm:g}", Gent(mu=1.0, jm=jm, bulk=1000.0)))
     return out
 
 
@@ -170,16 +169,18 @@ def _fmt(w):
 def centres(windows: list[ShapeWindow]) -> dict[str, dict]:
     """The window centre of each preset's own shape (Neo-Hookean; the full-range Yeoh and Gent
     fits), as a material name `PRESET@mu=CENTRE` for the studies."""
+    from softcrawl.fem.laws import Gent, NeoHookean, Yeoh
     from softcrawl.materials import get_material
 
+    shape_of = {  # the shape labels of `scan`, per law scanned
+        NeoHookean: lambda law: "-",
+        Yeoh: lambda law: f"C20/C10={round(law.c20 / law.c10, 6):g}",
+        Gent: lambda law: f"Jm={round(law.jm, 2):g}",
+    }
     out = {}
     for law, preset in CENTRE_PRESETS.items():
         m = get_material(preset)
-        shape = "-" if law == "neo-hookean" else None
-        if law == "yeoh":
-            shape = f"C20/C10={round(m.yeoh_c[1] / m.yeoh_c[0], 6):g}"
-        if law == "gent":
-            shape = f"Jm={round(m.gent_jm, 2):g}"
+        shape = shape_of[type(m.law)](m.law)
         w = next(x for x in windows if x.law == law and x.shape == shape)
         if w.centre is not None:
             out[law] = {"shape": shape, "window_mu": w.window_all or w.window_r5, "centre_mu": w.centre}
@@ -189,7 +190,7 @@ def centres(windows: list[ShapeWindow]) -> dict[str, dict]:
 
 def run_paper_material(out, results=None) -> tuple[list[str], list[Path]]:
     """Scan, write windows.csv, paper-material.json and .md; returns (lines, written)."""
-    from softcrawl.fem.neohooke import NeoHookean
+    from softcrawl.fem.laws import NeoHookean
     from softcrawl.studies.epsa import rules
     from softcrawl.studies.sweeps.tables import write_csv
 

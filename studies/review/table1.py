@@ -154,10 +154,11 @@ def _mu(material: str) -> float | None:
     """mu of a Neo-Hookean material (its limit pressures scale with mu at fixed K/mu), else None:
     for Yeoh and Gent the scaling with the initial modulus alone does not hold."""
     try:
+        from softcrawl.fem.laws import NeoHookean
         from softcrawl.materials import get_material
 
         m = get_material(material)
-        return float(m.mu) if m.model == "neo-hookean" else None
+        return float(m.mu) if isinstance(m.law, NeoHookean) else None
     except Exception:  # noqa: BLE001 - a material unknown to materials
         return None
 

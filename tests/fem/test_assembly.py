@@ -10,8 +10,9 @@ import skfem
 import softcrawl.fem.solid as mech
 from softcrawl.fem import reference_models as RM
 from softcrawl.fem.discretisation import element_first
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean, det3, inv_transpose3, iso_stress, mixed_tangent
+from softcrawl.fem.neohooke import det3, inv_transpose3, iso_stress, mixed_tangent
 
 
 def distorted_box_model(formulation):

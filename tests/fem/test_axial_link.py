@@ -11,8 +11,8 @@ from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.equal_displacement import EqualDisplacement
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.rigid_surfaces import Plane
 from softcrawl.fem.structured import box
 

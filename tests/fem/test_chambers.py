@@ -11,8 +11,8 @@ import pytest
 
 from softcrawl.fem import analytic
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import load_path
 from softcrawl.fem.reference_models import MU
 from softcrawl.fem.structured import curved, joined, mirrored, sphere_octant, tag_boundaries, tube_sector

@@ -5,8 +5,8 @@ import pytest
 
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.fibers import FiberLines
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import load_path
 from softcrawl.fem.structured import box
 from softcrawl.geometry.design import EPSADesign

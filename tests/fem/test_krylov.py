@@ -6,9 +6,9 @@ import scipy.sparse as sp
 
 from softcrawl.fem import reference_models as RM
 from softcrawl.fem.krylov import gmres
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.linsolve import StepSolver
 from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.newton import NewtonOptions, NewtonSolver
 from softcrawl.fem.path import load_path
 from softcrawl.fem.structured import tube_sector

@@ -18,8 +18,8 @@ import skfem
 from scipy.optimize import brentq
 
 from softcrawl.fem.dead_load import body_force_vector
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import load_path
 from softcrawl.fem.structured import tag_boundaries
 

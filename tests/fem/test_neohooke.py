@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from softcrawl.fem.errors import SolverInputError
-from softcrawl.fem.neohooke import NeoHookean, cauchy_stress, von_mises
+from softcrawl.fem.laws import NeoHookean
+from softcrawl.fem.neohooke import cauchy_stress, von_mises
 
 
 @pytest.mark.parametrize("k_over_mu", [2.0, 1000.0])

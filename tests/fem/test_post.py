@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from softcrawl.fem import reference_models as RM
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import load_path
 from softcrawl.fem.post import actuator_length, element_fields, max_principal_stretch, outer_radius_at
 from softcrawl.fem.structured import box
@@ -73,8 +73,8 @@ def test_volumetric_error_is_zero_for_a_homogeneous_state_and_for_p2():
     the P1 pressure, so the error is round-off; a bending-type state is not, so it is positive;
     the displacement-only formulation has p = K (J - 1) by construction."""
 
+    from softcrawl.fem.laws import NeoHookean
     from softcrawl.fem.model import Dirichlet, SolidModel
-    from softcrawl.fem.neohooke import NeoHookean
     from softcrawl.fem.path import load_path
     from softcrawl.fem.post import volumetric_error
     from softcrawl.fem.structured import box

@@ -7,8 +7,8 @@ import pytest
 from softcrawl.fem import sheets
 from softcrawl.fem import verification as V
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.sheets import FiberSheet
 from softcrawl.fem.structured import box, tube_sector
 from softcrawl.geometry.design import EPSADesign

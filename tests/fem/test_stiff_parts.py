@@ -17,8 +17,8 @@ import skfem
 from scipy.spatial.distance import pdist
 
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.path import load_path
 from softcrawl.fem.stiff_parts import StiffParts, kabsch

@@ -7,8 +7,7 @@ import pytest
 from softcrawl.fem import analytic
 from softcrawl.fem import law_verification as LV
 from softcrawl.fem import tube_theory as tt
-from softcrawl.fem.laws import Gent, Yeoh
-from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.laws import Gent, NeoHookean, Yeoh
 
 NH = NeoHookean(mu=0.03, bulk=30.0)
 

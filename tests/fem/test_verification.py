@@ -6,8 +6,8 @@ import pytest
 from softcrawl.fem import reference_models as RM
 from softcrawl.fem import verification as V
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.neohooke import NeoHookean
 from softcrawl.fem.path import NewtonOptions, load_path
 from softcrawl.fem.structured import box
 

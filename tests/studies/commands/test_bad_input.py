@@ -413,17 +413,24 @@ def _api_calls():
     from softcrawl.analytic import kinematics, loads, workspace
     from softcrawl.analytic.pipe import Pipe
     from softcrawl.analytic.planner import plan
+    from softcrawl.fem.laws import NeoHookean, Yeoh
     from softcrawl.geometry.design import EPSADesign
     from softcrawl.studies.epsa.model import MeshSettings, resolve_mesh
 
     huge = 10**400
     return [
-        ("material mu", lambda: materials.Material(name="x", model="neo-hookean", density=1e-9, mu=huge)),
+        (
+            "material mu",
+            lambda: materials.Material(name="x", law=NeoHookean.nearly_incompressible(huge), density=1e-9),
+        ),
         (
             "material density",
-            lambda: materials.Material(name="x", model="neo-hookean", density=huge, mu=0.03),
+            lambda: materials.Material(name="x", law=NeoHookean.nearly_incompressible(0.03), density=huge),
         ),
-        ("yeoh", lambda: materials.Material(name="y", model="yeoh", density=1e-9, yeoh_c=(0.01, huge, 0))),
+        (
+            "yeoh",
+            lambda: materials.Material(name="y", law=Yeoh.nearly_incompressible(0.01, huge, 0), density=1e-9),
+        ),
         ("with_mu", lambda: materials.get_material("ecoflex-00-50").with_mu(1e300)),
         ("get_material", lambda: materials.get_material(huge)),
         ("forward", lambda: kinematics.forward([huge, 100.0, 100.0])),

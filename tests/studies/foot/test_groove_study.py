@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.laws import NeoHookean
 from softcrawl.studies.foot.groove_model import GrooveSegment, groove_mesh, run_groove
 from softcrawl.studies.foot.groove_rule import GrooveRuleInputs, decide
 from softcrawl.studies.sweeps.spec import StudyError

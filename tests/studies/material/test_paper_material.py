@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from softcrawl.fem.laws import Gent
-from softcrawl.fem.neohooke import NeoHookean
+from softcrawl.fem.laws import Gent, NeoHookean
 from softcrawl.fem.tube_theory import closed_end_limit
 from softcrawl.studies.material import paper_material as PM
 
