@@ -1,7 +1,8 @@
 r"""The tensor algebra of isotropic hyperelasticity in I1, and the Neo-Hookean kernel.
 
-The laws themselves (energy, Psi', Psi'', uniaxial stress, fit) are in `fem.laws` (docs/decisions/002-laws.md); this module has
-what their stress and tangent are made of (`fem.laws.base.IsochoricI1Law`): for a law
+The laws themselves (energy, Psi', Psi'', uniaxial stress, fit) are in `fem.laws`
+(docs/decisions/002-laws.md); this module has what their stress and tangent are made of
+(`fem.laws.base.IsochoricI1Law`): for a law
 W(F) = Psi(I1bar) + K/2 (J - 1)^2, I1bar = J^{-2/3} I1,  I1 = F:F,  J = det F,  H = F^{-T}, with
 c = 2 Psi' J^{-2/3}, D = F - I1/3 H and d = 4 Psi'' J^{-4/3}:
 

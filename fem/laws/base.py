@@ -1,6 +1,6 @@
 r"""The protocol every hyperelastic law of the solver follows: `IsochoricI1Law`.
 
-Every law is decoupled and isochoric-in-I1 (docs/DESIGN.md section 3):
+Every law is decoupled and isochoric-in-I1 (docs/decisions/001-materials.md):
 
     W(F) = Psi(x) + K/2 (J - 1)^2,   x = I1bar - 3,  I1bar = J^{-2/3} I1,  I1 = F:F,  J = det F.
 
@@ -34,7 +34,7 @@ import numpy as np
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.neohooke import det3, general_iso_tangent, inv_transpose3, outer, pressure_tangent
 
-#: Default K/mu of a fitted law (nu = 0.4995, docs/DESIGN.md section 3: K/mu >= 1000).
+#: Default K/mu of a fitted law (nu = 0.4995, docs/decisions/001-materials.md: K/mu >= 1000).
 DEFAULT_K_OVER_MU = 1000.0
 
 
