@@ -1,0 +1,106 @@
+"""The crawl from its settings to its result, in one call: `simulate_crawl` (the public API's).
+
+    pipe diameter + pressure schedule (a gait preset in kPa, a CSV file or a `Schedule`) + feet
+    -> the two feet's mesh (`mesh.crawl_mesh`, the Table 1 robot's feet) -> `model.build` ->
+    `model.run_crawl` (insertion, friction on, the cycles) -> `CrawlResult`
+
+What `softcrawl crawl` does from its options (`files.run_and_write`), without the files: no
+states.csv, VTU or plot; `progress(line)` gets the command's line per converged state. The
+actuators act through the paper's prototype axial law (`schedule.AxialLaw`), so the ePSA design is
+not an input here. `quick=True`: 4 insertion steps instead of 8 and, on the revolved feet,
+`mesh.QUICK_SECTORS` sectors (about 90 s per inflate cycle on one core).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from softcrawl.checks import number
+from softcrawl.studies.crawl.files import MATERIAL, progress_line
+from softcrawl.studies.crawl.mesh import QUICK_SECTORS
+from softcrawl.studies.crawl.model import CrawlSetup
+from softcrawl.studies.crawl.outputs import CrawlResult
+from softcrawl.studies.crawl.schedule import Schedule, ScheduleError, preset, read_csv
+from softcrawl.studies.foot.contact_studies import FOOT_FRICTION
+
+#: Pipe inner diameters (mm, both open) the crawl accepts, as `softcrawl crawl`: the hub is 48 mm
+#: across, the skirt tip 78 mm.
+MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0
+FEET = ("paper", "backward", "symmetric")
+
+
+def crawl_schedule(schedule, gait: str, pressure_kpa: float, cycle_time_s: float) -> Schedule:
+    """`schedule` itself, read from a CSV path, or (None) the `gait` preset at `pressure_kpa`."""
+    if schedule is None:
+        return preset(gait, pressure_kpa, cycle_time_s)
+    if isinstance(schedule, Schedule):
+        return schedule
+    if isinstance(schedule, str | Path):
+        return read_csv(schedule)
+    raise ScheduleError("schedule", f"give a Schedule, a CSV path or None, not {type(schedule).__name__}")
+
+
+def simulate_crawl(
+    pipe_diameter: float = 70.0,
+    *,
+    gait: str = "inflate",
+    schedule=None,
+    pressure_kpa: float = 100.0,
+    cycle_time_s: float = 2.0,
+    cycles: int = 1,
+    mu_smooth: float = FOOT_FRICTION["mu_smooth"],
+    mu_grooved: float = FOOT_FRICTION["mu_grooved"],
+    feet: str = "paper",
+    quick: bool = False,
+    steps: int = 4,
+    mesher: str = "revolved",
+    sectors: int | None = None,
+    thickness_layers: int | None = None,
+    edge_length: float | None = None,
+    material=MATERIAL,
+    max_wall_s: float | None = None,
+    progress=None,
+) -> CrawlResult:
+    """The robot's two grooved feet crawling in a rigid pipe of `pipe_diameter` mm for `cycles`
+    cycles of the pressure schedule (kPa) -> `CrawlResult` (`strides`, per-cycle speed, states).
+    `feet`: "paper" (skirts lean back), "backward" (both mirrored), "symmetric" (front mirrored);
+    `material`: the feet's rubber, a preset name or a `Material`."""
+    from softcrawl.materials import Material, get_material
+    from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.crawl.mesh import crawl_mesh
+    from softcrawl.studies.crawl.model import build, run_crawl
+
+    number(pipe_diameter, "pipe_diameter", minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True,
+           max_open=True, unit="mm", error=ScheduleError)  # fmt: skip
+    for name, value in (("mu_smooth", mu_smooth), ("mu_grooved", mu_grooved)):
+        number(value, name, minimum=0.0, maximum=5.0, error=ScheduleError)
+    number(cycles, "cycles", minimum=1, maximum=100, integer=True, error=ScheduleError)
+    number(steps, "steps", minimum=1, maximum=200, integer=True, error=ScheduleError)
+    if feet not in FEET:
+        raise ScheduleError("feet", f"{feet!r} is not one of {', '.join(FEET)}")
+    plan = crawl_schedule(schedule, gait, pressure_kpa, cycle_time_s)
+    if sectors is None and quick and mesher == "revolved":
+        sectors = QUICK_SECTORS
+    setup = CrawlSetup(
+        pipe_diameter=float(pipe_diameter),
+        mu_smooth=float(mu_smooth),
+        mu_grooved=float(mu_grooved),
+        feet=feet,
+        insert_steps=4 if quick else 8,
+        steps=int(steps),
+        cycles=int(cycles),
+        max_wall_s=max_wall_s,
+        mesher=mesher,
+        sectors=sectors,
+        thickness_layers=thickness_layers,
+        edge_length=edge_length,
+    )
+    mat = material if isinstance(material, Material) else get_material(material)
+    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
+    cm = build(mesh, solid_law(mat, hyperelastic_only=True), design, setup)
+
+    def on_state(row, model, x):
+        if progress is not None:
+            progress(progress_line(row))
+
+    return run_crawl(cm, plan, on_state=on_state)

@@ -1,0 +1,76 @@
+"""One grooved foot from its design to its result, in one call: `simulate_foot` (the public API's).
+
+    FootDesign + material + pipe diameter -> the foot's mesh (`geometry.foot_meshers`, the
+    revolved mesh of the foot study by default) -> `model.run_foot` (insertion, friction on,
+    forward and backward drag) -> `FootResult`
+
+What one point of `softcrawl study foot` does (`contact_studies.evaluate_foot`), without the
+files. `quick=True`: 24 sectors around the axis instead of 48 (the least at which the contact
+faces' quadrature points are placed, `studies.crawl.mesh.QUICK_SECTORS`), 4 insertion steps and
+2 mm of drag in 2 steps each way.
+"""
+
+from __future__ import annotations
+
+from softcrawl.checks import number
+from softcrawl.geometry.design import DesignError, FootDesign
+from softcrawl.studies.foot.contact_studies import DEFAULT_MATERIAL, DRAG_MM, FOOT, FOOT_FRICTION, FOOT_MESHER
+from softcrawl.studies.foot.model import FOOT_MAX_WALL_S, FootResult, run_foot
+
+#: The foot study's settings and the quick ones of the module docstring (drag in mm).
+FULL = {"drag": DRAG_MM[FOOT], "drag_steps": 8, "insert_steps": 8}
+QUICK = {"sectors": 24, "drag": 2.0, "drag_steps": 2, "insert_steps": 4}
+
+
+def simulate_foot(
+    design: FootDesign | None = None,
+    pipe_diameter: float = 70.0,
+    *,
+    material=DEFAULT_MATERIAL,
+    mu_smooth: float = FOOT_FRICTION["mu_smooth"],
+    mu_grooved: float = FOOT_FRICTION["mu_grooved"],
+    drag: float | None = None,
+    drag_steps: int | None = None,
+    insert_steps: int | None = None,
+    quick: bool = False,
+    mesher: str = FOOT_MESHER,
+    sectors: int | None = None,
+    max_wall_s: float | None = FOOT_MAX_WALL_S,
+) -> FootResult:
+    """The foot (Table 1 by default) inserted into a pipe of `pipe_diameter` mm and dragged `drag`
+    mm forward and backward -> `FootResult` (normal force, resistances F_fwd, F_bwd and their
+    `ratio`). `material`: a preset name (`material_names()`) or a `Material`; unset numbers take
+    the foot study's values, or the quick ones with `quick=True`."""
+    from softcrawl.geometry.foot_meshers import mesh_foot_with
+    from softcrawl.materials import Material, get_material
+    from softcrawl.materials.fem_law import solid_law
+
+    design = design or FootDesign()
+    if not isinstance(design, FootDesign):
+        raise DesignError("design", "the foot simulation needs a FootDesign")
+    between_hub_and_tip = {"minimum": 2 * design.hub_radius, "maximum": 2 * design.tip_radius}
+    number(pipe_diameter, "pipe_diameter", **between_hub_and_tip, min_open=True, max_open=True, unit="mm",
+           error=DesignError)  # fmt: skip
+    for name, value in (("mu_smooth", mu_smooth), ("mu_grooved", mu_grooved)):
+        number(value, name, minimum=0.0, maximum=5.0, error=DesignError)
+    given = {"drag": drag, "drag_steps": drag_steps, "insert_steps": insert_steps}
+    chosen = {k: v if v is not None else (QUICK if quick else FULL)[k] for k, v in given.items()}
+    drag = number(chosen.pop("drag"), "drag", minimum=0.0, min_open=True, maximum=20.0, unit="mm",
+                  error=DesignError)  # fmt: skip
+    count = {"minimum": 1, "maximum": 200, "integer": True, "error": DesignError}
+    steps = {k: number(v, k, **count) for k, v in chosen.items()}
+    if sectors is None and quick and mesher == "revolved":
+        sectors = QUICK["sectors"]
+    mat = material if isinstance(material, Material) else get_material(material)
+    mesh = mesh_foot_with(design, mesher, sectors=sectors).to_skfem(2)
+    return run_foot(
+        mesh,
+        solid_law(mat, hyperelastic_only=True),
+        design,
+        float(pipe_diameter),
+        mu_smooth=float(mu_smooth),
+        mu_grooved=float(mu_grooved),
+        drag=drag,
+        max_wall_s=max_wall_s,
+        **steps,
+    )
