@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
+from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 GROOVE = "groove"
 FOOT = "foot"
@@ -104,7 +105,7 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
         seg,
         _material(settings),
         mu,
-        pressure=PRESSURE_KPA * 1e-3,
+        pressure=kpa_to_mpa(PRESSURE_KPA),
         drag=DRAG_MM[GROOVE],
         drag_steps=int(settings.get("drag_steps", 20)),
         on_state=_vtu_writer(settings, stem),
@@ -199,8 +200,8 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
             "mu_grooved": mu_g,
             "normal_force_n": r.normal_force,
             "contact_area_mm2": r.contact_area,
-            "mean_pressure_kpa": r.mean_pressure * 1e3,
-            "max_pressure_kpa": r.max_pressure * 1e3,
+            "mean_pressure_kpa": mpa_to_kpa(r.mean_pressure),
+            "max_pressure_kpa": mpa_to_kpa(r.max_pressure),
             "f_fwd_n": r.forward.peak if r.forward else float("nan"),
             "f_bwd_n": r.backward.peak if r.backward else float("nan"),
             "ratio_bwd_fwd": r.ratio,
