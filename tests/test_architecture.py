@@ -13,7 +13,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Layer -> (folder, module prefix). `softcrawl.core` is the package root's own modules (errors,
-#: checks, files, jsonio, units); the root's `__init__` (the public API) may import everything.
+#: checks, files, jsonio, units, paper); the root's `__init__` (the public API) may import everything.
 LAYERS = {
     "softcrawl.core": (ROOT / "softcrawl", "softcrawl"),
     "softcrawl.analytic": (ROOT / "softcrawl" / "analytic", "softcrawl.analytic"),

@@ -66,7 +66,8 @@ def write_pvd(folder: Path, entries) -> Path:
 def compare(result, setup, schedule, pressure_kpa: float) -> dict:
     """Stride and speed beside Table 2 and the analytic model (with the paper's friction and with
     the FE's own: the largest axial friction force on a foot while the pressures rise)."""
-    from softcrawl.studies.crawl.schedule import PAPER_FRICTION_N, analytic_speed, table2
+    from softcrawl.paper import FRICTION_N, table2
+    from softcrawl.studies.crawl.schedule import analytic_speed
 
     direction = "backward" if setup.feet == "backward" else "forward"
     stride = steady_stride(result)
@@ -83,8 +84,8 @@ def compare(result, setup, schedule, pressure_kpa: float) -> dict:
         "speed_mm_s": stride / T,
         "cycle_s": T,
         "table2_mm_s": table2(setup.pipe_diameter, direction),
-        "analytic_paper_friction_mm_s": analytic_speed(pressure_kpa, T, PAPER_FRICTION_N[direction]),
-        "paper_friction_n": PAPER_FRICTION_N[direction],
+        "analytic_paper_friction_mm_s": analytic_speed(pressure_kpa, T, FRICTION_N[direction]),
+        "paper_friction_n": FRICTION_N[direction],
         "fe_friction_n": fe_friction,
         "analytic_fe_friction_mm_s": analytic_speed(pressure_kpa, T, fe_friction)
         if np.isfinite(fe_friction)

@@ -51,24 +51,6 @@ MAX_ROWS = 10_000
 LAW_SOURCE = "paper eqs. 19-24 (prototype statics, mean of ePSA 1-3; analytic.prototype.nominal_epsa)"
 
 
-#: Table 2 of the paper: pipe diameter (mm) -> (forward, backward) speed, mm/s, 2 s cycles. The
-#: text of Section VII-D gives 17.7 mm/s backward at 70 mm where the table gives 16.7.
-TABLE2_MM_S = {
-    55.0: (17.4, 15.9),
-    60.0: (20.1, 18.2),
-    65.0: (19.5, 17.7),
-    70.0: (18.3, 16.7),
-    75.0: (17.6, 16.2),
-}
-#: The paper's sliding friction of the whole robot in the 70 mm pipe (Section VII-D), N.
-PAPER_FRICTION_N = {"forward": 15.3, "backward": 16.9}
-
-
-def table2(diameter: float, direction: str) -> float | None:
-    row = TABLE2_MM_S.get(round(float(diameter), 6))
-    return None if row is None else row[0 if direction == "forward" else 1]
-
-
 def analytic_speed(pressure_kpa: float, cycle_s: float, friction_n: float) -> float:
     from softcrawl.analytic.loads import crawl_speed
     from softcrawl.analytic.prototype import actuator_set

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
+from softcrawl.paper import PIPE_DIAMETERS_MM
 from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 GROOVE = "groove"
@@ -38,7 +39,7 @@ DRAG_MM = {GROOVE: 5.0, FOOT: 8.0}  # the paper's Fig. 10: 5 mm (groove), 5 and 
 
 GRIDS = {
     GROOVE: {"groove_height": (0.5, 1.0, 1.5, 2.0), "mu": (0.3, 0.5)},
-    FOOT: {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0)},
+    FOOT: {"pipe_diameter": PIPE_DIAMETERS_MM},
 }
 QUICK_GRIDS = {
     GROOVE: {"groove_height": (0.5, 1.0, 2.0), "mu": (0.3,)},

@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
+from softcrawl.paper import table2
 from softcrawl.studies.crawl.mesh import attach_tag, two_feet
-from softcrawl.studies.crawl.schedule import AxialLaw, ScheduleError, preset, read_csv, table2
+from softcrawl.studies.crawl.schedule import AxialLaw, ScheduleError, preset, read_csv
 
 
 def test_presets_follow_the_stated_valve_timings():
