@@ -25,10 +25,12 @@ FRICTION_SOURCE = (
 )
 
 
-def write_pipe(path: Path, radius: float, z0: float, z1: float, n: int = 96) -> Path:
-    """The rigid wall as a quad surface (meshio)."""
+def write_pipe(path: Path, pipe, z0: float, z1: float, n: int = 96) -> Path:
+    """The rigid wall of the straight `pipe` (`analytic.pipe.Pipe`) from z0 to z1 as a quad
+    surface (meshio)."""
     import meshio
 
+    radius = pipe.radius
     a = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     ring = np.column_stack([radius * np.cos(a), radius * np.sin(a)])
     pts = np.vstack([np.column_stack([ring, np.full(n, z)]) for z in (z0, z1)])
@@ -159,9 +161,7 @@ def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool 
     if vtu:
         series = _VtuSeries(folder / "vtu")
         z = mesh.p[2]
-        write_pipe(
-            series.folder / "pipe.vtu", setup.pipe_diameter / 2, float(z.min()) - 20, float(z.max()) + 80
-        )
+        write_pipe(series.folder / "pipe.vtu", setup.pipe, float(z.min()) - 20, float(z.max()) + 80)
 
     def on_state(row, model, x):
         if series is not None:  # setup states (insertion, friction on) at negative times, in order

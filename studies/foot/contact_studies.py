@@ -161,6 +161,7 @@ def _foot_mesh(settings):
 
 
 def evaluate_foot(params: dict, fixed: dict, settings: dict):
+    from softcrawl.analytic.pipe import Pipe
     from softcrawl.studies.foot.model import run_foot
     from softcrawl.studies.sweeps.spec import Evaluation
 
@@ -172,7 +173,7 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
         mesh,
         _material(settings),
         design,
-        D,
+        Pipe(diameter=D),
         mu_smooth=mu_s,
         mu_grooved=mu_g,
         drag=float(settings.get("drag_mm", DRAG_MM[FOOT])),
