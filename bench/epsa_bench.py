@@ -32,6 +32,8 @@ import sys
 import time
 from pathlib import Path
 
+from softcrawl.units import kpa_to_mpa
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 PRESSURES_KPA = (20, 40, 60, 80, 100)
@@ -58,7 +60,7 @@ def run_ramp(mesh_size, options, queue):
     mesh = "default" if mesh_size is None else MeshSettings.from_size(mesh_size, design)
     model, _, _ = build_model(design, "ecoflex-00-50", mesh, False)
     setup = time.perf_counter() - t0
-    res = load_path(model, [(p * 1e-3, 0.0) for p in PRESSURES_KPA], options=NewtonOptions(**options))
+    res = load_path(model, [(kpa_to_mpa(p), 0.0) for p in PRESSURES_KPA], options=NewtonOptions(**options))
     s = res.stats
     queue.put(
         {

@@ -16,6 +16,8 @@ import argparse
 import resource
 import time
 
+from softcrawl.units import kpa_to_mpa
+
 
 def main() -> None:
     from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL, build_robot_model
@@ -34,7 +36,7 @@ def main() -> None:
     else:
         from softcrawl.studies.robot_fe.robot_studies import LOAD_CASES_KPA
 
-        targets = [tuple(p / 1e3 for p in P) for P in LOAD_CASES_KPA["asymmetric"]]
+        targets = [tuple(kpa_to_mpa(p) for p in P) for P in LOAD_CASES_KPA["asymmetric"]]
     run = simulate_robot(robot, targets)
     total = time.perf_counter() - t0
     st = run.stats

@@ -21,6 +21,8 @@ import time
 
 import numpy as np
 
+from softcrawl.units import kpa_to_mpa, mpa_to_kpa
+
 
 def _node_classes(robot) -> dict[str, np.ndarray]:
     """Boolean masks over the P2 nodes: which part kinds' elements touch each node."""
@@ -78,7 +80,7 @@ def main() -> None:
 
     def load_step(self, x, P, factor, start=None):
         state["step"] += 1
-        state["load"] = tuple(float(p) * 1e3 for p in np.atleast_1d(P))
+        state["load"] = tuple(mpa_to_kpa(float(p)) for p in np.atleast_1d(P))
         state["t0"] = time.perf_counter()
         try:
             out = original_load_step(self, x, P, factor, start)
@@ -140,7 +142,7 @@ def main() -> None:
     if args.rigid_ratio is not None:
         opts = dataclasses.replace(opts, rigid_ratio=args.rigid_ratio or None)
     t0 = time.perf_counter()
-    run = simulate_robot(robot, [tuple(p / 1e3 for p in P) for P in targets_kpa], options=opts)
+    run = simulate_robot(robot, [tuple(kpa_to_mpa(p) for p in P) for P in targets_kpa], options=opts)
     wall = time.perf_counter() - t0
     for r in rows:
         print(

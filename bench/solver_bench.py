@@ -28,6 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.units import mpa_to_kpa
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 A, B, LENGTH, MU, K_OVER_MU = 3.0, 9.0, 50.0, 0.03, 1000.0
@@ -159,7 +161,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     exact = analytic_inner_radius()
-    print(f"analytic inner radius at {PRESSURES[-1] * 1e3:.0f} kPa: {exact:.6f} mm")
+    print(f"analytic inner radius at {mpa_to_kpa(PRESSURES[-1]):.0f} kPa: {exact:.6f} mm")
     header = (
         f"{'mesh':<10}{'code':<17}{'DOFs':>8}{'iters':>6}{'fact':>5}{'gmres':>6}{'s/iter':>8}{'asm %':>7}"
         f"{'solve %':>8}{'wall s':>8}{'RSS MB':>8}{'err a %':>9}"

@@ -5,7 +5,7 @@ pipe, switches friction on and follows the "inflate" gait (all three ePSAs 0 -> 
 2 s cycle); the ePSAs act through the paper's identified axial law. Prints every converged state
 as it comes, then the stride and speed of each cycle beside the paper's Table 2 (18.3 mm/s forward
 at 70 mm). With the assumed friction mu = 0.5 the first cycle (from rest) strides 5.35 mm, as the
-quick crawl study (results/crawl/rubber-70a-quick); docs/DESIGN.md section 13 says why it falls
+quick crawl study (results/crawl/rubber-70a-quick); docs/decisions/055-crawl-revolved.md says why it falls
 short of the paper. The quick crawl takes 2-4 minutes (about 140 s of CPU).
 
     python examples/crawl.py [CYCLES]        (CYCLES defaults to 1)

@@ -26,6 +26,7 @@ import numpy as np
 
 from softcrawl.fem.newton import Diverged
 from softcrawl.fem.steps import History, PathResult, describe_load, failed, make_step
+from softcrawl.units import mpa_to_kpa  # the path works in MPa; its limit-point messages are read in kPa
 
 
 def volume_continuation(solver, shape, history: History, remaining, steps, events, opt, t0) -> PathResult:
@@ -57,7 +58,7 @@ def volume_continuation(solver, shape, history: History, remaining, steps, event
         if n_steps > opt.max_volume_steps:
             reason = (
                 f"{opt.max_volume_steps} volume steps (max_volume_steps) did not reach "
-                f"{describe_load(pending[0])}; the driving pressure is {vh.load[k] * 1e3:.4g} kPa"
+                f"{describe_load(pending[0])}; the driving pressure is {mpa_to_kpa(vh.load[k]):.4g} kPa"
             )
             return _end_of_volume_path(solver, vh, steps, events, t0, peak, reason)
         try:
@@ -91,7 +92,7 @@ def volume_continuation(solver, shape, history: History, remaining, steps, event
             and samples[-1][1] < samples[-2][1] - 1e-6 * abs(samples[-2][1])
         ):
             peak = parabola_peak(samples[-3:])
-            events.append(f"limit point at P ~ {peak * 1e3:.4g} kPa (volume control continues)")
+            events.append(f"limit point at P ~ {mpa_to_kpa(peak):.4g} kPa (volume control continues)")
         if peak is not None:
             steps.append(make_step(m, shape, L_new, x_new, "volume", record, past_limit=True, chamber=k))
             after_peak += 1
@@ -100,7 +101,7 @@ def volume_continuation(solver, shape, history: History, remaining, steps, event
         if record.iterations <= 5:
             dV *= 1.5
     if peak is not None:
-        msg = f"limit point at P ~ {peak * 1e3:.4g} kPa"
+        msg = f"limit point at P ~ {mpa_to_kpa(peak):.4g} kPa"
         return PathResult(tuple(steps), True, msg, peak, tuple(events), solver.stats(t0))
     if off_line:
         return failed(
@@ -154,7 +155,7 @@ def _land_on(solve_at, lo, hi, best, target, k):
 def _end_of_volume_path(solver, vh, steps, events, t0, peak, reason) -> PathResult:
     if peak is not None:
         events.append(f"volume control stopped after the limit point ({reason})")
-        msg = f"limit point at P ~ {peak * 1e3:.4g} kPa"
+        msg = f"limit point at P ~ {mpa_to_kpa(peak):.4g} kPa"
         return PathResult(tuple(steps), True, msg, peak, tuple(events), solver.stats(t0))
     return failed(
         steps, events, solver, t0, vh.load, f"volume control could not advance ({reason})", volume=vh.volume

@@ -56,6 +56,7 @@ from softcrawl.fem.steps import (
     make_step,
 )
 from softcrawl.fem.stiff_parts import StiffParts
+from softcrawl.units import mpa_to_kpa  # the path works in MPa; its limit-point messages are read in kPa
 
 __all__ = [
     "NewtonOptions",
@@ -255,7 +256,7 @@ def volume_path(
     k = int(np.argmax(ps))
     if 0 < k < len(ps) - 1:
         limit = parabola_peak([(steps[j].volume, steps[j].pressure) for j in (k - 1, k, k + 1)])
-        events.append(f"limit point at P ~ {limit * 1e3:.4g} kPa")
+        events.append(f"limit point at P ~ {mpa_to_kpa(limit):.4g} kPa")
     return PathResult(
         tuple(steps), True, "all volume targets reached", limit, tuple(events), solver.stats(t0)
     )

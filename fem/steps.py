@@ -15,6 +15,7 @@ import numpy as np
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.model import SolidModel
 from softcrawl.fem.newton import NewtonRecord, SolveStats
+from softcrawl.units import mpa_to_kpa
 
 
 @dataclass(frozen=True)
@@ -71,7 +72,7 @@ class LoadShape:
 
 def describe_load(L: np.ndarray) -> str:
     """'P = 12.3 kPa, load factor 1' (or 'P = (10, 40, 60) kPa, ...') of a load vector."""
-    P = L[:-1] * 1e3
+    P = mpa_to_kpa(L[:-1])  # the solver works in MPa; its messages are read in kPa
     text = f"{P[0]:.4g}" if P.size == 1 else "(" + ", ".join(f"{p:.4g}" for p in P) + ")"
     return f"P = {text} kPa, load factor {L[-1]:.4g}"
 

@@ -44,6 +44,7 @@ from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.path import NewtonOptions, load_path, volume_path
 from softcrawl.fem.reference_models import MU, mean_radius, sphere_inner_stretch, sphere_model, tube_model
 from softcrawl.fem.structured import box
+from softcrawl.units import mpa_to_kpa
 
 
 def patch_test(stretch=1.5, k_over_mu=1e4, formulation="p2p1") -> CaseResult:
@@ -260,7 +261,7 @@ def sphere_volume_test(
     details = {
         "dofs": model.n_dofs,
         "analytic_limit_stretch": la_max_p,
-        "analytic_limit_kPa": p_max * 1e3,
+        "analytic_limit_kPa": mpa_to_kpa(p_max),
         "message": res.message,
     }
     if not res.converged:
@@ -270,10 +271,10 @@ def sphere_volume_test(
         la = sphere_inner_stretch(model, step.x, inner)
         p_exact = analytic.sphere_pressure(MU, la, inner, outer)
         errors.append(abs(step.pressure - p_exact) / p_max)
-        curve.append((la, step.pressure * 1e3, p_exact * 1e3))
+        curve.append((la, mpa_to_kpa(step.pressure), mpa_to_kpa(p_exact)))
     details["curve_stretch_kPa_fe_analytic"] = curve
     details["passed_maximum"] = bool(curve[-1][0] > la_max_p)
-    details["fe_limit_kPa"] = None if res.limit_pressure is None else res.limit_pressure * 1e3
+    details["fe_limit_kPa"] = None if res.limit_pressure is None else mpa_to_kpa(res.limit_pressure)
     err = max(errors) if details["passed_maximum"] else np.inf
     return CaseResult("sphere-volume", err, tolerance, details)
 
@@ -283,10 +284,10 @@ def sphere_limit_test(inner=5.0, outer=7.5, tolerance=2e-3, **mesh) -> CaseResul
     _, p_max = analytic.sphere_limit(MU, inner, outer)
     targets = [(f * p_max, 0.0) for f in np.linspace(0.2, 1.2, 6)]
     res = load_path(model, targets)
-    details = {"analytic_limit_kPa": p_max * 1e3, "message": res.message, "events": list(res.events)}
+    details = {"analytic_limit_kPa": mpa_to_kpa(p_max), "message": res.message, "events": list(res.events)}
     if res.limit_pressure is None:
         return CaseResult("sphere-limit", np.inf, tolerance, details)
-    details["fe_limit_kPa"] = res.limit_pressure * 1e3
+    details["fe_limit_kPa"] = mpa_to_kpa(res.limit_pressure)
     past = [s for s in res.steps if s.past_limit]
     details["past_limit_states"] = len(past)
     details["past_limit_flags_consistent"] = bool(

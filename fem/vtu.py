@@ -42,6 +42,7 @@ from softcrawl.fem import sheets as sheet_mod
 from softcrawl.fem.fibers import fiber_state, segment_forces
 from softcrawl.fem.model import SolidModel
 from softcrawl.fem.post import element_fields
+from softcrawl.units import mpa_to_kpa
 
 #: VTK component names of the arrays that have more than one component.
 VECTOR = ("X", "Y", "Z")
@@ -54,7 +55,7 @@ VTK_TET10_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
 def _field_data(model: SolidModel, pressure_mpa, factor: float) -> dict:
     pressures = model.pressures(pressure_mpa) if model.chambers else np.atleast_1d(float(pressure_mpa))
     out = {
-        "pressure_kPa": np.asarray(pressures, dtype=float) * 1e3,
+        "pressure_kPa": mpa_to_kpa(np.asarray(pressures, dtype=float)),
         "load_factor": np.array([float(factor)]),
     }
     for k, name in enumerate(sorted(model.mesh.subdomains or {})):

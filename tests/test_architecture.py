@@ -5,6 +5,7 @@ every module loaded under one name only."""
 import ast
 import importlib
 import pkgutil
+import re
 import sys
 from pathlib import Path
 
@@ -12,7 +13,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Layer -> (folder, module prefix). `softcrawl.core` is the package root's own modules (errors,
-#: checks, files, jsonio, units); the root's `__init__` (the public API) may import everything.
+#: checks, files, jsonio, units, paper); the root's `__init__` (the public API) may import everything.
 LAYERS = {
     "softcrawl.core": (ROOT / "softcrawl", "softcrawl"),
     "softcrawl.analytic": (ROOT / "softcrawl" / "analytic", "softcrawl.analytic"),
@@ -242,3 +243,129 @@ def test_no_cycle_between_studies_subfolders():
                 elif dep not in trail:
                     stack.append((dep, [*trail, dep]))
     assert not cycles, "\n".join(sorted(set(cycles)))
+
+
+#: The literal factors of a kPa <-> MPa conversion.
+CONVERSION_FACTORS = (1e-3, 1e3)
+#: Words (lower case, split at `_`, dots and spaces) that say a value is a pressure.
+PRESSURE_WORDS = {"kpa", "mpa", "pressure", "pressures", "peak", "lim", "limit"}
+#: Context names of other quantities that happen to be scaled by 1e3 (N/mm -> N/m, tonne -> kg,
+#: s -> ms): a stiffness `k_...`, anything `..._per_m`, a mass `m`.
+OTHER_QUANTITY = re.compile(r"^(k|m)$|^k_|_per_m$|_kg$|_ms$")
+#: The one module allowed to convert.
+UNITS_MODULE = ROOT / "softcrawl" / "units.py"
+#: Folders scanned for bare pressure conversions.
+SCANNED = ("fem", "geometry", "studies", "softcrawl", "bench")
+
+
+def _words(text: str) -> set[str]:
+    """Lower-case words of identifiers and literal text, plus `p`/`P` for names that start with
+    it (`P`, `p_lim`, `P_fe`: the code's pressure names; `k_p` is a stiffness, not a pressure)."""
+    out = set()
+    for ident in re.findall(r"[A-Za-z][A-Za-z0-9_]*", text):
+        parts = ident.lower().split("_")
+        out.update(parts)
+        if parts[0] == "p":
+            out.add("<p>")
+    return out
+
+
+def _is_factor(node: ast.AST) -> bool:
+    return (
+        isinstance(node, ast.Constant)
+        and type(node.value) in (int, float)
+        and float(node.value) in CONVERSION_FACTORS
+    )
+
+
+def _context(node: ast.AST, parents: dict[int, ast.AST], source: str) -> list[str]:
+    """The text of what `node` is assigned to, passed as, stored under or shown in, up to its
+    statement: assignment targets, keyword names, dict keys, the literal text of an f-string, and
+    the iterables of the comprehensions it is in (`p / 1e3 for p in P`)."""
+    out = []
+    child, parent = node, parents.get(id(node))
+    while parent is not None and not isinstance(child, ast.stmt):
+        if isinstance(parent, (ast.Assign, ast.AnnAssign, ast.AugAssign)) and child is parent.value:
+            targets = parent.targets if isinstance(parent, ast.Assign) else [parent.target]
+            out += [ast.get_source_segment(source, t) or "" for t in targets]
+        elif isinstance(parent, ast.keyword) and parent.arg:
+            out.append(parent.arg)
+        elif isinstance(parent, ast.Dict) and child in parent.values:
+            key = parent.keys[parent.values.index(child)]
+            out.append("" if key is None else ast.get_source_segment(source, key) or "")
+        elif isinstance(parent, ast.JoinedStr):
+            out.append(" ".join(v.value for v in parent.values if isinstance(v, ast.Constant)))
+        elif isinstance(parent, (ast.ListComp, ast.SetComp, ast.GeneratorExp, ast.DictComp)):
+            out += [ast.get_source_segment(source, g.iter) or "" for g in parent.generators]
+        child, parent = parent, parents.get(id(parent))
+    return out
+
+
+def bare_pressure_conversions(source: str) -> list[tuple[int, str]]:
+    """(line, source) of every multiplication or division by 1e-3 or 1e3 (int or float, e.g.
+    1000, 0.001) whose other operand, or whatever it is assigned to, stored under or shown in,
+    names a pressure (`PRESSURE_WORDS`, or a name starting with `p`/`P`) and no other quantity."""
+    tree = ast.parse(source)
+    parents = {id(c): n for n in ast.walk(tree) for c in ast.iter_child_nodes(n)}
+    found = []
+    for node in ast.walk(tree):
+        if not (isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Mult, ast.Div))):
+            continue
+        if _is_factor(node.right):
+            other = node.left
+        elif _is_factor(node.left) and isinstance(node.op, ast.Mult):
+            other = node.right
+        else:
+            continue
+        around = _context(node, parents, source)
+        names = {w.lower() for text in around for w in re.findall(r"[A-Za-z][A-Za-z0-9_]*", text)}
+        if any(OTHER_QUANTITY.search(w) for w in names):
+            continue
+        words = _words(ast.get_source_segment(source, other) or "")
+        for text in around:
+            words |= _words(text)
+        if words & (PRESSURE_WORDS | {"<p>"}):
+            found.append((node.lineno, ast.get_source_segment(source, node)))
+    return found
+
+
+def test_pressures_are_converted_only_in_units():
+    """kPa -> MPa and back go through `softcrawl.units` (`kpa_to_mpa`, `mpa_to_kpa`): a bare
+    `* 1e-3`, `/ 1e3`, `* 1e3` on a pressure anywhere else is a second place that knows the rule."""
+    bare = []
+    for folder in SCANNED:
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            if path == UNITS_MODULE:
+                continue
+            for line, text in bare_pressure_conversions(path.read_text()):
+                bare.append(f"{path.relative_to(ROOT)}:{line}: {text}")
+    assert not bare, "use softcrawl.units:\n" + "\n".join(bare)
+
+
+@pytest.mark.parametrize(
+    "line",
+    [
+        "P = L[:-1] * 1e3",
+        "x = [(p * 1e-3, 0.0) for p in pressures_kpa]",
+        "run([tuple(v / 1e3 for v in P) for P in targets])",
+        "msg = f'limit at {peak * 1e3:.4g} kPa'",
+        "d = {'fe_limit_kPa': fe_lim * 1000}",
+        "target = TARGET_KPA * 0.001",
+    ],
+)
+def test_the_pressure_conversion_scan_catches_a_bare_conversion(line):
+    assert bare_pressure_conversions(line)
+
+
+@pytest.mark.parametrize(
+    "line",
+    [
+        "row = dict(k_p_n_per_m=float(a.k_p(p)) * 1e3)",
+        "k_free = 3.0 * mu_mpa * math.pi / L * 1e3",
+        "m = theoretical_load(f, mass * 1e-6, g) * 1e3",
+        "value = min(max(value + rate[k] * 1e-3, 0.0), p)",
+        "x = pressure_kpa / 2",
+    ],
+)
+def test_the_pressure_conversion_scan_leaves_other_quantities(line):
+    assert not bare_pressure_conversions(line)

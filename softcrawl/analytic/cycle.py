@@ -65,8 +65,9 @@ from softcrawl.analytic import kinematics as kin
 from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.limits import MIN_PLAN_STEP_KPA, check
 from softcrawl.analytic.pipe import Pipe
-from softcrawl.analytic.prototype import BODY_RADIUS_MM, EPSA_RADIUS_MM
-from softcrawl.analytic.statics import G_STANDARD, P_MAX_KPA, EPSAParams
+from softcrawl.analytic.prototype import BODY_RADIUS_MM
+from softcrawl.analytic.statics import G_STANDARD, EPSAParams
+from softcrawl.paper import EPSA_RADIUS_MM, P_MAX_KPA
 
 #: Deflated-length modes (module docstring).
 DEFLATIONS = ("paper", "held")

@@ -18,8 +18,9 @@ from softcrawl.analytic import cycle as cm
 from softcrawl.analytic import kinematics as kin
 from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.pipe import Pipe
-from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
-from softcrawl.analytic.statics import P_MAX_KPA, EPSAParams
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, actuator_set
+from softcrawl.analytic.statics import EPSAParams
+from softcrawl.paper import D_MM, P_MAX_KPA
 
 Triple = tuple[float, float, float]
 

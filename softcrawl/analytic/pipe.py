@@ -13,6 +13,11 @@ point of its centreline has distance <= D/2 - r.
 
 "vertical" is geometrically a straight pipe; it differs in the axial gravity the planner applies to
 the statics (the robot climbs against g).
+
+`Pipe` is the one description of a pipe's geometry: the analytic planner measures against its
+centreline, and the FE foot and crawl studies (`studies.foot.model`, `studies.crawl`) build their
+rigid wall (`fem.rigid_surfaces.CylinderWall`, a straight pipe on the z axis) and its VTU from its
+`radius`.
 """
 
 from __future__ import annotations
@@ -52,6 +57,11 @@ class Pipe:
                 raise ModelInputError("bend-angle", "must be in (0, 180] deg")
 
     # -- geometry ----------------------------------------------------------------------------------
+    @property
+    def radius(self) -> float:
+        """Inner radius, mm: where the wall is."""
+        return self.diameter / 2.0
+
     @property
     def bend_start(self) -> float:
         return self.entry

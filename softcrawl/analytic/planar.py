@@ -27,8 +27,9 @@ from softcrawl.analytic import kinematics as kin
 from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.gait import Cycle, Plan, floats, rotation_tuple
 from softcrawl.analytic.pipe import Pipe
-from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, actuator_set
 from softcrawl.analytic.statics import EPSAParams
+from softcrawl.paper import D_MM
 
 #: Curvature resolution of the state cells, 1/mm.
 _CELL_KAPPA = 5e-4

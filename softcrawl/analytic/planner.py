@@ -56,8 +56,9 @@ from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.gait import Cycle, Plan, floats, replay, rotation_tuple
 from softcrawl.analytic.limits import MAX_BEAM, MAX_CANDIDATES_PER_CYCLE, check
 from softcrawl.analytic.pipe import Pipe
-from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, actuator_set
 from softcrawl.analytic.statics import EPSAParams
+from softcrawl.paper import D_MM
 
 __all__ = ["Cycle", "Plan", "plan", "replay", "scan_bend_radius"]
 

@@ -1,5 +1,9 @@
 """The paper's prototype: identified ePSA parameters (eqs. 19-24) and robot constants.
 
+The printed numbers (eqs. 19-24, Table 1, the 70.2 g mass) live in `softcrawl.paper`; this module
+turns them into the models' `EPSAParams` and adds what the paper does not give (mass split,
+damping, the nominal actuator).
+
 This module is the units boundary. The paper prints eqs. (19)-(24) with P in kPa, k_p in N/m,
 f_p in N and the extension y in m (docs/decisions/007-analytic-models.md). Inside `robot` lengths are mm, so
 every
@@ -38,38 +42,22 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from softcrawl.analytic.statics import EPSAParams, Line, PiecewiseLinear
+from softcrawl.paper import (
+    BREAKPOINT_KPA,
+    D_MM,
+    EPSA_RADIUS_MM,
+    L0_MM,
+    PRINTED_F_N,
+    PRINTED_K_N_PER_M,
+    ROBOT_MASS_T,
+)
 
-#: Initial ePSA length (Table 1), mm.
-L0_MM = 100.0
-#: Radius d of the actuator circle (Table 1 "foot radius"), mm.
-D_MM = 14.0
-#: ePSA outer radius R0 (Table 1), mm.
-EPSA_RADIUS_MM = 9.0
-#: Robot mass, tonne (70.2 g).
-ROBOT_MASS_T = 70.2e-6
-#: Measured maximum ePSA output force (Fig. 19), N.
-F_EPSA_MAX_N = 8.42
 #: ePSA mass, tonne (see module docstring).
 EPSA_MASS_T = ROBOT_MASS_T / 3.0
 #: Body radius for pipe clearance: d + R0 = 23 mm = half the prototype's 46 mm minimum diameter.
 BODY_RADIUS_MM = D_MM + EPSA_RADIUS_MM
 #: Damping, N s/mm (assumed, see module docstring).
 B_P_N_S_PER_MM = 0.05
-#: Breakpoint of the identified laws, kPa.
-BREAKPOINT_KPA = 60.0
-
-# Printed coefficients: (k_low slope, k_low intercept, k_high slope, k_high intercept) in N/m per
-# kPa and N/m; (f_low slope, f_low intercept, f_high slope, f_high intercept) in N per kPa and N.
-PRINTED_K_N_PER_M = {
-    1: (-2.579, 266.8, 0.9125, 62.19),
-    2: (-2.013, 243.2, 1.236, 34.99),
-    3: (-1.784, 229.9, 0.167, 119.2),
-}
-PRINTED_F_N = {
-    1: (0.03575, -0.06627, 0.1463, -6.534),
-    2: (0.0446, -0.239, 0.168, -8.235),
-    3: (0.04175, -0.2493, 0.1118, -4.002),
-}
 
 
 def _pw(c: Sequence[float], factor: float = 1.0) -> PiecewiseLinear:

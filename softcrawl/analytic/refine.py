@@ -47,8 +47,9 @@ from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.gait import Plan, replay
 from softcrawl.analytic.limits import MAX_CONTINUOUS_CYCLES, check
 from softcrawl.analytic.pipe import Pipe
-from softcrawl.analytic.prototype import BODY_RADIUS_MM, D_MM, actuator_set
-from softcrawl.analytic.statics import P_MAX_KPA, EPSAParams
+from softcrawl.analytic.prototype import BODY_RADIUS_MM, actuator_set
+from softcrawl.analytic.statics import EPSAParams
+from softcrawl.paper import D_MM, P_MAX_KPA
 
 
 def _cycle(

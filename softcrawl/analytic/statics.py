@@ -41,11 +41,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from softcrawl.analytic.errors import ModelInputError
+from softcrawl.paper import P_MAX_KPA
 
 #: Standard gravity in mm/s^2 (the paper's eq. 27 example uses 10 m/s^2 = 10000 mm/s^2).
 G_STANDARD = 9810.0
-#: Pressure range of the prototype (Section VII-A), kPa.
-P_MAX_KPA = 100.0
 
 
 @dataclass(frozen=True)

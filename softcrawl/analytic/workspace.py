@@ -15,8 +15,8 @@ import numpy as np
 from softcrawl.analytic import kinematics as kin
 from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.limits import MAX_PRESSURE_KPA, MAX_WORKSPACE_LEVELS, check
-from softcrawl.analytic.prototype import D_MM, actuator_set
-from softcrawl.analytic.statics import P_MAX_KPA
+from softcrawl.analytic.prototype import actuator_set
+from softcrawl.paper import D_MM, P_MAX_KPA
 
 
 @dataclass(frozen=True)

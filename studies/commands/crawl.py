@@ -33,7 +33,7 @@ import argparse
 
 from softcrawl.geometry.foot_meshers import FOOT_MESHERS
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS
-from softcrawl.studies.crawl.schedule import GAITS
+from softcrawl.studies.crawl.schedule import SCHEDULES
 from softcrawl.studies.foot.contact_studies import FOOT_FRICTION
 
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
@@ -52,7 +52,7 @@ def register(subparsers) -> None:
     add_number(p, "--pipe-diameter", help="pipe inner diameter", unit="mm", default=70.0,
                minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True, max_open=True)  # fmt: skip
     p.add_argument(
-        "--gait", default="inflate", choices=GAITS, help="pressure schedule preset (default inflate)"
+        "--gait", default="inflate", choices=SCHEDULES, help="pressure schedule preset (default inflate)"
     )
     p.add_argument(
         "--schedule", default=None, help="CSV time_s,P1_kpa,P2_kpa,P3_kpa (one cycle; replaces --gait)"

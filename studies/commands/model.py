@@ -17,6 +17,7 @@ from softcrawl.analytic.limits import (
     MAX_SPEED_MM_S,
     MAX_TIME_S,
 )
+from softcrawl.paper import D_MM, F_EPSA_MAX_N, FRICTION_N, G_EQ27_M_S2, ROBOT_MASS_G, table2
 from softcrawl.studies.commands.options import add_json, add_length, add_number, emit
 
 
@@ -214,7 +215,7 @@ def _register_statics(sub) -> None:
     s = sub.add_parser("fk", help="lengths -> kappa, theta, phi, tip (eqs. 4-6, 9)")
     add_json(s)
     add_length(s, "--lengths", "the three ePSA lengths", nargs=3, required=True, metavar=("L1", "L2", "L3"))
-    add_length(s, "--d", "actuator circle radius", default=14.0)
+    add_length(s, "--d", "actuator circle radius", default=D_MM)
     s.set_defaults(func=_fk)
 
     s = sub.add_parser("ik", help="tip -> lengths (exact inverse of fk)")
@@ -230,7 +231,7 @@ def _register_statics(sub) -> None:
         minimum=-MAX_LENGTH_MM,
         maximum=MAX_LENGTH_MM,
     )
-    add_length(s, "--d", "actuator circle radius", default=14.0)
+    add_length(s, "--d", "actuator circle radius", default=D_MM)
     s.set_defaults(func=_ik)
 
 
@@ -238,10 +239,18 @@ def _register_loads(sub) -> None:
     s = sub.add_parser("load", help="theoretical load (eq. 27)")
     add_json(s)
     add_number(
-        s, "--force", help="ePSA output force", unit="N", default=8.42, minimum=0.0, maximum=MAX_FORCE_N
+        s,
+        "--force",
+        help="ePSA output force",
+        unit="N",
+        default=F_EPSA_MAX_N,
+        minimum=0.0,
+        maximum=MAX_FORCE_N,
     )
-    add_number(s, "--robot-mass", help="robot mass", unit="g", default=70.2, minimum=0.0, maximum=MAX_MASS_G)
-    add_gravity(s, 10.0, "gravity (the paper used 10)", positive=True)
+    add_number(
+        s, "--robot-mass", help="robot mass", unit="g", default=ROBOT_MASS_G, minimum=0.0, maximum=MAX_MASS_G
+    )
+    add_gravity(s, G_EQ27_M_S2, "gravity (the paper used 10)", positive=True)
     s.set_defaults(func=_load)
 
     s = sub.add_parser("speed", help="stride and crawling speed with friction (eq. 25)")
@@ -252,7 +261,7 @@ def _register_loads(sub) -> None:
         "--friction",
         help="total sliding friction",
         unit="N",
-        default=15.3,
+        default=FRICTION_N["forward"],
         minimum=0.0,
         maximum=MAX_FORCE_N,
     )
@@ -271,7 +280,7 @@ def _register_loads(sub) -> None:
         "--paper-speed",
         help="speed to compare with",
         unit="mm/s",
-        default=18.3,
+        default=table2(70.0, "forward"),
         minimum=0.0,
         maximum=MAX_SPEED_MM_S,
     )

@@ -19,7 +19,7 @@ from softcrawl.analytic.limits import (
     MAX_WORKSPACE_LEVELS,
     MIN_PLAN_STEP_KPA,
 )
-from softcrawl.analytic.statics import P_MAX_KPA
+from softcrawl.paper import D_MM, P_MAX_KPA
 from softcrawl.studies.commands.options import (
     CommandLineError,
     add_json,
@@ -298,7 +298,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="prototype",
         help="identified laws: the nominal ePSA for all three, or the three prototypes (default prototype)",
     )
-    add_length(s, "--d", "actuator circle radius", default=14.0)
+    add_length(s, "--d", "actuator circle radius", default=D_MM)
     s.set_defaults(func=_workspace)
 
     s = sub.add_parser("plan", help="gait through a pipe (Section IV, Fig. 25)")

@@ -19,6 +19,7 @@ import math
 from pathlib import Path
 
 from softcrawl.errors import InputError
+from softcrawl.units import kpa_to_mpa
 
 
 def register(subparsers) -> None:
@@ -99,7 +100,7 @@ def run(args) -> int:
         design, args.material, args.mesh, gravity=(0.0, -1.0, 0.0) if args.gravity else None
     )
     print(f"robot: {robot.n_dofs} DOFs, materials {robot.materials}, {args.mesh} mesh")
-    run_ = simulate_robot(robot, [tuple(p / 1e3 for p in P) for P in targets], gravity=args.gravity)
+    run_ = simulate_robot(robot, [tuple(kpa_to_mpa(p) for p in P) for P in targets], gravity=args.gravity)
     for s in run_.states:
         print(
             f"P = ({', '.join(f'{p:.4g}' for p in s.pressures_kpa)}) kPa: theta {s.theta_deg:.2f} deg, "
@@ -123,7 +124,7 @@ def write_outputs(robot, run_, folder: Path) -> None:
     write_csv([s.row() | {"material": run_.material} for s in run_.states], folder / "states.csv")
     files = []
     for k, (step, state) in enumerate(zip(run_.path.steps, run_.states)):
-        pressure = [p / 1e3 for p in state.pressures_kpa]
+        pressure = [kpa_to_mpa(p) for p in state.pressures_kpa]
         files.append(
             write_state(folder / "vtu" / f"robot_{k:03d}.vtu", robot.model, step.x, pressure_mpa=pressure)
         )

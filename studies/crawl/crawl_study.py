@@ -25,12 +25,13 @@ import json
 from pathlib import Path
 
 from softcrawl import jsonio
+from softcrawl.paper import PIPE_DIAMETERS_MM
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.spec import StudyError, sweep_spec_from_file
 
 NAME = "crawl"
-GRID = {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0), "mu": (0.3, 0.5)}
+GRID = {"pipe_diameter": PIPE_DIAMETERS_MM, "mu": (0.3, 0.5)}
 QUICK_GRID = {"mu": (0.3, 0.5), "pipe_diameter": (60.0, 65.0, 70.0)}
 #: 20 min: the whole mu = 0.3 cycle at 70 mm took 506 s with 3-4 FE jobs on the 2 cores.
 QUICK_WALL_S = 1200.0

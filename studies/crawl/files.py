@@ -25,10 +25,12 @@ FRICTION_SOURCE = (
 )
 
 
-def write_pipe(path: Path, radius: float, z0: float, z1: float, n: int = 96) -> Path:
-    """The rigid wall as a quad surface (meshio)."""
+def write_pipe(path: Path, pipe, z0: float, z1: float, n: int = 96) -> Path:
+    """The rigid wall of the straight `pipe` (`analytic.pipe.Pipe`) from z0 to z1 as a quad
+    surface (meshio)."""
     import meshio
 
+    radius = pipe.radius
     a = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     ring = np.column_stack([radius * np.cos(a), radius * np.sin(a)])
     pts = np.vstack([np.column_stack([ring, np.full(n, z)]) for z in (z0, z1)])
@@ -66,7 +68,8 @@ def write_pvd(folder: Path, entries) -> Path:
 def compare(result, setup, schedule, pressure_kpa: float) -> dict:
     """Stride and speed beside Table 2 and the analytic model (with the paper's friction and with
     the FE's own: the largest axial friction force on a foot while the pressures rise)."""
-    from softcrawl.studies.crawl.schedule import PAPER_FRICTION_N, analytic_speed, table2
+    from softcrawl.paper import FRICTION_N, table2
+    from softcrawl.studies.crawl.schedule import analytic_speed
 
     direction = "backward" if setup.feet == "backward" else "forward"
     stride = steady_stride(result)
@@ -83,8 +86,8 @@ def compare(result, setup, schedule, pressure_kpa: float) -> dict:
         "speed_mm_s": stride / T,
         "cycle_s": T,
         "table2_mm_s": table2(setup.pipe_diameter, direction),
-        "analytic_paper_friction_mm_s": analytic_speed(pressure_kpa, T, PAPER_FRICTION_N[direction]),
-        "paper_friction_n": PAPER_FRICTION_N[direction],
+        "analytic_paper_friction_mm_s": analytic_speed(pressure_kpa, T, FRICTION_N[direction]),
+        "paper_friction_n": FRICTION_N[direction],
         "fe_friction_n": fe_friction,
         "analytic_fe_friction_mm_s": analytic_speed(pressure_kpa, T, fe_friction)
         if np.isfinite(fe_friction)
@@ -158,9 +161,7 @@ def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool 
     if vtu:
         series = _VtuSeries(folder / "vtu")
         z = mesh.p[2]
-        write_pipe(
-            series.folder / "pipe.vtu", setup.pipe_diameter / 2, float(z.min()) - 20, float(z.max()) + 80
-        )
+        write_pipe(series.folder / "pipe.vtu", setup.pipe, float(z.min()) - 20, float(z.max()) + 80)
 
     def on_state(row, model, x):
         if series is not None:  # setup states (insertion, friction on) at negative times, in order

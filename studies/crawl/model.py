@@ -29,6 +29,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from softcrawl.analytic.pipe import Pipe
 from softcrawl.fem.axial_link import AxialLink
 from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.contact_stages import Stage, run_stages
@@ -38,7 +39,7 @@ from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
 from softcrawl.studies.crawl.schedule import AxialLaw, Schedule
-from softcrawl.studies.foot.model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING
+from softcrawl.studies.foot.model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING, insertion_wall
 
 #: Halvings of a sub-step before a stage is given up: the unloading of a skirt reverses slip
 #: over part of its contact (points flip between stick and slip), which needs sub-steps down to
@@ -72,6 +73,11 @@ class CrawlSetup:
     sectors: int | None = None  # revolved: sectors around the axis (None: 48)
     thickness_layers: int | None = None  # revolved: cells through the skirt (None: 3)
     edge_length: float | None = None  # tetwild: foot mesh edge (mm; None: the pytetwild default)
+
+    @property
+    def pipe(self) -> Pipe:
+        """The straight pipe of the crawl (its wall and the VTU's come from it)."""
+        return Pipe(diameter=self.pipe_diameter)
 
     def mesh_options(self) -> dict:
         """The keyword arguments of `studies.crawl.mesh.crawl_mesh` for this setup."""
@@ -194,12 +200,7 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
     t0 = time.perf_counter()
     deadline = t0 + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
     recorder = StateRecorder(cm, on_state)
-    r0 = cm.tip_radius + 0.5
-    radius = setup.pipe_diameter / 2.0
-
-    def wall_at(s):
-        return CylinderWall(r0 + s * (radius - r0))
-
+    wall_at = insertion_wall(setup.pipe, cm.tip_radius + 0.5)
     insert = Stage(
         "insert", surfaces={i: wall_at for i in range(len(model.contacts))}, steps=setup.insert_steps
     )

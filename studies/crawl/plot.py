@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from softcrawl.paper import FRICTION_N
 from softcrawl.studies.plots.style import pyplot, save
 
 
@@ -65,7 +66,8 @@ def plot_crawl_study(rows, path):
         }
     )
     if analytic:
-        axes[0].plot(*zip(*analytic), "k:", label="analytic crawl_speed, paper's 15.3 N")
+        label = f"analytic crawl_speed, paper's {FRICTION_N['forward']:g} N"
+        axes[0].plot(*zip(*analytic), "k:", label=label)
     axes[0].set(xlabel="pipe diameter (mm)", ylabel="speed (mm/s)", title="FE crawl, inflate 100 kPa, 2 s")
     axes[1].set(
         xlabel="pipe diameter (mm)",

@@ -22,7 +22,7 @@ Axial law (source: the paper's prototype statics, eqs. 19-24, the coefficient-wi
 the Table 1 ePSA (results/identify) is not used: its k_p is 5-7x the prototype's
 (results/identify/kp-mismatch.md), so the robot it describes is not the one of Table 2. Each ePSA
 is eq. 3 along the axis, f_i = f_p(P_i) - k_p(P_i) Delta; the three act in parallel between the
-two hubs (bending is not modelled: a gait's unequal pressures act through their sum), so
+two hubs (bending is not modelled: a schedule's unequal pressures act through their sum), so
 
     F(P, Delta) = sum_i [f_p(P_i) - f_p(0)] - sum_i k_p(P_i) Delta,
 
@@ -44,29 +44,14 @@ import numpy as np
 
 from softcrawl.errors import InputError
 
-GAITS = ("inflate", "gait1", "gait2", "gait3")
-FILL_S = 1.5  # time to fill from 0 to P (gait presets)
+#: The preset schedules. gait1-3 keep the paper's names (its "gaits", Fig. 25) and the CLI option
+#: is `softcrawl crawl --gait`; in code they are schedules: a gait is `analytic.gait`'s planned
+#: pressure sequence, a different thing.
+SCHEDULES = ("inflate", "gait1", "gait2", "gait3")
+FILL_S = 1.5  # time to fill from 0 to P (the valve-timed presets gait1-3)
 RELEASE_S = {"gait1": 2.0, "gait2": 0.5, "gait3": 0.5}  # time to release from P to 0
 MAX_ROWS = 10_000
 LAW_SOURCE = "paper eqs. 19-24 (prototype statics, mean of ePSA 1-3; analytic.prototype.nominal_epsa)"
-
-
-#: Table 2 of the paper: pipe diameter (mm) -> (forward, backward) speed, mm/s, 2 s cycles. The
-#: text of Section VII-D gives 17.7 mm/s backward at 70 mm where the table gives 16.7.
-TABLE2_MM_S = {
-    55.0: (17.4, 15.9),
-    60.0: (20.1, 18.2),
-    65.0: (19.5, 17.7),
-    70.0: (18.3, 16.7),
-    75.0: (17.6, 16.2),
-}
-#: The paper's sliding friction of the whole robot in the 70 mm pipe (Section VII-D), N.
-PAPER_FRICTION_N = {"forward": 15.3, "backward": 16.9}
-
-
-def table2(diameter: float, direction: str) -> float | None:
-    row = TABLE2_MM_S.get(round(float(diameter), 6))
-    return None if row is None else row[0 if direction == "forward" else 1]
 
 
 def analytic_speed(pressure_kpa: float, cycle_s: float, friction_n: float) -> float:
@@ -93,9 +78,9 @@ class Schedule:
 
 
 def _valve_rows(name: str, p: float):
-    """(time, P1, P2, P3) breakpoints of one cycle of a gait preset: each ePSA follows its valve
-    phases (start, end, rate) from the held start state, clipped to [0, p], on a 1 ms grid; the
-    rows kept are the grid points where a pressure's slope changes."""
+    """(time, P1, P2, P3) breakpoints of one cycle of a valve-timed preset (gait1-3): each ePSA
+    follows its valve phases (start, end, rate) from the held start state, clipped to [0, p], on a
+    1 ms grid; the rows kept are the grid points where a pressure's slope changes."""
     fill, release = p / FILL_S, -p / RELEASE_S[name]
     if name == "gait1":
         phases = [[(0.0, FILL_S, fill), (FILL_S, FILL_S + 2.0, release)]] * 3
@@ -125,8 +110,8 @@ def _valve_rows(name: str, p: float):
 
 def preset(name: str, pressure_kpa: float = 100.0, cycle_s: float = 2.0) -> Schedule:
     """The named schedule at peak pressure `pressure_kpa` (module docstring)."""
-    if name not in GAITS:
-        raise ScheduleError("gait", f"{name!r} is not one of {', '.join(GAITS)}")
+    if name not in SCHEDULES:  # the parameter is named as the CLI option that gives it, --gait
+        raise ScheduleError("gait", f"{name!r} is not one of {', '.join(SCHEDULES)}")
     if not (math.isfinite(pressure_kpa) and 0 < pressure_kpa <= 100.0):
         raise ScheduleError(
             "pressure", f"must be in (0, 100] kPa (the prototype's range), got {pressure_kpa!r}"

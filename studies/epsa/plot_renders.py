@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.units import mpa_to_kpa
+
 
 def render_path(out, design, solved, material: str) -> list[Path]:
     """render-PkPa.png for the reference state and each computed state of `solved`
@@ -22,7 +24,7 @@ def render_path(out, design, solved, material: str) -> list[Path]:
     helices = _helices(design) if design.fiber_turns > 0 else ()
     written = []
     for pressure, factor, x in states:
-        kpa = pressure * 1e3
+        kpa = mpa_to_kpa(pressure)
         top_nodes = model.boundary_nodes("end_top")
         length = solved.curve.rows[0].length_mm + float(np.mean(model.displacement(x)[2, top_nodes]))
         title = (

@@ -13,6 +13,7 @@ import numpy as np
 
 from softcrawl.studies.plots.labels import material_label
 from softcrawl.studies.plots.style import pyplot, save
+from softcrawl.units import mpa_to_kpa
 
 
 def _silhouettes(ax, model, path_result) -> None:
@@ -23,7 +24,7 @@ def _silhouettes(ax, model, path_result) -> None:
     plane = np.abs(X[1]) <= 1e-6 * np.abs(X).max()
     states = [("reference (0 kPa)", 0.0, np.zeros_like(X))]
     for s in path_result.steps:
-        p = s.pressure * 1e3
+        p = mpa_to_kpa(s.pressure)
         label = f"P = {p:.3g} kPa" if p > 0 else "0 kPa, side load on"
         states.append((label, p, model.displacement(s.x)[:, outer]))
     cmap = pyplot().get_cmap("viridis")
@@ -60,7 +61,7 @@ def _tip_path(ax, model, path_result) -> None:
     top = model.boundary_nodes("end_top")
     Z0 = model.nodes[2, top].mean()
     states = [(0.0, np.zeros(3))] + [
-        (s.pressure * 1e3, model.displacement(s.x)[:, top].mean(axis=1)) for s in path_result.steps
+        (mpa_to_kpa(s.pressure), model.displacement(s.x)[:, top].mean(axis=1)) for s in path_result.steps
     ]
     lateral = [float(np.hypot(u[0], u[1])) for _, u in states]
     height = [Z0 + u[2] for _, u in states]

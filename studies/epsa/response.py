@@ -31,6 +31,7 @@ import numpy as np
 
 from softcrawl.geometry.design import DesignError, EPSADesign
 from softcrawl.studies.epsa.model import DEFAULT_FIBERS, MeshSettings, build_model, resolve_mesh
+from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 #: Row statuses: "reference" the undeformed 0 kPa state; "converged" the equilibrium at a requested
 #: pressure (under pressure control, or landed on by volume control when pressure control stalled
@@ -158,18 +159,18 @@ def simulate_epsa(
     def on_step(step):
         if progress is not None:
             progress(
-                f"P = {step.pressure * 1e3:7.2f} kPa  ({step.control} control, "
+                f"P = {mpa_to_kpa(step.pressure):7.2f} kPa  ({step.control} control, "
                 f"{step.newton.iterations} Newton iterations)"
             )
 
-    targets = [(p * 1e-3, factor) for p in pressures]
+    targets = [(kpa_to_mpa(p), factor) for p in pressures]
     result = load_path(model, ([(0.0, 1.0)] if factor else []) + targets, on_step=on_step)
     x0 = model.initial_state()
     rows = [
         row(Step(0.0, 0.0, model.chamber_volume(x0), x0, "pressure", NewtonRecord((0.0,), True)), "reference")
     ]
     rows += [row(s, "volume-control" if s.past_limit else "converged") for s in result.steps]
-    reached = max([s.pressure for s in result.steps if not s.past_limit], default=0.0) * 1e3
+    reached = mpa_to_kpa(max([s.pressure for s in result.steps if not s.past_limit], default=0.0))
     nan = float("nan")
     if not result.converged:
         rows += [
@@ -177,7 +178,7 @@ def simulate_epsa(
             for p in pressures
             if p > reached and not same_pressure(reached, p)
         ]
-    limit = None if result.limit_pressure is None else result.limit_pressure * 1e3
+    limit = None if result.limit_pressure is None else mpa_to_kpa(result.limit_pressure)
     events = tuple(result.events) + _sway_events(rows)
     volumetric = tuple(row.volumetric)
     curve = ActuatorCurve(
@@ -226,12 +227,12 @@ def _row_builder(model, design: EPSADesign, blocked: bool):
 
     def row(step, status):
         x = step.x
-        row.volumetric.append((step.pressure * 1e3, *volumetric_error(model, x)))
+        row.volumetric.append((mpa_to_kpa(step.pressure), *volumetric_error(model, x)))
         tension = model.fiber_tension(x)
         force = -model.reaction(x, "seal_top", step.pressure)[2] if blocked else float("nan")
         sway = float(np.hypot(*model.displacement(x)[:2, top_nodes].mean(axis=1)))
         return CurveRow(
-            step.pressure * 1e3,
+            mpa_to_kpa(step.pressure),
             actuator_length(model, x),
             outer_radius_at(model, x, design.length / 2),
             step.volume,

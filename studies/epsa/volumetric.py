@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.units import kpa_to_mpa, mpa_to_kpa
+
 #: A point whose |J - 1 - p/K| exceeds this has its deviatoric Cauchy stress off by more than
 #: about 1 % (`fem.post.volumetric_error`): its stress is not trusted.
 TRUST_LEVEL = 0.01
@@ -31,7 +33,7 @@ def volumetric_rows(design, material, sizes, pressures_kpa, fibers="sheet") -> l
     rows = []
     for h in sizes:
         model, _, _ = build_model(design, material, MeshSettings.from_size(h, design), False, fibers=fibers)
-        res = load_path(model, [(p * 1e-3, 0.0) for p in pressures_kpa])
+        res = load_path(model, [(kpa_to_mpa(p), 0.0) for p in pressures_kpa])
         for step in res.steps:
             if step.past_limit:
                 continue
@@ -55,7 +57,7 @@ def _measures(model, x, design, pressure) -> dict:
     bad = err > TRUST_LEVEL
     near = np.broadcast_to((corner <= CORNER_ZONE_MM)[:, None], err.shape)
     return {
-        "pressure_kpa": round(pressure * 1e3, 4),
+        "pressure_kpa": round(mpa_to_kpa(pressure), 4),
         "max": float(err.max()),
         "volume_average": float((err * dx).sum() / dx.sum()),
         "untrusted_volume_fraction": float(dx[bad].sum() / dx.sum()),

@@ -28,6 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
+from softcrawl.paper import PIPE_DIAMETERS_MM
+from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 GROOVE = "groove"
 FOOT = "foot"
@@ -37,7 +39,7 @@ DRAG_MM = {GROOVE: 5.0, FOOT: 8.0}  # the paper's Fig. 10: 5 mm (groove), 5 and 
 
 GRIDS = {
     GROOVE: {"groove_height": (0.5, 1.0, 1.5, 2.0), "mu": (0.3, 0.5)},
-    FOOT: {"pipe_diameter": (55.0, 60.0, 65.0, 70.0, 75.0)},
+    FOOT: {"pipe_diameter": PIPE_DIAMETERS_MM},
 }
 QUICK_GRIDS = {
     GROOVE: {"groove_height": (0.5, 1.0, 2.0), "mu": (0.3,)},
@@ -104,7 +106,7 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
         seg,
         _material(settings),
         mu,
-        pressure=PRESSURE_KPA * 1e-3,
+        pressure=kpa_to_mpa(PRESSURE_KPA),
         drag=DRAG_MM[GROOVE],
         drag_steps=int(settings.get("drag_steps", 20)),
         on_state=_vtu_writer(settings, stem),
@@ -159,6 +161,7 @@ def _foot_mesh(settings):
 
 
 def evaluate_foot(params: dict, fixed: dict, settings: dict):
+    from softcrawl.analytic.pipe import Pipe
     from softcrawl.studies.foot.model import run_foot
     from softcrawl.studies.sweeps.spec import Evaluation
 
@@ -170,7 +173,7 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
         mesh,
         _material(settings),
         design,
-        D,
+        Pipe(diameter=D),
         mu_smooth=mu_s,
         mu_grooved=mu_g,
         drag=float(settings.get("drag_mm", DRAG_MM[FOOT])),
@@ -199,8 +202,8 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
             "mu_grooved": mu_g,
             "normal_force_n": r.normal_force,
             "contact_area_mm2": r.contact_area,
-            "mean_pressure_kpa": r.mean_pressure * 1e3,
-            "max_pressure_kpa": r.max_pressure * 1e3,
+            "mean_pressure_kpa": mpa_to_kpa(r.mean_pressure),
+            "max_pressure_kpa": mpa_to_kpa(r.max_pressure),
             "f_fwd_n": r.forward.peak if r.forward else float("nan"),
             "f_bwd_n": r.backward.peak if r.backward else float("nan"),
             "ratio_bwd_fwd": r.ratio,

@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.errors import InputError
 from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.model import Dirichlet, SolidModel
@@ -161,12 +163,21 @@ class FootResult:
         return self.backward.peak / self.forward.peak
 
 
-def _insert_stages(model, design, pipe_radius, mu_smooth, mu_grooved, steps):
-    r0 = design.tip_radius + 0.5
+def insertion_wall(pipe: Pipe, clear_radius: float):
+    """The wall of the straight `pipe` during the frictionless insertion, as a function of the stage
+    parameter s in [0, 1]: the rigid cylinder shrinks from `clear_radius` (clear of the tip of an
+    oversized foot) to the pipe's radius."""
+    if pipe.kind == "elbow":
+        raise InputError("pipe", "the FE wall is a straight cylinder: an elbow has no FE model")
 
     def wall_at(s):
-        return CylinderWall(r0 + s * (pipe_radius - r0))
+        return CylinderWall(clear_radius + s * (pipe.radius - clear_radius))
 
+    return wall_at
+
+
+def _insert_stages(model, design, pipe: Pipe, mu_smooth, mu_grooved, steps):
+    wall_at = insertion_wall(pipe, design.tip_radius + 0.5)
     surfaces = {i: wall_at for i in range(len(model.contacts))}
     return [
         Stage("insert", surfaces=surfaces, steps=steps),
@@ -238,7 +249,7 @@ def run_foot(
     mesh,
     material,
     design,
-    pipe_diameter: float,
+    pipe: Pipe,
     *,
     mu_smooth: float,
     mu_grooved: float,
@@ -255,9 +266,8 @@ def run_foot(
     def budget():
         return None if max_wall_s is None else max(max_wall_s - (time.perf_counter() - started), 1e-6)
 
-    radius = pipe_diameter / 2.0
-    model = foot_model(mesh, material, design, radius, drag)
-    stages = _insert_stages(model, design, radius, mu_smooth, mu_grooved, insert_steps)
+    model = foot_model(mesh, material, design, pipe.radius, drag)
+    stages = _insert_stages(model, design, pipe, mu_smooth, mu_grooved, insert_steps)
     res = run_stages(
         model,
         stages,
@@ -268,7 +278,7 @@ def run_foot(
         **AUGMENT,
     )
     its = {"insert": [s.iterations[0] for s in res.steps]}
-    empty = FootResult(pipe_diameter, False, res.message, *([float("nan")] * 4), {}, {}, None, None, 0.0, 0)
+    empty = FootResult(pipe.diameter, False, res.message, *([float("nan")] * 4), {}, {}, None, None, 0.0, 0)
     if not res.converged:
         return empty
     x0 = res.x
@@ -289,7 +299,7 @@ def run_foot(
     metrics = face_metrics(model, x0, "front", "hub_top") | face_metrics(model, x0, "back", "hub_top")
     ok = all(c.converged for c in curves.values())
     return FootResult(
-        pipe_diameter=pipe_diameter,
+        pipe_diameter=pipe.diameter,
         converged=ok,
         message="; ".join(f"{d}: {c.message}" for d, c in curves.items()),
         normal_force=normal,

@@ -41,6 +41,7 @@ import numpy as np
 
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 #: "the ePSA with an air chamber radius of r = 6 mm or r = 5 mm ... cannot withstand a pressure of
 #: more than 80 kPa" (Section V-A): these radii reach FAIL_WINDOW_KPA[0] and fail below [1].
@@ -95,9 +96,9 @@ def shape_window(law_name: str, shape: str, unit_law) -> ShapeWindow:
     for r in WITHSTAND_RADII + FAIL_RADII:
         lim = closed_end_limit(unit_law, r, OUTER_RADIUS, la_max=LA_MAX)
         k[r] = None if lim is None else lim[1]
-    target = TARGET_KPA * 1e-3
+    target = kpa_to_mpa(TARGET_KPA)
     withstand = (max([target / k[r] for r in WITHSTAND_RADII if k[r] is not None], default=0.0), math.inf)
-    lo, hi = (v * 1e-3 for v in FAIL_WINDOW_KPA)
+    lo, hi = (kpa_to_mpa(v) for v in FAIL_WINDOW_KPA)
     fail = {r: None if k[r] is None else (lo / k[r], hi / k[r]) for r in FAIL_RADII}
     window_all = None if None in fail.values() else _interval(withstand, *fail.values())
     r5 = fail[FAIL_RADII[0]]
@@ -135,7 +136,7 @@ def length_curve(unit_law, mu: float, radius: float, pressures_kpa=(20, 40, 60, 
     la_top = lim[0] if lim is not None else LA_MAX
     lengths = []
     for p in pressures_kpa:
-        target = p * 1e-3 / mu
+        target = kpa_to_mpa(p) / mu
         if closed_end_pressure(unit_law, la_top, radius, OUTER_RADIUS)[0] < target:
             break
         la = brentq(
@@ -282,7 +283,7 @@ def fe_check(results, materials) -> dict:
                 r = float(row["chamber_radius"])
                 fe = float(row["limit_pressure_kpa"]) if row["limit_pressure_kpa"] else None
                 lim = closed_end_limit(law, r, OUTER_RADIUS, la_max=LA_MAX)
-                theory = None if lim is None else lim[1] * 1e3
+                theory = None if lim is None else mpa_to_kpa(lim[1])
                 rows[f"{r:g}"] = {
                     "fe_limit_kpa": fe,
                     "theory_limit_kpa": theory,

@@ -18,22 +18,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from softcrawl.paper import TABLE1
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import resolve
 from softcrawl.studies.epsa import rules
 from softcrawl.studies.epsa.linearity import linearity_claim
 from softcrawl.studies.table1_row import StudyRow
 
-#: The paper's Table 1 (docs/decisions/005-table1-rules.md): parameter key -> (label, value, unit).
-PAPER_TABLE1 = {
-    "length": ("ePSA length l0", 100.0, "mm"),
-    "outer_radius": ("ePSA radius R0", 9.0, "mm"),
-    "chamber_radius": ("air chamber radius r0", 3.0, "mm"),
-    "fiber_turns": ("fiber winding turns N", 20.0, ""),
-    "groove_height": ("foot groove height h", 1.0, "mm"),
-    "foot_radius": ("foot radius d", 14.0, "mm"),
-    "rings": ("connecting rings", 3.0, ""),
-}
+#: The paper's Table 1: parameter key -> (label, value, unit) (`softcrawl.paper`).
+PAPER_TABLE1 = TABLE1
 #: The ePSA rows decided per silicone from the studies' curves.csv: Table 1 parameter -> the
 #: results folder of the study that declares it (`rule`, with no `table1` of its own).
 STUDY_DIRS = {p: s.folder for s in registry.studies() if s.table1 is None for p in s.rule}

@@ -34,6 +34,7 @@ import numpy as np
 
 from softcrawl.fem.path import NewtonOptions, load_path
 from softcrawl.studies.robot_fe.model import RobotModel
+from softcrawl.units import mpa_to_kpa
 
 THETA_MIN_FOR_D = math.radians(0.5)
 #: Newton options of the robot paths. The ABS rings and seal heads (mu 1.2e4 x the silicone's)
@@ -152,7 +153,7 @@ def robot_state(robot: RobotModel, probes: Probes, x: np.ndarray, pressures_mpa)
     _, theta_cc, phi_cc, _ = kin.forward(lengths, design.d)
     splay = float(np.abs(np.linalg.norm(centres - axis[None], axis=2) - design.d).max())
     return RobotState(
-        tuple(float(p) * 1e3 for p in pressures_mpa),
+        tuple(mpa_to_kpa(float(p)) for p in pressures_mpa),
         tuple(float(v) for v in tip),
         tuple(float(v) for v in axis[-1]),
         math.degrees(theta),

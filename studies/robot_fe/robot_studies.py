@@ -27,6 +27,7 @@ from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.spec import Evaluation, SweepSpec, load_callable, sweep_spec_from_file
 from softcrawl.studies.sweeps.sweep import run_sweep
 from softcrawl.studies.sweeps.tables import write_csv
+from softcrawl.units import kpa_to_mpa
 
 EVALUATOR = "robot"  # its registry name (studies/robot_fe/study.py)
 #: Load cases (kPa): the paper's Fig. 11(c) case, sequential (P2 = 40 and P3 = 60 kPa first, then
@@ -67,7 +68,7 @@ def run_cases(design, material: str, mesh: str, cases) -> dict:
     robot = build_robot_model(design, material, mesh)
     rows, ok, messages, wall = [], True, [], 0.0
     for case in cases:
-        run = simulate_robot(robot, [tuple(p / 1e3 for p in P) for P in LOAD_CASES_KPA[case]])
+        run = simulate_robot(robot, [tuple(kpa_to_mpa(p) for p in P) for P in LOAD_CASES_KPA[case]])
         wall += run.seconds
         rows += [{"case": case, "step": k} | state.row() for k, state in enumerate(run.states)]
         ok &= run.converged

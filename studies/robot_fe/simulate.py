@@ -17,15 +17,11 @@ from softcrawl.geometry.design import DesignError, RobotDesign
 from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL, build_robot_model
 from softcrawl.studies.robot_fe.response import RobotRun
 from softcrawl.studies.robot_fe.response import simulate_robot as follow_path
+from softcrawl.units import kpa_to_mpa
 
 #: Highest chamber pressure accepted (kPa), as on the command line.
 MAX_PRESSURE_KPA = 1000.0
 MAX_STEPS = 1000
-
-
-def _mpa(kpa: float) -> float:
-    # TODO units: softcrawl.units.kpa_to_mpa once it is merged (the one kPa -> MPa conversion here)
-    return kpa * 1e-3
 
 
 def _triple(values, parameter: str) -> tuple[float, float, float]:
@@ -73,4 +69,4 @@ def simulate_robot(
         "quick" if quick else mesh,
         gravity=(0.0, -1.0, 0.0) if gravity else None,
     )
-    return follow_path(robot, [tuple(_mpa(p) for p in P) for P in targets], gravity=gravity)
+    return follow_path(robot, [tuple(kpa_to_mpa(p) for p in P) for P in targets], gravity=gravity)

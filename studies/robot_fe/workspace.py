@@ -36,6 +36,7 @@ from softcrawl import jsonio
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.tables import read_csv, write_csv
+from softcrawl.units import kpa_to_mpa
 
 LEVELS_KPA = (0.0, 25.0, 50.0, 75.0, 100.0)
 QUICK_LEVELS_KPA = (0.0, 50.0, 100.0)
@@ -83,7 +84,7 @@ def fe_cloud(robot, levels, progress=None, on_line=None) -> tuple[dict, list[str
     states, messages = {}, []
     for line in sorted(fe_lines(levels), key=lambda ln: max(max(P) - min(P) for P in ln)):
         targets = _dense([(0.0, 0.0, 0.0), *line])
-        run = simulate_robot(robot, [tuple(v / 1e3 for v in P) for P in targets])
+        run = simulate_robot(robot, [tuple(kpa_to_mpa(v) for v in P) for P in targets])
         for s in run.states:
             for P in line:  # a target reached on volume control reads e.g. 100.0006 kPa
                 if max(abs(a - b) for a, b in zip(s.pressures_kpa, P)) < 0.01:

@@ -5,15 +5,9 @@ import pytest
 
 from softcrawl.analytic import dynamics, loads
 from softcrawl.analytic.errors import ModelInputError
-from softcrawl.analytic.prototype import (
-    EPSA_MASS_T,
-    F_EPSA_MAX_N,
-    ROBOT_MASS_T,
-    actuator_set,
-    nominal_epsa,
-    prototype_epsa,
-)
+from softcrawl.analytic.prototype import EPSA_MASS_T, actuator_set, nominal_epsa, prototype_epsa
 from softcrawl.analytic.statics import G_STANDARD
+from softcrawl.paper import F_EPSA_MAX_N, ROBOT_MASS_T
 
 
 def test_units_boundary_n_per_m_to_n_per_mm():

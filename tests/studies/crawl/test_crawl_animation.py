@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from softcrawl.analytic.pipe import Pipe
 from softcrawl.studies.crawl.files import write_pipe, write_pvd
 
 pv = pytest.importorskip("pyvista")
@@ -65,7 +66,7 @@ def _series(folder, shifts):
             folder / name, meshio.Mesh(points, [("tetra10", cells)], point_data={"displacement_mm": u})
         )
         entries.append((0.5 * k, name))
-    write_pipe(folder / "pipe.vtu", 14.0, -30.0, 40.0)
+    write_pipe(folder / "pipe.vtu", Pipe(diameter=28.0), -30.0, 40.0)
     write_pvd(folder, entries)
 
 

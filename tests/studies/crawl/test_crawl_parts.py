@@ -3,8 +3,10 @@
 import numpy as np
 import pytest
 
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.paper import table2
 from softcrawl.studies.crawl.mesh import attach_tag, two_feet
-from softcrawl.studies.crawl.schedule import AxialLaw, ScheduleError, preset, read_csv, table2
+from softcrawl.studies.crawl.schedule import AxialLaw, ScheduleError, preset, read_csv
 
 
 def test_presets_follow_the_stated_valve_timings():
@@ -213,3 +215,16 @@ def test_contact_faces_too_coarse_to_map_are_an_input_error():
 
     with pytest.raises(SolverInputError, match="contact.tags.*refine the mesh"):
         _contact_area((False, False), 16, "rear:back")
+
+
+def test_the_crawl_wall_is_the_pipe_of_its_setup():
+    from softcrawl.errors import InputError
+    from softcrawl.studies.crawl.model import CrawlSetup
+    from softcrawl.studies.foot.model import insertion_wall
+
+    pipe = CrawlSetup(pipe_diameter=65.0).pipe
+    assert (pipe.kind, pipe.diameter, pipe.radius) == ("straight", 65.0, 32.5)
+    wall_at = insertion_wall(pipe, 39.5)
+    assert wall_at(0.0).radius == 39.5 and wall_at(1.0).radius == 32.5
+    with pytest.raises(InputError):
+        insertion_wall(Pipe(kind="elbow", diameter=65.0), 39.5)

@@ -51,6 +51,7 @@ def test_groove_outputs_tables_plot_and_rule(tmp_path):
 def test_foot_in_a_75_mm_pipe(tmp_path):
     """Insertion into the largest pipe and 2 mm of drag each way: the wall's normal force is
     positive, the forward resistance positive, everything converged."""
+    from softcrawl.analytic.pipe import Pipe
     from softcrawl.geometry.design import FootDesign
     from softcrawl.geometry.foot_revolved import mesh_foot_revolved
     from softcrawl.materials import get_material
@@ -61,7 +62,15 @@ def test_foot_in_a_75_mm_pipe(tmp_path):
     mesh = mesh_foot_revolved(design).to_skfem(2)
     mat = solid_law(get_material("rubber-70a"))
     r = run_foot(
-        mesh, mat, design, 75.0, mu_smooth=0.5, mu_grooved=0.5, drag=2.0, insert_steps=4, drag_steps=2
+        mesh,
+        mat,
+        design,
+        Pipe(diameter=75.0),
+        mu_smooth=0.5,
+        mu_grooved=0.5,
+        drag=2.0,
+        insert_steps=4,
+        drag_steps=2,
     )
     assert r.converged, r.message
     assert r.normal_force > 0 and r.forward.peak > 0 and r.backward.peak > 0
