@@ -1,5 +1,6 @@
-"""`softcrawl crawl`: the robot's crawl in FE, two grooved feet in a rigid pipe
-(docs/decisions/051-crawl-model.md).
+"""`softcrawl crawl`: the robot's crawl in FE, two grooved feet in a rigid pipe.
+
+The model: docs/decisions/051-crawl-model.md.
 
     softcrawl crawl [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3] [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
