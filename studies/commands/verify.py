@@ -21,12 +21,15 @@ def _cases() -> dict:
 
 
 def register(subparsers) -> None:
-    CASES = _cases()
     p = subparsers.add_parser(
         "verify", help="run the solver verification cases", description=__doc__.splitlines()[0]
     )
     p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE (its folder is created)")
-    p.add_argument("--case", action="append", choices=sorted(CASES), help="run only this case (repeatable)")
+    # The case names are checked in run(), not by argparse's choices: listing them here would import
+    # the whole solver (2 s) for every `softcrawl --help`.
+    p.add_argument(
+        "--case", action="append", help="run only this case (repeatable; an unknown name lists the cases)"
+    )
     p.set_defaults(func=run)
 
 
@@ -42,11 +45,14 @@ def _plain(value):
 
 
 def run(args) -> int:
-    from softcrawl.studies.commands.options import make_folder, output_file
+    from softcrawl.studies.commands.options import CommandLineError, make_folder, output_file
 
+    CASES = _cases()
+    unknown = [name for name in args.case or () if name not in CASES]
+    if unknown:
+        raise CommandLineError("case", f"unknown case {unknown[0]!r}; valid: {', '.join(sorted(CASES))}")
     if args.json:
         output_file(args.json, "json")  # checked before the cases run
-    CASES = _cases()
     names = args.case or list(CASES)
     rows = []
     width = max(len(n) for n in names) + 2
