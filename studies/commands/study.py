@@ -30,6 +30,8 @@ MAX_WORKERS = 64
 #: Most trials of the optimiser: 60 take about an hour on the default mesh (2 cores); 10,000 would
 #: take a week and more.
 MAX_TRIALS = 10_000
+#: Largest --max-memory (GB): far above any machine this runs on; a larger number is a typo.
+MAX_MEMORY_GB = 4096.0
 #: Largest sampler seed: numpy's random generators take seeds below 2^32.
 MAX_SEED = 2**32 - 1
 
@@ -111,6 +113,18 @@ def _add_run_options(parser) -> None:
     )
     add_number(
         parser,
+        "--max-memory",
+        help="resident memory per worker; a point above it is a failed result 'out of memory at N GB' and "
+        "the sweep goes on (the tables' peak_rss_gb column shows each point's peak)",
+        unit="GB",
+        default_text="no limit",
+        minimum=0.0,
+        min_open=True,
+        maximum=MAX_MEMORY_GB,
+        metavar="GB",
+    )
+    add_number(
+        parser,
         "--mesh-size",
         help="element size",
         unit="mm",
@@ -156,6 +170,7 @@ def _check(args) -> None:
     from softcrawl.geometry.design import EPSADesign
     from softcrawl.studies.commands.options import body_material, output_folder
     from softcrawl.studies.epsa.model import resolve_mesh
+    from softcrawl.studies.sweeps.memory import available as memory_available
     from softcrawl.studies.sweeps.spec import StudyError
 
     study = registry.get(args.name)
@@ -164,6 +179,8 @@ def _check(args) -> None:
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
+    if args.max_memory is not None and not memory_available():
+        raise StudyError("max-memory", "needs /proc/self/status to measure the resident memory (Linux)")
     if args.mesh_size is not None:
         for radius in (2.0, 3.0):  # the thickest wall of the grids needs the most cells
             resolve_mesh(EPSADesign(chamber_radius=radius), mesh_size=args.mesh_size)
@@ -198,6 +215,7 @@ def _request(args: argparse.Namespace) -> StudyRequest:
         sampler=args.sampler,
         seed=args.seed,
         simulator=args.simulator,
+        max_memory_gb=args.max_memory,
     )
 
 
@@ -220,10 +238,12 @@ def _check_simulator(ref: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from softcrawl.studies.sweeps.faults import SweepStopped, machine_fault
+    from softcrawl.studies.sweeps.memory import worker_memory_limit
 
     _check(args)
     try:
-        outcome = resolve(registry.get(args.name).run)(_request(args))
+        with worker_memory_limit(args.max_memory):
+            outcome = resolve(registry.get(args.name).run)(_request(args))
     except SweepStopped as exc:  # a signal, a full disk, a lost database: one line, then resume
         print(f"softcrawl study {args.name}: {exc.line}", file=sys.stderr)
         return exc.exit_code
