@@ -395,6 +395,8 @@ def load_design(
     `DesignError` named `parameter`; a bad field is named by the field."""
     data = read_design_file(path, parameter)
     kind = data.get("kind")
+    if "kind" not in data:
+        raise DesignError("kind", f"the key 'kind' is missing (one of {sorted(DESIGN_TYPES)})")
     if not isinstance(kind, str) or kind not in DESIGN_TYPES:
         raise DesignError("kind", f"unknown design kind {brief(kind)} (one of {sorted(DESIGN_TYPES)})")
     return DESIGN_TYPES[kind].from_dict(data)

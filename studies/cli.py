@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import sys
 
 from softcrawl.studies.commands import COMMAND_MODULES
@@ -57,8 +58,34 @@ def _one_line(text: str, width: int = 300) -> str:
     return text if len(text) <= width else text[: width - 3] + "..."
 
 
+#: argparse's own test for a negative number (a value it takes as an option's argument).
+_NEGATIVE_NUMBER = re.compile(r"^-\d+$|^-\d*\.\d+$")
+
+
+def attach_negative_values(argv: list[str]) -> list[str]:
+    """``--pressures -10,20,30`` -> ``--pressures=-10,20,30``. argparse takes a word that starts
+    with '-' for an option unless it is a plain negative number, so a list or range that starts
+    with a negative number got "expected one argument"; attached, the value reaches the option's
+    own check, which rejects it by its range and names the option."""
+    out: list[str] = []
+    for word in argv:
+        previous = out[-1] if out else ""
+        if (
+            re.match(r"^-[\d.]", word)
+            and not _NEGATIVE_NUMBER.match(word)
+            and previous.startswith("--")
+            and "=" not in previous
+            and previous != "--"
+        ):
+            out[-1] = f"{previous}={word}"
+        else:
+            out.append(word)
+    return out
+
+
 def _parse(argv: list[str] | None) -> argparse.Namespace | int:
     """The parsed options, or the exit code of argparse (2 for a usage error, 0 after --help)."""
+    argv = attach_negative_values(sys.argv[1:] if argv is None else list(argv))
     try:
         return build_parser().parse_args(argv)
     except SystemExit as exc:

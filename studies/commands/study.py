@@ -106,7 +106,8 @@ def _add_run_options(parser) -> None:
         parser,
         "--workers",
         help="worker processes",
-        default=1,
+        default=None,
+        default_text="1",
         minimum=1,
         maximum=MAX_WORKERS,
         integer=True,
@@ -149,7 +150,7 @@ def _add_run_options(parser) -> None:
     )
     parser.add_argument(
         "--sampler",
-        default="nsga2",
+        default=None,
         choices=("nsga2", "tpe"),
         help="optimise-actuator: optuna sampler (default nsga2)",
     )
@@ -157,7 +158,8 @@ def _add_run_options(parser) -> None:
         parser,
         "--seed",
         help="optimise-actuator: sampler seed",
-        default=0,
+        default=None,
+        default_text="0",
         minimum=0,
         maximum=MAX_SEED,
         integer=True,
@@ -174,6 +176,10 @@ def _check(args) -> None:
     from softcrawl.studies.sweeps.spec import StudyError
 
     study = registry.get(args.name)
+    _applies(args, study)
+    args.workers = 1 if args.workers is None else args.workers
+    args.sampler = args.sampler or "nsga2"
+    args.seed = 0 if args.seed is None else args.seed
     if args.material is None:
         args.material = study.default_material or "ecoflex-00-50"
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
@@ -187,7 +193,7 @@ def _check(args) -> None:
     if args.trials is not None and args.trials < 1:
         raise StudyError("trials", f"must be >= 1, got {args.trials}")
     if args.simulator is not None:
-        _check_simulator(args.simulator)
+        _check_simulator(args.simulator, study)
     if args.storage is not None and "://" not in args.storage:
         raise StudyError(
             "storage",
@@ -197,6 +203,26 @@ def _check(args) -> None:
     output_folder(args.out)
     if study.check is not None:
         resolve(study.check)(_request(args))
+
+
+#: Option of `studies.declaration.OPTIONS` -> the value that means "not given" (argparse's default).
+_NOT_GIVEN = {"retry_failed": False}
+
+
+def _applies(args: argparse.Namespace, study) -> None:
+    """An option the study does not take (its declaration's `Study.options`) is an error naming
+    it: silently ignoring it would let a user believe, say, that --trials shortened a grid study."""
+    from softcrawl.studies.declaration import OPTIONS
+    from softcrawl.studies.sweeps.spec import StudyError
+
+    for name in sorted(OPTIONS):
+        value = getattr(args, name, None)
+        if name not in study.options and value != _NOT_GIVEN.get(name) and value is not None:
+            flag = "--" + name.replace("_", "-")
+            takes = ", ".join("--" + o.replace("_", "-") for o in sorted(study.options)) or "none"
+            raise StudyError(
+                name.replace("_", "-"), f"{flag} does not apply to study {study.name} (its options: {takes})"
+            )
 
 
 def _request(args: argparse.Namespace) -> StudyRequest:
@@ -219,21 +245,52 @@ def _request(args: argparse.Namespace) -> StudyRequest:
     )
 
 
-def _check_simulator(ref: str) -> None:
-    """MODULE:FUNCTION must import and name a callable (the evaluator would fail every point)."""
+#: How the evaluators call a --simulator: the robot studies' `run_cases(design, material, mesh,
+#: cases)`, the ePSA studies' `simulate_epsa(design, *, material, pressures_kpa, mesh_size, quick)`
+#: (the identify study adds end_load_n).
+_ROBOT_CALL = ((None, None, None, None), {})
+_EPSA_CALL = ((None,), {"material": None, "pressures_kpa": (), "mesh_size": None, "quick": False})
+
+
+def _simulator_call(study) -> tuple[tuple, dict]:
+    if "robot" in study.evaluators:
+        return _ROBOT_CALL
+    args, kwargs = _EPSA_CALL
+    return args, kwargs | ({"end_load_n": 0.0} if study.name == "identify" else {})
+
+
+def _check_simulator(ref: str, study) -> None:
+    """MODULE:FUNCTION must import, name a callable, and accept the call the study's evaluator
+    makes (probed with `inspect.signature`): otherwise every point would fail and the study would
+    end as if it had run."""
+    import inspect
+
     from softcrawl.checks import brief
     from softcrawl.studies.sweeps.spec import StudyError, load_callable
 
     if ":" not in ref:
         raise StudyError("simulator", f"expected MODULE:FUNCTION, got {brief(ref)}")
     try:
-        load_callable(ref, parameter="simulator")
+        function = load_callable(ref, parameter="simulator")
     except StudyError as exc:
         if "is not callable" in exc.detail:
             raise StudyError("simulator", f"{brief(ref)} is not a function") from None
         cause = exc.__cause__
         why = f"{type(cause).__name__}: {cause}" if cause is not None else exc.detail
         raise StudyError("simulator", f"cannot load {brief(ref)}: {why}") from None
+    args, kwargs = _simulator_call(study)
+    try:
+        signature = inspect.signature(function)
+    except (TypeError, ValueError):
+        return  # a builtin without a signature: nothing to probe
+    try:
+        signature.bind(*args, **kwargs)
+    except TypeError as exc:
+        shape = ", ".join(["design", *("material", "mesh", "cases")[: len(args) - 1], *kwargs])
+        raise StudyError(
+            "simulator",
+            f"{brief(ref)}{signature} cannot be called as study {study.name} calls it ({shape}): {exc}",
+        ) from None
 
 
 def run(args: argparse.Namespace) -> int:
