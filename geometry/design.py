@@ -394,9 +394,8 @@ def load_design(
     """Load any design file; its ``kind`` key selects the class. A file that cannot be read is a
     `DesignError` named `parameter`; a bad field is named by the field."""
     data = read_design_file(path, parameter)
-    kind = data.get("kind")
-    if "kind" not in data:
-        raise DesignError("kind", f"the key 'kind' is missing (one of {sorted(DESIGN_TYPES)})")
+    kind, known = data.get("kind"), sorted(DESIGN_TYPES)
     if not isinstance(kind, str) or kind not in DESIGN_TYPES:
-        raise DesignError("kind", f"unknown design kind {brief(kind)} (one of {sorted(DESIGN_TYPES)})")
+        why = "the key 'kind' is missing" if "kind" not in data else f"unknown design kind {brief(kind)}"
+        raise DesignError("kind", f"{why} (one of {known})")
     return DESIGN_TYPES[kind].from_dict(data)
