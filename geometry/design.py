@@ -388,9 +388,7 @@ DESIGN_TYPES: dict[str, type] = {
 }
 
 
-def load_design(
-    path: str | Path, parameter: str = "path"
-) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
+def load_design(path: str | Path, parameter: str = "path") -> EPSADesign | FootDesign | RingDesign | RobotDesign:
     """Load any design file; its ``kind`` key selects the class. A file that cannot be read is a
     `DesignError` named `parameter`; a bad field is named by the field."""
     data = read_design_file(path, parameter)
