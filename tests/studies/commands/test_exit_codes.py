@@ -35,5 +35,5 @@ def test_the_docs_state_the_exit_codes_the_code_uses():
     for doc in ("README.md", "docs/DESIGN.md"):
         text = " ".join((ROOT / doc).read_text().split())
         section = text[text.index("## Errors and exit codes") :]
-        assert re.search(r"128 \+ the signal when interrupted \(130 Ctrl-C, 143 SIGTERM[;)]", section), doc
+        assert re.search(r"128 \+ the signal when interrupted \(130 Ctrl-C, 143 SIGTERM[;,)]", section), doc
     assert "143 for SIGTERM" in " ".join(Path(ROOT / "studies/cli.py").read_text().split())
