@@ -391,10 +391,10 @@ DESIGN_TYPES: dict[str, type] = {
 def load_design(
     path: str | Path, parameter: str = "path"
 ) -> EPSADesign | FootDesign | RingDesign | RobotDesign:
-    """Load any design file; its ``kind`` key selects the class. A file that cannot be read is a
-    `DesignError` named `parameter`; a bad field is named by the field."""
+    """Any design file, its class by its ``kind``; errors name `parameter` (unreadable) or the field."""
     data = read_design_file(path, parameter)
-    kind = data.get("kind")
+    kind, known = data.get("kind"), sorted(DESIGN_TYPES)
     if not isinstance(kind, str) or kind not in DESIGN_TYPES:
-        raise DesignError("kind", f"unknown design kind {brief(kind)} (one of {sorted(DESIGN_TYPES)})")
+        why = "the key 'kind' is missing" if "kind" not in data else f"unknown design kind {brief(kind)}"
+        raise DesignError("kind", f"{why} (one of {known})")
     return DESIGN_TYPES[kind].from_dict(data)

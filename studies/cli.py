@@ -6,7 +6,10 @@ Error policy: no traceback reaches a user, whatever the input.
   range, an output folder that cannot be written) ends with one line on stderr that names the
   parameter, and exit code 2. Library code signals such input with a `softcrawl.errors.InputError`
   (or any `ValueError` that carries a `parameter` attribute); argparse errors are one line too.
-- Ctrl-C ends with one line, "interrupted", and exit code 130 (128 + SIGINT).
+- A signal ends with one line, "interrupted", and exit code 128 + the signal: 130 for Ctrl-C
+  (SIGINT), 143 for SIGTERM (a job scheduler's stop), in every command; `softcrawl study` hands
+  its running points back first, `softcrawl crawl` and `softcrawl robot` keep their last
+  checkpoint (``--resume`` continues).
 - A file-system error while working (a full disk, a folder removed meanwhile) is one line with the
   file and the reason, exit code 1.
 - Anything else is a bug: one line saying so, naming the exception, and how to see the traceback
@@ -21,14 +24,41 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
+import signal
 import sys
+import threading
 
 from softcrawl.studies.commands import COMMAND_MODULES
 
 #: Exit codes (see the module docstring).
-EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL, EXIT_INTERRUPTED = 2, 1, 70, 130
+EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL = 2, 1, 70
+#: 128 + the signal, the shell's convention: Ctrl-C (SIGINT) and SIGTERM.
+EXIT_INTERRUPTED, EXIT_TERMINATED = 128 + signal.SIGINT, 128 + signal.SIGTERM
 #: Set to 1 to get the full traceback of an unexpected error instead of the one-line report.
 DEBUG_VARIABLE = "SOFTCRAWL_DEBUG"
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread like KeyboardInterrupt for SIGINT (a BaseException, so
+    that no ``except Exception`` swallows it)."""
+
+
+def _raise_terminated(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
+class _terminate_as_exception:
+    """SIGTERM raises `Terminated` while a command runs (main thread only; restored after)."""
+
+    def __enter__(self) -> None:
+        self._previous = None
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGTERM, _raise_terminated)
+
+    def __exit__(self, *exc: object) -> None:
+        if self._previous is not None:
+            signal.signal(signal.SIGTERM, self._previous)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -57,8 +87,34 @@ def _one_line(text: str, width: int = 300) -> str:
     return text if len(text) <= width else text[: width - 3] + "..."
 
 
+#: argparse's own test for a negative number (a value it takes as an option's argument).
+_NEGATIVE_NUMBER = re.compile(r"^-\d+$|^-\d*\.\d+$")
+
+
+def attach_negative_values(argv: list[str]) -> list[str]:
+    """``--pressures -10,20,30`` -> ``--pressures=-10,20,30``. argparse takes a word that starts
+    with '-' for an option unless it is a plain negative number, so a list or range that starts
+    with a negative number got "expected one argument"; attached, the value reaches the option's
+    own check, which rejects it by its range and names the option."""
+    out: list[str] = []
+    for word in argv:
+        previous = out[-1] if out else ""
+        if (
+            re.match(r"^-[\d.]", word)
+            and not _NEGATIVE_NUMBER.match(word)
+            and previous.startswith("--")
+            and "=" not in previous
+            and previous != "--"
+        ):
+            out[-1] = f"{previous}={word}"
+        else:
+            out.append(word)
+    return out
+
+
 def _parse(argv: list[str] | None) -> argparse.Namespace | int:
     """The parsed options, or the exit code of argparse (2 for a usage error, 0 after --help)."""
+    argv = attach_negative_values(sys.argv[1:] if argv is None else list(argv))
     try:
         return build_parser().parse_args(argv)
     except SystemExit as exc:
@@ -73,14 +129,18 @@ def main(argv: list[str] | None = None) -> int:
         args = _parse(argv)
         return args if isinstance(args, int) else int(args.func(args) or 0)
     try:
-        args = _parse(argv)
-        if isinstance(args, int):
-            return args
-        prog = f"softcrawl {args.command}"
-        return int(args.func(args) or 0)
+        with _terminate_as_exception():
+            args = _parse(argv)
+            if isinstance(args, int):
+                return args
+            prog = f"softcrawl {args.command}"
+            return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Terminated:
+        print(f"{prog}: interrupted (SIGTERM)", file=sys.stderr)
+        return EXIT_TERMINATED
     except ValueError as exc:
         parameter = getattr(exc, "parameter", None)
         if parameter is None:

@@ -27,7 +27,18 @@ from typing import Any
 
 #: Options of `softcrawl study` beyond --out, --quick, --material and --no-progress.
 OPTIONS = frozenset(
-    {"workers", "storage", "retry_failed", "simulator", "mesh_size", "fibers", "trials", "sampler", "seed"}
+    {
+        "workers",
+        "max_memory",
+        "storage",
+        "retry_failed",
+        "simulator",
+        "mesh_size",
+        "fibers",
+        "trials",
+        "sampler",
+        "seed",
+    }
 )
 
 
@@ -49,6 +60,7 @@ class StudyRequest:
     sampler: str = "nsga2"
     seed: int = 0
     simulator: str | None = None
+    max_memory_gb: float | None = None
 
 
 @dataclass(frozen=True)

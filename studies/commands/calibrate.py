@@ -35,11 +35,16 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from softcrawl.studies.commands.options import body_material, make_folder, output_folder
+    from softcrawl.studies.commands.options import CommandLineError, body_material, make_folder, output_folder
     from softcrawl.studies.material.calibration import calibrate_mu
     from softcrawl.studies.material.plot_calibration import plot_calibration
 
-    body_material(args.material)
+    material = body_material(args.material)
+    if type(material.law).__name__ != "NeoHookean":
+        law = type(material.law).__name__
+        raise CommandLineError(
+            "material", f"{args.material} has a {law} law; calibrate takes a Neo-Hookean preset"
+        )
     out = output_folder(args.out)
     cal = calibrate_mu(
         base_material=args.material,

@@ -129,13 +129,14 @@ def parse_pressures(spec: str, parameter: str = "pressures") -> tuple[float, ...
     try:
         if ":" in spec:
             a, b, s = (float(v) for v in spec.split(":"))
-            values = _range(a, b, s, parameter, spec)
         else:
             values = [float(v) for v in spec.split(",")]
     except ValueError:
         raise CommandLineError(
             parameter, f"{brief(spec)} is not START:STOP:STEP or a comma list of numbers (kPa)"
         ) from None
+    if ":" in spec:
+        values = _range(a, b, s, parameter, spec)  # its own range errors, naming START, STOP, STEP
     if len(values) > MAX_PRESSURE_TARGETS + 1:
         raise CommandLineError(
             parameter, f"{brief(spec)} gives {len(values)} pressures; at most {MAX_PRESSURE_TARGETS}"
@@ -188,7 +189,10 @@ def output_folder(path, parameter: str = "out") -> Path:
     a folder, or its nearest existing ancestor is, and a file can be created there (one is made
     and removed at once). The command creates the folder (`make_folder`) when it writes. An
     existing file, a path through a file and a read-only folder are a `CommandLineError` naming
-    `parameter`."""
+    `parameter`; so is an empty name (it would write into the current folder). A folder that
+    cannot be created is named, beside the existing ancestor that refuses it."""
+    if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
+        raise CommandLineError(parameter, "is empty; give a folder name (. for the current folder)")
     folder = Path(path)
     if folder.exists() and not folder.is_dir():
         raise CommandLineError(parameter, f"{folder} exists and is not a folder")
@@ -203,7 +207,10 @@ def output_folder(path, parameter: str = "out") -> Path:
         with tempfile.TemporaryFile(dir=probe):
             pass
     except OSError as exc:
-        raise CommandLineError(parameter, f"cannot write to {probe}: {exc.strerror or exc}") from None
+        why = f"cannot write to {probe}: {exc.strerror or exc}"
+        raise CommandLineError(
+            parameter, why if probe == folder else f"cannot create {folder}: {why}"
+        ) from None
     return folder
 
 
@@ -220,6 +227,8 @@ def make_folder(path, parameter: str = "out") -> Path:
 def output_file(path, parameter: str) -> Path:
     """A file `path` that can be written: not a folder, in a folder that can be written or
     created (checked as `output_folder`; create it with `make_folder(path.parent)`)."""
+    if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
+        raise CommandLineError(parameter, "is empty; give a file name")
     target = Path(path)
     if target.is_dir():
         raise CommandLineError(parameter, f"{target} is a folder, not a file")

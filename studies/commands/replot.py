@@ -40,6 +40,10 @@ def run(args) -> int:
     root = Path(args.results)
     if not root.is_dir():
         raise InputError("results", f"{root} is not a folder")
+    if not any(s.replot and s.results_folders(root, nested=True) for s in registry.studies()):
+        raise InputError(
+            "results", f"{root} holds no study results to redraw (softcrawl study ... --out {root})"
+        )
     written = redraw(root)
     print(f"redrew {len(written)} figures under {root}")
     return 0

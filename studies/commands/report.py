@@ -23,11 +23,13 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from softcrawl.errors import InputError
+    from softcrawl.studies.commands.options import output_folder
     from softcrawl.studies.review.report import build_report
 
     results = Path(args.results)
     if not results.is_dir():
         raise InputError("results", f"{results} is not a folder (run from the checkout, or give --results)")
+    output_folder(args.out)  # before the report is built
     t0 = time.perf_counter()
     print(f"design review from {results}:", flush=True)
     path = build_report(results, Path(args.out), progress=lambda m: print(m, flush=True))

@@ -94,7 +94,7 @@ def run(args) -> int:
     kwargs = {k: v for k, v in (("n_rings", args.rings), ("d", args.d)) if v is not None}
     design = RobotDesign(**kwargs)  # DesignError naming the field, before any meshing
     body_material(args.material)
-    if args.out:
+    if args.out is not None:  # an empty name too: it is an error, not "no output"
         output_folder(args.out)
     robot = build_robot_model(
         design, args.material, args.mesh, gravity=(0.0, -1.0, 0.0) if args.gravity else None

@@ -30,6 +30,8 @@ MAX_WORKERS = 64
 #: Most trials of the optimiser: 60 take about an hour on the default mesh (2 cores); 10,000 would
 #: take a week and more.
 MAX_TRIALS = 10_000
+#: Largest --max-memory (GB): far above any machine this runs on; a larger number is a typo.
+MAX_MEMORY_GB = 4096.0
 #: Largest sampler seed: numpy's random generators take seeds below 2^32.
 MAX_SEED = 2**32 - 1
 
@@ -104,10 +106,23 @@ def _add_run_options(parser) -> None:
         parser,
         "--workers",
         help="worker processes",
-        default=1,
+        default=None,
+        default_text="1",
         minimum=1,
         maximum=MAX_WORKERS,
         integer=True,
+    )
+    add_number(
+        parser,
+        "--max-memory",
+        help="resident memory per worker; a point above it is a failed result 'out of memory at N GB' and "
+        "the sweep goes on (the tables' peak_rss_gb column shows each point's peak)",
+        unit="GB",
+        default_text="no limit",
+        minimum=0.0,
+        min_open=True,
+        maximum=MAX_MEMORY_GB,
+        metavar="GB",
     )
     add_number(
         parser,
@@ -135,7 +150,7 @@ def _add_run_options(parser) -> None:
     )
     parser.add_argument(
         "--sampler",
-        default="nsga2",
+        default=None,
         choices=("nsga2", "tpe"),
         help="optimise-actuator: optuna sampler (default nsga2)",
     )
@@ -143,7 +158,8 @@ def _add_run_options(parser) -> None:
         parser,
         "--seed",
         help="optimise-actuator: sampler seed",
-        default=0,
+        default=None,
+        default_text="0",
         minimum=0,
         maximum=MAX_SEED,
         integer=True,
@@ -156,21 +172,28 @@ def _check(args) -> None:
     from softcrawl.geometry.design import EPSADesign
     from softcrawl.studies.commands.options import body_material, output_folder
     from softcrawl.studies.epsa.model import resolve_mesh
+    from softcrawl.studies.sweeps.memory import available as memory_available
     from softcrawl.studies.sweeps.spec import StudyError
 
     study = registry.get(args.name)
+    _applies(args, study)
+    args.workers = 1 if args.workers is None else args.workers
+    args.sampler = args.sampler or "nsga2"
+    args.seed = 0 if args.seed is None else args.seed
     if args.material is None:
         args.material = study.default_material or "ecoflex-00-50"
     body_material(args.material)  # MaterialError (parameter "material") for an unknown name
     if args.workers < 1:
         raise StudyError("workers", f"must be >= 1, got {args.workers}")
+    if args.max_memory is not None and not memory_available():
+        raise StudyError("max-memory", "needs /proc/self/status to measure the resident memory (Linux)")
     if args.mesh_size is not None:
         for radius in (2.0, 3.0):  # the thickest wall of the grids needs the most cells
             resolve_mesh(EPSADesign(chamber_radius=radius), mesh_size=args.mesh_size)
     if args.trials is not None and args.trials < 1:
         raise StudyError("trials", f"must be >= 1, got {args.trials}")
     if args.simulator is not None:
-        _check_simulator(args.simulator)
+        _check_simulator(args.simulator, study)
     if args.storage is not None and "://" not in args.storage:
         raise StudyError(
             "storage",
@@ -180,6 +203,26 @@ def _check(args) -> None:
     output_folder(args.out)
     if study.check is not None:
         resolve(study.check)(_request(args))
+
+
+#: Option of `studies.declaration.OPTIONS` -> the value that means "not given" (argparse's default).
+_NOT_GIVEN = {"retry_failed": False}
+
+
+def _applies(args: argparse.Namespace, study) -> None:
+    """An option the study does not take (its declaration's `Study.options`) is an error naming
+    it: silently ignoring it would let a user believe, say, that --trials shortened a grid study."""
+    from softcrawl.studies.declaration import OPTIONS
+    from softcrawl.studies.sweeps.spec import StudyError
+
+    for name in sorted(OPTIONS):
+        value = getattr(args, name, None)
+        if name not in study.options and value != _NOT_GIVEN.get(name) and value is not None:
+            flag = "--" + name.replace("_", "-")
+            takes = ", ".join("--" + o.replace("_", "-") for o in sorted(study.options)) or "none"
+            raise StudyError(
+                name.replace("_", "-"), f"{flag} does not apply to study {study.name} (its options: {takes})"
+            )
 
 
 def _request(args: argparse.Namespace) -> StudyRequest:
@@ -198,32 +241,66 @@ def _request(args: argparse.Namespace) -> StudyRequest:
         sampler=args.sampler,
         seed=args.seed,
         simulator=args.simulator,
+        max_memory_gb=args.max_memory,
     )
 
 
-def _check_simulator(ref: str) -> None:
-    """MODULE:FUNCTION must import and name a callable (the evaluator would fail every point)."""
+#: How the evaluators call a --simulator: the robot studies' `run_cases(design, material, mesh,
+#: cases)`, the ePSA studies' `simulate_epsa(design, *, material, pressures_kpa, mesh_size, quick)`
+#: (the identify study adds end_load_n).
+_ROBOT_CALL = ((None, None, None, None), {})
+_EPSA_CALL = ((None,), {"material": None, "pressures_kpa": (), "mesh_size": None, "quick": False})
+
+
+def _simulator_call(study) -> tuple[tuple, dict]:
+    if "robot" in study.evaluators:
+        return _ROBOT_CALL
+    args, kwargs = _EPSA_CALL
+    return args, kwargs | ({"end_load_n": 0.0} if study.name == "identify" else {})
+
+
+def _check_simulator(ref: str, study) -> None:
+    """MODULE:FUNCTION must import, name a callable, and accept the call the study's evaluator
+    makes (probed with `inspect.signature`): otherwise every point would fail and the study would
+    end as if it had run."""
+    import inspect
+
     from softcrawl.checks import brief
     from softcrawl.studies.sweeps.spec import StudyError, load_callable
 
     if ":" not in ref:
         raise StudyError("simulator", f"expected MODULE:FUNCTION, got {brief(ref)}")
     try:
-        load_callable(ref, parameter="simulator")
+        function = load_callable(ref, parameter="simulator")
     except StudyError as exc:
         if "is not callable" in exc.detail:
             raise StudyError("simulator", f"{brief(ref)} is not a function") from None
         cause = exc.__cause__
         why = f"{type(cause).__name__}: {cause}" if cause is not None else exc.detail
         raise StudyError("simulator", f"cannot load {brief(ref)}: {why}") from None
+    args, kwargs = _simulator_call(study)
+    try:
+        signature = inspect.signature(function)
+    except (TypeError, ValueError):
+        return  # a builtin without a signature: nothing to probe
+    try:
+        signature.bind(*args, **kwargs)
+    except TypeError as exc:
+        shape = ", ".join(["design", *("material", "mesh", "cases")[: len(args) - 1], *kwargs])
+        raise StudyError(
+            "simulator",
+            f"{brief(ref)}{signature} cannot be called as study {study.name} calls it ({shape}): {exc}",
+        ) from None
 
 
 def run(args: argparse.Namespace) -> int:
     from softcrawl.studies.sweeps.faults import SweepStopped, machine_fault
+    from softcrawl.studies.sweeps.memory import worker_memory_limit
 
     _check(args)
     try:
-        outcome = resolve(registry.get(args.name).run)(_request(args))
+        with worker_memory_limit(args.max_memory):
+            outcome = resolve(registry.get(args.name).run)(_request(args))
     except SweepStopped as exc:  # a signal, a full disk, a lost database: one line, then resume
         print(f"softcrawl study {args.name}: {exc.line}", file=sys.stderr)
         return exc.exit_code

@@ -50,6 +50,11 @@ def run(args: argparse.Namespace) -> int:
     if not results.is_dir():
         raise CommandLineError("results", f"no such folder: {results}")
     materials = args.material or find_materials(results)
+    if not materials:
+        raise CommandLineError(
+            "results",
+            f"{results} holds no ePSA study results (softcrawl study chamber-radius ... --out {results})",
+        )
     path = write_table1(results, args.out, materials)
     print(f"wrote {path} ({len(materials)} material(s): {', '.join(materials) or 'none'})")
     return 0

@@ -4,7 +4,7 @@ mismatch report."""
 
 from softcrawl.studies.declaration import Study
 
-_SWEEP = frozenset({"workers", "storage", "retry_failed", "simulator", "mesh_size", "fibers"})
+_SWEEP = frozenset({"workers", "max_memory", "storage", "retry_failed", "simulator", "mesh_size", "fibers"})
 _EVALUATORS = {"epsa": "softcrawl.studies.epsa.evaluator:evaluate_epsa"}
 _RUN = "softcrawl.studies.epsa.grid_studies:run_request"
 _REPLOT = "softcrawl.studies.epsa.grid_studies:replot_folder"
@@ -53,7 +53,17 @@ STUDIES = (
         summary="the paper's selection as a constrained optimisation (optuna TPE or NSGA-II)",
         run="softcrawl.studies.epsa.optimiser:run_request",
         options=frozenset(
-            {"workers", "storage", "simulator", "mesh_size", "fibers", "trials", "sampler", "seed"}
+            {
+                "workers",
+                "max_memory",
+                "storage",
+                "simulator",
+                "mesh_size",
+                "fibers",
+                "trials",
+                "sampler",
+                "seed",
+            }
         ),
         search="search",
         evaluators={"epsa-constrained": "softcrawl.studies.epsa.constrained_objective:evaluate_constrained"},

@@ -3,7 +3,7 @@
 
 from softcrawl.studies.declaration import Study
 
-_OPTIONS = frozenset({"workers", "storage", "retry_failed"})
+_OPTIONS = frozenset({"workers", "max_memory", "storage", "retry_failed"})
 _RUN = "softcrawl.studies.foot.runs:run_request"
 _REPLOT = "softcrawl.studies.foot.runs:replot_folder"
 

@@ -5,7 +5,7 @@ from softcrawl.studies.declaration import Study
 
 #: The calibrated body modulus (`softcrawl calibrate`): the robot studies' default silicone.
 ROBOT_MATERIAL = "ecoflex-00-50@mu=0.0638"
-_OPTIONS = frozenset({"workers", "storage", "retry_failed", "simulator"})
+_OPTIONS = frozenset({"workers", "max_memory", "storage", "retry_failed", "simulator"})
 _EVALUATORS = {"robot": "softcrawl.studies.robot_fe.robot_studies:evaluate_robot"}
 _RUN = "softcrawl.studies.robot_fe.robot_studies:run_request"
 _REPLOT = "softcrawl.studies.robot_fe.robot_studies:replot_folder"

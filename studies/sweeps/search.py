@@ -182,6 +182,7 @@ def collect_search(study: Any, spec: SearchSpec) -> list[dict[str, Any]]:
         if "constraints" in attrs:  # a constrained search (`worker.store`): feasible when all <= 0
             row["constraints"] = json.dumps(attrs["constraints"])
         row["pareto"] = t.number in pareto
+        row["peak_rss_gb"] = blank(attrs.get("peak_rss_gb"))  # `studies.sweeps.memory`
         rows.append(row)
     return rows
 

@@ -72,6 +72,13 @@ def _worker_main(spec_dict: dict[str, Any], index: int, poll_s: float) -> Worker
 
 def _run_pool(spec: SweepSpec, workers: int, poll_s: float, bar: _Progress | None) -> WorkerReport:
     total, died = run_pool(_worker_main, spec.to_dict(), workers, poll_s, bar.update if bar else None)
+    if died and not total.signum:  # fail the trials of dead workers now (a memory stop: its reason)
+        study, lock = open_sweep(spec)
+        try:
+            with storage_faults(spec.storage_url), lock:
+                queue.refresh(study, spec)
+        except StorageFault:
+            pass  # the next run does it
     if died and not total.signum and not total.stop and _unfinished(spec):
         total.stop = f"{len(died)} of {workers} workers died (exit codes {died})"
     return total

@@ -2,8 +2,10 @@
 
 The columns are the catalogue's (`studies.sweeps.spec.TableLayout`); the engine adds the study
 name, the trial number, the point's status (completed | failed | running | waiting | missing) and
-the failure reason. A point without rows gets one row with empty row columns, so failed and
-missing points are never dropped. CSV files are written atomically (`softcrawl.files`).
+the failure reason, and at the end the peak resident memory of the point's worker while it was
+evaluated (``peak_rss_gb``, `studies.sweeps.memory`). A point without rows gets one row with empty
+row columns, so failed and missing points are never dropped. CSV files are written atomically
+(`softcrawl.files`).
 """
 
 from __future__ import annotations
@@ -54,7 +56,7 @@ def collect(study: Any, spec: SweepSpec, layout: TableLayout | None = None) -> l
             out = dict(base)
             for col in layout.row_columns:
                 out[layout.renamed.get(col, col)] = blank(row.get(col, "") if row else "")
-            rows.append(out | scalars)
+            rows.append(out | scalars | {"peak_rss_gb": blank(attrs.get("peak_rss_gb"))})
     return rows
 
 

@@ -13,7 +13,9 @@ in parallel and only the queue bookkeeping is serialised. The objective
   trial: a guard that should never fire where the study lock exists;
 * evaluates; any exception of the evaluator, and an evaluation with ``ok = False``, is a failed
   result with its reason (``user_attrs["failure"]``; ``input_error`` names the parameter of an
-  `InputError`); a fault of the machine or a signal hands the point back instead.
+  `InputError`); a fault of the machine or a signal hands the point back instead;
+* watches its resident memory (`studies.sweeps.memory`): the peak is stored (``peak_rss_gb``),
+  and a point above ``--max-memory`` is a failed result "out of memory at N.N GB (limit M GB)".
 
 Bounded waits: with nothing to pop while other workers' trials run, a worker polls (to take over
 a point whose worker dies) for at most ``idle_timeout`` s (default: twice the grace period plus a
@@ -33,7 +35,7 @@ from collections.abc import Callable
 from typing import Any
 
 from softcrawl.errors import InputError
-from softcrawl.studies.sweeps import queue
+from softcrawl.studies.sweeps import memory, queue
 from softcrawl.studies.sweeps.faults import (
     Interrupted,
     MachineFault,
@@ -110,8 +112,19 @@ def run_guarded(trial: Any, evaluator: Any, params: dict, spec: Any, guard: Sign
     """`evaluate` + `store`, handing the point back on a signal or a fault of the machine."""
     trial.set_user_attr("worker_pid", os.getpid())
     trial.set_user_attr("worker_host", queue.host_id())
+    watch = memory.MemoryWatch(memory.limit_gb(), on_hard_stop=lambda why: _fail_now(trial, why))
     try:
-        result = evaluate(evaluator, params, spec, guard)
+        try:
+            with watch:
+                result = evaluate(evaluator, params, spec, guard)
+        finally:
+            if watch.peak_gb is not None:
+                trial.set_user_attr("peak_rss_gb", round(watch.peak_gb, 3))
+    except memory.OutOfMemory as exc:
+        attrs = {"out_of_memory_gb": round(exc.peak_gb, 3), "memory_limit_gb": exc.limit_gb}
+        if exc.last_state:
+            attrs["last_state"] = exc.last_state
+        result = Evaluation(ok=False, message=exc.reason, attrs=attrs)
     except Interrupted as exc:
         trial.set_user_attr("handed_back", f"signal {exc}")
         raise HandBack(f"signal {exc}", exc.signum) from None
@@ -119,6 +132,12 @@ def run_guarded(trial: Any, evaluator: Any, params: dict, spec: Any, guard: Sign
         trial.set_user_attr("handed_back", exc.line)
         raise HandBack(exc.line) from None
     return store(trial, result, len(spec.directions))
+
+
+def _fail_now(trial: Any, reason: str) -> None:
+    """The memory watchdog's last act before it ends the process: the failure, on the trial; the
+    trial itself is failed by whoever finds its worker dead (the reason is kept)."""
+    trial.set_user_attr("failure", reason)
 
 
 class SweepWorker:

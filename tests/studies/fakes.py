@@ -59,6 +59,21 @@ def _write_output(design):
             os.fsync(handle.fileno())
 
 
+def _hog_memory(design):
+    """While SOFTCRAWL_FAKE_HOG is "RADIUS:MB", the design of that chamber radius allocates MB
+    megabytes gradually (25 MB a step, touched, every 0.05 s), as a growing FE model would."""
+    hog = os.environ.get("SOFTCRAWL_FAKE_HOG")
+    if not hog or float(hog.split(":")[0]) != design.chamber_radius:
+        return
+    import numpy as np
+
+    held = []
+    for _ in range(int(float(hog.split(":")[1]) / 25)):
+        held.append(np.ones(25 * 2**20 // 8))
+        time.sleep(0.05)
+    del held
+
+
 def analytic_curve(design, pressures_kpa, *, material="fake", limit_kpa=None, wobble=0.0, stiff=1.0):
     """A smooth made-up response: extension grows with chamber radius, fibers cut radial growth."""
     seal = 3.0  # like the FE evaluator, the measured length includes the seal head
@@ -99,6 +114,7 @@ def fake_simulate(
     """Instant; sleeps SOFTCRAWL_FAKE_SLEEP s; chamber radius 5 "diverges"; 6 has a limit at 80."""
     _log(design)
     time.sleep(float(os.environ.get("SOFTCRAWL_FAKE_SLEEP", "0")))
+    _hog_memory(design)
     _write_output(design)
     if design.chamber_radius == 5.0 and os.environ.get("SOFTCRAWL_FAKE_DIVERGE"):
         good = analytic_curve(design, [p for p in pressures_kpa if p <= 40], material=material)

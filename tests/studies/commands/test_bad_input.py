@@ -318,6 +318,52 @@ CASES: list[tuple[str, str]] = [
     ("calibrate --out FILE", "out"),
     ("nope", "command"),
     ("", "command"),
+    # -- issue 30: inputs that got through ----------------------------------------------------
+    # an empty output folder name (the work went into the current folder)
+    ("study chamber-radius --out=", "out"),
+    ("crawl --out=", "out"),
+    ("robot --pressures 100,40,60 --out=", "out"),
+    ("epsa --out=", "out"),
+    ("table1 --out=", "out"),
+    ("calibrate --out=", "out"),
+    ("report --results RESULTS --out=", "out"),
+    # report checks --out before it builds
+    ("report --results RESULTS --out FILE", "out"),
+    ("report --results RESULTS --out RO/x", "out"),
+    # options that do not apply to the study (its declaration's options)
+    ("study rings --trials 5 --out OUT", "trials"),
+    ("study chamber-radius --sampler tpe --out OUT", "sampler"),
+    ("study fiber-turns --seed 3 --out OUT", "seed"),
+    ("study workspace --workers 2 --out OUT", "workers"),
+    ("study workspace --workers 1 --out OUT", "workers"),
+    ("study crawl --mesh-size 5 --out OUT", "mesh-size"),
+    ("study groove --fibers sheet --out OUT", "fibers"),
+    ("study paper-material --storage sqlite:///x.db --out OUT", "storage"),
+    ("study kp-mismatch --retry-failed --out OUT", "retry-failed"),
+    ("study workspace --max-memory 2 --out OUT", "max-memory"),
+    ("study foot --simulator tests.studies.fakes:fake_simulate --out OUT", "simulator"),
+    ("study chamber-radius --max-memory 0 --out OUT", "max-memory"),
+    ("study chamber-radius --max-memory nan --out OUT", "max-memory"),
+    # a --simulator of the wrong signature, probed before the sweep
+    ("study chamber-radius --simulator tests.studies.fakes:fake_robot_cases --out OUT", "simulator"),
+    ("study rings --simulator tests.studies.fakes:fake_simulate --out OUT", "simulator"),
+    ("study identify --simulator tests.studies.fakes:fake_simulate --out OUT", "simulator"),
+    ("study chamber-radius --simulator os.path:join --out OUT", "simulator"),
+    # replot and table1 on a folder with no results
+    ("replot EMPTYDIR", "results"),
+    ("table1 --results EMPTYDIR --out OUT", "results"),
+    ("table1 --out EMPTYDIR", "results"),
+    # calibrate takes Neo-Hookean presets only
+    ("calibrate --material ecoflex-00-50-yeoh --out OUT", "material"),
+    ("calibrate --material ecoflex-00-50-gent --out OUT", "material"),
+    # a negative pressure first in a list or range (was argparse's "expected one argument")
+    ("epsa --pressures -10,20,30 --out OUT", "pressures"),
+    ("epsa --pressures -10:100:20 --out OUT", "pressures"),
+    ("epsa --pressures -0.5,20 --out OUT", "pressures"),
+    ("robot --pressures -10,20,30 --out OUT", "pressures"),
+    ("robot --pressures 100,40,60 --first -5,0,0 --out OUT", "first"),
+    # a design file without a kind
+    ("mesh epsa --design NOKIND --out OUT", "kind"),
 ]
 
 
@@ -351,6 +397,9 @@ def files(tmp_path):
         "FOOT": tmp_path / "foot.json",
         "NANFIELD": tmp_path / "nan.json",
         "UNKNOWNKEY": tmp_path / "unknown.json",
+        "EMPTYDIR": tmp_path / "empty",
+        "NOKIND": tmp_path / "nokind.json",
+        "RESULTS": Path(__file__).resolve().parents[3] / "results",
     }
     paths["FILE"].write_text("a file, not a folder\n")
     paths["TEXT"].write_text("pressure and length, but not as JSON or CSV columns\n")
@@ -362,6 +411,8 @@ def files(tmp_path):
     FootDesign().save(paths["FOOT"])
     paths["NANFIELD"].write_text('{"kind": "epsa", "length": NaN}')
     paths["UNKNOWNKEY"].write_text(json.dumps({"kind": "epsa", "colour": "red"}))
+    paths["EMPTYDIR"].mkdir()
+    paths["NOKIND"].write_text(json.dumps({"chamber_radius": 3.0}))
     return {k: str(v) for k, v in paths.items()}
 
 
@@ -473,3 +524,26 @@ def test_valid_pressures_parse_as_before(spec, expected):
     from softcrawl.studies.commands.options import parse_pressures
 
     assert parse_pressures(spec) == pytest.approx(expected)
+
+
+def test_a_design_without_kind_says_the_key_is_missing(files, tmp_path, capfd):
+    assert main(["mesh", "epsa", "--design", files["NOKIND"], "--out", files["OUT"]]) == 2
+    err = capfd.readouterr().err
+    assert "the key 'kind' is missing" in err and "None" not in err, err
+
+
+def test_a_folder_that_cannot_be_created_is_named_beside_the_folder_at_fault(files, tmp_path, capfd):
+    """`cannot write to /proc` for --out /proc/x named the wrong path: the message names both."""
+    ro = _unwritable(tmp_path)
+    assert main(["table1", "--out", f"{ro}/x/y"]) == 2
+    err = capfd.readouterr().err.strip()
+    assert f"cannot create {ro}/x/y: cannot write to {ro}" in err, err
+
+
+def test_a_negative_number_alone_is_still_an_argument():
+    from softcrawl.studies.cli import attach_negative_values
+
+    argv = ["model", "ik", "--tip", "-10", "20", "100", "--pressures", "-10,20", "--a=-1,2", "--", "-3,4"]
+    assert attach_negative_values(argv) == [
+        "model", "ik", "--tip", "-10", "20", "100", "--pressures=-10,20", "--a=-1,2", "--", "-3,4"
+    ]  # fmt: skip

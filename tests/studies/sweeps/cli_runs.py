@@ -80,6 +80,6 @@ def completed_once(spec) -> bool:
 
 def comparable(rows: list[dict]) -> list[dict]:
     """CSV rows without what differs between two runs of the same study (trial numbers, worker
-    process, wall time, the study's own folder)."""
-    drop = {"trial", "worker_pid", "wall_s", "vtu", "study"}
+    process, wall time, peak memory, the study's own folder)."""
+    drop = {"trial", "worker_pid", "wall_s", "vtu", "study", "peak_rss_gb"}
     return [{k: v for k, v in r.items() if k not in drop} for r in rows]
