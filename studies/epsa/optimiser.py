@@ -34,18 +34,18 @@ from softcrawl.studies.epsa.constrained_objective import MAX_RADIUS_CHANGE_REL
 from softcrawl.studies.epsa.evaluator import SEARCH_METRICS
 from softcrawl.studies.epsa.grid_studies import run_tag, study_folder, study_settings
 from softcrawl.studies.epsa.plot_pareto import plot_pareto
+from softcrawl.studies.epsa.study import DEFAULT_TRIALS, QUICK_TRIALS
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.plots.labels import study_title
 from softcrawl.studies.sweeps.search import run_search
 from softcrawl.studies.sweeps.spec import SearchSpec, read_spec
 from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
-#: Search space and budget of optimise-actuator.
+#: Search space of optimise-actuator (its trial budget is declared in studies/epsa/study.py).
 SPACE = {"chamber_radius": ("int", 2, 6), "fiber_turns": ("int", 0, 50)}
 TABLE1_DESIGN = {"chamber_radius": 3, "fiber_turns": 20}
 OBJECTIVES = ("thread_length_mm",)
 DIRECTIONS = ("minimize",)
-DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 NAME = "optimise-actuator"
 CONSTRAINED_EVALUATOR = "epsa-constrained"  # its registry name (studies/epsa/study.py)
 

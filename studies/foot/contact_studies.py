@@ -37,6 +37,7 @@ from softcrawl.materials.fem_law import solid_law
 from softcrawl.paper import PIPE_DIAMETERS_MM
 from softcrawl.studies.foot.groove_model import GrooveSegment, run_groove
 from softcrawl.studies.foot.model import run_foot
+from softcrawl.studies.foot.study import FOOT_FRICTION
 from softcrawl.studies.sweeps.spec import Evaluation
 from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
@@ -54,7 +55,6 @@ QUICK_GRIDS = {
     GROOVE: {"groove_height": (0.5, 1.0, 2.0), "mu": (0.3,)},
     FOOT: {"pipe_diameter": (60.0, 75.0)},
 }
-FOOT_FRICTION = {"mu_smooth": 0.5, "mu_grooved": 0.5}
 EVALUATORS = {
     GROOVE: "groove",  # registry names (studies/foot/study.py)
     FOOT: "foot",
