@@ -43,6 +43,7 @@ from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.path import NewtonOptions, load_path, volume_path
 from softcrawl.fem.reference_models import MU, mean_radius, sphere_inner_stretch, sphere_model, tube_model
+from softcrawl.fem.sheets import FiberSheet
 from softcrawl.fem.structured import box
 from softcrawl.units import mpa_to_kpa
 
@@ -143,8 +144,6 @@ def dead_load_test(stretch=1.5, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
 
 
 def sheet_bar_test(stretch=1.5, stiffness=0.1, k_over_mu=1e4, tolerance=1e-8) -> CaseResult:
-    from softcrawl.fem.sheets import FiberSheet
-
     size = (2.0, 2.0, 4.0)
     mat = NeoHookean.nearly_incompressible(MU, k_over_mu)
     bcs = [
@@ -184,7 +183,6 @@ def sheet_tube_test(
     pressures_over_mu=(0.5, 1.0), stiffness=2.0, inner=3.0, outer=9.0, n_radial=6, n_angle=8, tolerance=5e-3
 ) -> CaseResult:
     """Errors relative to the radial displacement (the part the sheet changes)."""
-    from softcrawl.fem.sheets import FiberSheet
 
     def hoop(X):
         return np.vstack([-X[1], X[0], np.zeros(X.shape[1])])

@@ -47,15 +47,15 @@ __all__ = [
 
 def __getattr__(name: str) -> object:
     if name == "TaggedMesh":
-        from softcrawl.geometry.tagged_mesh import TaggedMesh
+        from softcrawl.geometry.tagged_mesh import TaggedMesh  # lazy: the package import stays numpy-free
 
         return TaggedMesh
     if name in ("mesh_epsa", "mesh_foot", "mesh_ring"):
-        from softcrawl.geometry import tetwild
+        from softcrawl.geometry import tetwild  # lazy: the package import stays numpy-free
 
         return getattr(tetwild, name)
     if name == "mesh_robot":
-        from softcrawl.geometry.assembly import mesh_robot
+        from softcrawl.geometry.assembly import mesh_robot  # lazy: the package import stays numpy-free
 
         return mesh_robot
     raise AttributeError(name)

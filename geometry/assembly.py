@@ -23,6 +23,9 @@ from __future__ import annotations
 import numpy as np
 
 from softcrawl.geometry.design import RobotDesign
+from softcrawl.geometry.epsa_shape import epsa_surface, seal_head_surface
+from softcrawl.geometry.foot import foot_surface
+from softcrawl.geometry.ring import ring_surface
 from softcrawl.geometry.tagged_mesh import TaggedMesh
 from softcrawl.geometry.tetwild import CacheDir, mesh_epsa, mesh_foot, mesh_ring, mesh_seal_head
 
@@ -160,10 +163,6 @@ def actuator_clearance(mesh: TaggedMesh, design: RobotDesign) -> dict:
 
 def robot_surfaces(design: RobotDesign | None = None, n_theta: int = 48) -> dict:
     """Watertight surfaces of every part, placed as in the assembly ({part name: pyvista.PolyData})."""
-    from softcrawl.geometry.epsa_shape import epsa_surface, seal_head_surface
-    from softcrawl.geometry.foot import foot_surface
-    from softcrawl.geometry.ring import ring_surface
-
     design = design or RobotDesign()
     e, f = design.epsa, design.foot
     body, seal = epsa_surface(e, n_theta), seal_head_surface(e, n_theta)

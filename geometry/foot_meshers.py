@@ -13,9 +13,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from softcrawl.geometry import foot_revolved as fr
 from softcrawl.geometry.design import FootDesign
 from softcrawl.geometry.errors import DesignError
 from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.geometry.tetwild import mesh_foot
 
 FOOT_MESHERS = ("revolved", "tetwild")
 
@@ -33,8 +35,6 @@ def mesh_foot_with(
     if mesher == "revolved":
         if edge_length is not None:
             raise DesignError("edge_length", "refines the tetwild mesh; the revolved one takes sectors")
-        from softcrawl.geometry import foot_revolved as fr
-
         return fr.mesh_foot_revolved(
             design,
             n_theta=fr.N_THETA if sectors is None else sectors,
@@ -44,7 +44,5 @@ def mesh_foot_with(
         for name, value in (("sectors", sectors), ("thickness_layers", thickness_layers)):
             if value is not None:
                 raise DesignError(name, "refines the revolved mesh, not pytetwild's")
-        from softcrawl.geometry.tetwild import mesh_foot
-
         return mesh_foot(design, edge_length=edge_length, cache_dir=cache_dir)
     raise DesignError("mesher", f"{mesher!r} is not a foot mesher: one of {', '.join(FOOT_MESHERS)}")

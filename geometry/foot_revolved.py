@@ -44,8 +44,10 @@ import math
 import numpy as np
 
 from softcrawl.geometry.design import DesignError, FootDesign
+from softcrawl.geometry.foot import foot_segments, skirt_directions
 from softcrawl.geometry.tagged_mesh import TaggedMesh
 from softcrawl.geometry.tagging import curved_surface_meta
+from softcrawl.geometry.tetwild import tag_boundary
 
 #: Defaults of the revolved foot mesh: 48 sectors (5.1 mm arcs at the 39 mm tip), three cells
 #: through the 3 mm skirt, 2 mm cells along the skirt.
@@ -80,8 +82,6 @@ def foot_section(
     design: FootDesign, thickness_layers: int = THICKNESS_LAYERS, cell_size: float = CELL_SIZE
 ) -> tuple[np.ndarray, np.ndarray]:
     """Triangulated (rho, z) section of the foot: nodes (n, 2) and triangles (m, 3), counter-clockwise."""
-    from softcrawl.geometry.foot import skirt_directions
-
     a = math.radians(design.angle / 2)
     u, n = skirt_directions(design)
     t, h, w = design.skirt_thickness, design.groove_height, design.groove_width
@@ -181,9 +181,6 @@ def mesh_foot_revolved(
     cell_size: float = CELL_SIZE,
 ) -> TaggedMesh:
     """Revolved tetrahedral mesh of the foot (region ``foot``), with the tags of `geometry.foot`."""
-    from softcrawl.geometry.foot import foot_segments
-    from softcrawl.geometry.tetwild import tag_boundary
-
     design = design or FootDesign()
     if not (isinstance(n_theta, int) and n_theta >= 12):
         raise DesignError("n_theta", f"needs at least 12 sectors around the axis, got {n_theta!r}")

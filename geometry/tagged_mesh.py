@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from softcrawl.geometry.tagging import tet_volumes
+from softcrawl.geometry.tagging import RevolvedSegment, embed_points, tet_volumes
 
 if TYPE_CHECKING:
     import meshio
@@ -99,8 +99,6 @@ class TaggedMesh:
         ``weights`` (n, 3) barycentric coordinates of the closest point, ``distance`` (n,) mm.
         The closest point sum_k weights_k * points[nodes_k] is the fiber point on the meshed surface.
         """
-        from softcrawl.geometry.tagging import embed_points
-
         out = []
         tris = self.facets[tag]
         for f in self.fibers:
@@ -207,8 +205,6 @@ class TaggedMesh:
         for tag, segs in self.meta.get("curved_surfaces", {}).items():
             if tag not in boundaries:
                 continue
-            from softcrawl.geometry.tagging import RevolvedSegment
-
             segments = [RevolvedSegment(tag, tuple(s[0]), tuple(s[1]), tuple(s[2])) for s in segs]
             edges = np.unique(m2.f2e[:, boundaries[tag]])
             cols = m2.nvertices + edges

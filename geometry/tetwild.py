@@ -41,6 +41,8 @@ from softcrawl.geometry.epsa_shape import (
     seal_head_segments,
     seal_head_surface,
 )
+from softcrawl.geometry.foot import FOOT_N_THETA, foot_segments, foot_surface
+from softcrawl.geometry.ring import ring_segments, ring_surface
 from softcrawl.geometry.tagged_mesh import TaggedMesh
 from softcrawl.geometry.tagging import (
     RevolvedSegment,
@@ -269,8 +271,6 @@ def mesh_foot(
     n_theta: int | None = None,
 ) -> TaggedMesh:
     """The grooved flexible foot (region ``foot``), hub top face at z = 0, see ``geometry.foot``."""
-    from softcrawl.geometry.foot import FOOT_N_THETA, foot_segments, foot_surface
-
     design = design or FootDesign()
     n_theta = n_theta or FOOT_N_THETA
     sagitta = design.tip_radius * (1 - np.cos(np.pi / n_theta))
@@ -291,8 +291,6 @@ def mesh_ring(
     design: RingDesign | None = None, edge_length: float | None = None, cache_dir: CacheDir = None
 ) -> TaggedMesh:
     """The connecting ring (region ``ring``), z in [-t/2, t/2], see ``geometry.ring``."""
-    from softcrawl.geometry.ring import ring_segments, ring_surface
-
     design = design or RingDesign()
     surface = ring_surface(design)
     # input polygon sagitta on the largest circle for the chosen spacing

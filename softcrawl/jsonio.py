@@ -13,6 +13,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+from softcrawl.files import write_text_atomic
+
 
 def plain(value: Any) -> Any:
     """`value` with non-finite floats as None and numpy types as Python numbers and lists."""
@@ -42,6 +44,4 @@ def dumps(value: Any, **kwargs) -> str:
 
 def write(path, value: Any, indent: int = 2) -> Path:
     """Write strict JSON (with a final newline) to `path`, creating its folder, atomically."""
-    from softcrawl.files import write_text_atomic
-
     return write_text_atomic(path, dumps(value, indent=indent) + "\n")

@@ -217,6 +217,88 @@ def test_every_module_has_one_name():
     assert not twice, "\n".join(twice)
 
 
+#: Where project imports may sit inside functions without a reason each: the command modules,
+#: which import their work inside `register`/`run` so that `softcrawl --help` stays fast, and the
+#: command line itself. Each command module that does says so once with `COMMAND_MARKER`.
+COMMANDS = ROOT / "studies" / "commands"
+CLI = ROOT / "studies" / "cli.py"
+COMMAND_MARKER = "softcrawl --help stays fast"
+#: The comment that keeps a project import inside a function elsewhere, on the import's lines or
+#: the line above it: `# lazy: <why>`.
+LAZY_REASON = re.compile(r"#\s*lazy:\s*\S")
+
+
+def function_level_project_imports(source: str) -> list[tuple[int, str, bool]]:
+    """(line, first line of the statement, does it carry a `# lazy: why` comment) of every import
+    of a `softcrawl` module that is not at module level (inside a function, a class, an `if`)."""
+    tree = ast.parse(source)
+    lines = source.splitlines()
+    top = set(map(id, tree.body))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module]
+        else:
+            continue
+        if id(node) in top or not any(_layer_of_name(n) for n in names):
+            continue
+        above = lines[node.lineno - 2].strip() if node.lineno > 1 else ""
+        said = any(LAZY_REASON.search(line) for line in lines[node.lineno - 1 : node.end_lineno])
+        said = said or (above.startswith("#") and bool(LAZY_REASON.search(above)))
+        found.append((node.lineno, lines[node.lineno - 1].strip(), said))
+    return found
+
+
+def _project_files():
+    """Every project source file, the entry points included."""
+    for layer, (folder, _) in LAYERS.items():
+        yield from sorted(folder.glob("*.py") if layer == "softcrawl.core" else folder.rglob("*.py"))
+
+
+def test_project_imports_are_at_module_top_or_say_why_not():
+    """A module's header shows what it depends on: a project import inside a function (outside the
+    command modules) is an exception that says why on its line or the line above (`# lazy: ...`)."""
+    bad = [
+        f"{path.relative_to(ROOT)}:{line}: {text}"
+        for path in _project_files()
+        if not path.is_relative_to(COMMANDS) and path != CLI
+        for line, text, said in function_level_project_imports(path.read_text())
+        if not said
+    ]
+    assert not bad, "move to the module's imports, or say why with `# lazy: ...`:\n" + "\n".join(bad)
+
+
+def test_commands_that_import_inside_functions_say_why():
+    bad = [
+        str(path.relative_to(ROOT))
+        for path in sorted(COMMANDS.glob("*.py"))
+        if function_level_project_imports(path.read_text()) and COMMAND_MARKER not in path.read_text()
+    ]
+    assert not bad, f"say once why the work is imported inside functions ({COMMAND_MARKER!r}):\n" + (
+        "\n".join(bad)
+    )
+
+
+@pytest.mark.parametrize(
+    ("source", "expected"),
+    [
+        ("from softcrawl.fem import model\n", []),
+        ("def f():\n    import numpy\n", []),
+        ("def f():\n    from softcrawl.fem import model\n", [(2, False)]),
+        ("def f():\n    import softcrawl.fem.model as m\n", [(2, False)]),
+        ("class C:\n    def f(self):\n        from softcrawl import jsonio\n", [(3, False)]),
+        ("def f():\n    from softcrawl import jsonio  # lazy: keeps f light\n", [(2, True)]),
+        ("def f():\n    # lazy: keeps f light\n    from softcrawl import jsonio\n", [(3, True)]),
+        ("def f():\n    from softcrawl.fem import (\n        model,  # lazy: light\n    )\n", [(2, True)]),
+        ("def f():\n    from softcrawl import jsonio  # lazy:\n", [(2, False)]),
+    ],
+)
+def test_the_import_scan_finds_function_level_project_imports(source, expected):
+    assert [(line, said) for line, _, said in function_level_project_imports(source)] == expected
+
+
 def _studies_unit(path: Path) -> str:
     """A subfolder of studies/ (a feature or shared infrastructure), or a top-level module of it."""
     parts = path.relative_to(ROOT / "studies").parts

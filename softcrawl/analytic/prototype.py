@@ -41,6 +41,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.statics import EPSAParams, Line, PiecewiseLinear
 from softcrawl.paper import (
     BREAKPOINT_KPA,
@@ -68,8 +69,6 @@ def _pw(c: Sequence[float], factor: float = 1.0) -> PiecewiseLinear:
 
 def prototype_epsa(index: int) -> EPSAParams:
     """ePSA 1, 2 or 3 of the paper (eqs. 19-24), in internal units."""
-    from softcrawl.analytic.errors import ModelInputError
-
     if index not in PRINTED_K_N_PER_M:
         raise ModelInputError("actuator", f"must be 1, 2 or 3, got {index!r}")
     return EPSAParams(
@@ -98,8 +97,6 @@ def nominal_epsa() -> EPSAParams:
 
 def actuator_set(kind: str = "nominal") -> tuple[EPSAParams, EPSAParams, EPSAParams]:
     """'nominal': three identical mean actuators; 'prototype': ePSA 1, 2, 3 as identified."""
-    from softcrawl.analytic.errors import ModelInputError
-
     if kind == "nominal":
         a = nominal_epsa()
         return (a, a, a)

@@ -12,6 +12,8 @@ from dataclasses import asdict
 
 from softcrawl import jsonio
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 
 def register(subparsers) -> None:
     import argparse

@@ -35,7 +35,9 @@ import argparse
 from softcrawl.geometry.foot_meshers import FOOT_MESHERS
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS
 from softcrawl.studies.crawl.schedule import SCHEDULES
-from softcrawl.studies.foot.contact_studies import FOOT_FRICTION
+from softcrawl.studies.foot.study import FOOT_FRICTION  # the declaration: light
+
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
 

@@ -19,6 +19,8 @@ import sys
 
 from softcrawl import jsonio
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 
 def register(subparsers) -> None:
     from softcrawl.studies.commands.options import add_number

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import argparse
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 DATA_CHOICES_HELP = "ecoflex-00-50 | ecoflex-00-30 | dragon-skin-30 | PATH to a CSV"
 
 

@@ -17,6 +17,8 @@ import logging
 import sys
 import typing
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 KINDS = ("epsa", "foot", "ring", "robot")
 
 

@@ -20,6 +20,8 @@ from softcrawl.analytic.limits import (
 from softcrawl.paper import D_MM, F_EPSA_MAX_N, FRICTION_N, G_EQ27_M_S2, ROBOT_MASS_G, table2
 from softcrawl.studies.commands.options import add_json, add_length, add_number, emit
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 
 def _g(args) -> float:
     return args.g * 1000.0  # m/s^2 -> mm/s^2 (the range is checked when parsed)

@@ -30,6 +30,8 @@ from softcrawl.studies.commands.options import (
     output_folder,
 )
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 # -- workspace -------------------------------------------------------------------------------------
 
 

@@ -19,6 +19,8 @@ from pathlib import Path
 from softcrawl.checks import brief, number
 from softcrawl.errors import InputError
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 #: Highest pressure of a ramp (kPa): 1 MPa, ten times the paper's 100 kPa; silicone ePSAs burst
 #: far below it (the unreinforced Table 1 chamber has a limit point near 25 kPa).
 MAX_PRESSURE_KPA = 1000.0

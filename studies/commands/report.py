@@ -11,6 +11,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(

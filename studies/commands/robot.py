@@ -21,6 +21,8 @@ from pathlib import Path
 from softcrawl.errors import InputError
 from softcrawl.units import kpa_to_mpa
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 
 def register(subparsers) -> None:
     from softcrawl.geometry.robot_mesh import MESH_PRESETS

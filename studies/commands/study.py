@@ -22,7 +22,9 @@ import textwrap
 
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import StudyRequest, resolve
-from softcrawl.studies.epsa.optimiser import DEFAULT_TRIALS, QUICK_TRIALS
+from softcrawl.studies.epsa.study import DEFAULT_TRIALS, QUICK_TRIALS  # the declaration: light
+
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
 #: Most worker processes: each is a process with its own solver (0.3-1 GB on the default mesh);
 #: more workers than cores only share the cores, and the sweeps have 5-60 points.

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import argparse
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 
 def register(subparsers) -> None:
     parser = subparsers.add_parser(

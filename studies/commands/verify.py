@@ -11,6 +11,8 @@ import sys
 import time
 from pathlib import Path
 
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
 
 def _cases() -> dict:
     """The solver cases (`fem.verification`) and the contact cases (`fem.contact_verification`)."""

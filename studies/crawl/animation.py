@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.studies.plots.render3d import pyvista_offscreen
+
 FRAME_MS = 250  # per state; the last frame is held LAST_HOLD times as long
 LAST_HOLD = 8
 WINDOW = (960, 420)
@@ -106,8 +108,6 @@ def _camera(pl, bounds) -> None:
 def write_crawl_gif(vtu_folder, path, states_csv=None, frame_ms: int = FRAME_MS) -> Path:
     """The GIF of the series in `vtu_folder` (module docstring) at `path`; returns `path`."""
     from PIL import Image
-
-    from softcrawl.studies.plots.render3d import pyvista_offscreen
 
     pv = pyvista_offscreen()
     states, pipe_path = series_files(Path(vtu_folder))

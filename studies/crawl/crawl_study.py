@@ -26,9 +26,17 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.paper import PIPE_DIAMETERS_MM
+from softcrawl.studies.crawl.files import run_and_write
+from softcrawl.studies.crawl.mesh import QUICK_SECTORS
+from softcrawl.studies.crawl.model import CrawlSetup
+from softcrawl.studies.crawl.outputs import steady_stride
+from softcrawl.studies.crawl.plot import plot_crawl_study
+from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
-from softcrawl.studies.sweeps.spec import StudyError, sweep_spec_from_file
+from softcrawl.studies.sweeps.spec import Evaluation, StudyError, SweepSpec, sweep_spec_from_file
+from softcrawl.studies.sweeps.sweep import run_sweep
+from softcrawl.studies.sweeps.tables import write_csv
 
 NAME = "crawl"
 GRID = {"pipe_diameter": PIPE_DIAMETERS_MM, "mu": (0.3, 0.5)}
@@ -51,13 +59,6 @@ def anchoring_slip_ratio(cycle: dict) -> float:
 
 
 def evaluate_crawl(params: dict, fixed: dict, settings: dict):
-    from softcrawl.studies.crawl.files import run_and_write
-    from softcrawl.studies.crawl.mesh import QUICK_SECTORS
-    from softcrawl.studies.crawl.model import CrawlSetup
-    from softcrawl.studies.crawl.outputs import steady_stride
-    from softcrawl.studies.crawl.schedule import preset
-    from softcrawl.studies.sweeps.spec import Evaluation
-
     quick = bool(settings.get("quick"))
     mu = float(params["mu"])
     setup = CrawlSetup(
@@ -99,9 +100,6 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
 
 
 def run_crawl_study(out, *, quick=False, storage=None, workers=1, progress=True, retry=False) -> StudyOutcome:
-    from softcrawl.studies.sweeps.spec import SweepSpec
-    from softcrawl.studies.sweeps.sweep import run_sweep
-
     folder = Path(out) / NAME / ("rubber-70a-quick" if quick else "rubber-70a")
     folder.mkdir(parents=True, exist_ok=True)
     spec = SweepSpec(
@@ -187,9 +185,6 @@ def point_rows(spec, folder: Path) -> list[dict]:
 
 def write_study_outputs(spec, folder: Path) -> StudyOutcome:
     """summary.csv and crawl-study.png from the stored point files (every grid point, done or not)."""
-    from softcrawl.studies.crawl.plot import plot_crawl_study
-    from softcrawl.studies.sweeps.tables import write_csv
-
     rows = point_rows(spec, folder)
     written = [
         write_csv(rows, folder / "summary.csv"),
@@ -231,7 +226,5 @@ def check_request(request: StudyRequest) -> None:
 
 def replot_folder(folder: Path) -> list[Path]:
     """crawl-study.png from the stored point files."""
-    from softcrawl.studies.crawl.plot import plot_crawl_study
-
     folder = Path(folder)
     return [plot_crawl_study(point_rows(sweep_spec_from_file(folder), folder), folder / "crawl-study.png")]

@@ -15,7 +15,16 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
+from softcrawl.fem.vtu import write_state
+from softcrawl.materials import get_material
+from softcrawl.materials.fem_law import solid_law
+from softcrawl.paper import FRICTION_N, table2
+from softcrawl.studies.crawl.mesh import crawl_mesh
+from softcrawl.studies.crawl.model import build, run_crawl
 from softcrawl.studies.crawl.outputs import steady_stride
+from softcrawl.studies.crawl.plot import plot_crawl
+from softcrawl.studies.crawl.schedule import analytic_speed
+from softcrawl.studies.sweeps.tables import write_csv
 
 MATERIAL = "rubber-70a"
 MATERIAL_SOURCE = "Shore 70A rubber of the foot study (results/foot/README.md)"
@@ -46,8 +55,6 @@ class _VtuSeries:
         folder.mkdir(parents=True, exist_ok=True)
 
     def __call__(self, index, model, x, time_s) -> None:
-        from softcrawl.fem.vtu import write_state
-
         path = write_state(self.folder / f"crawl_{index:04d}.vtu", model, x)
         self.entries.append((time_s, path.name))
         write_pvd(self.folder, self.entries)
@@ -68,9 +75,6 @@ def write_pvd(folder: Path, entries) -> Path:
 def compare(result, setup, schedule, pressure_kpa: float) -> dict:
     """Stride and speed beside Table 2 and the analytic model (with the paper's friction and with
     the FE's own: the largest axial friction force on a foot while the pressures rise)."""
-    from softcrawl.paper import FRICTION_N, table2
-    from softcrawl.studies.crawl.schedule import analytic_speed
-
     direction = "backward" if setup.feet == "backward" else "forward"
     stride = steady_stride(result)
     extend = [
@@ -147,13 +151,6 @@ def progress_line(row: dict) -> str:
 def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool = True, progress=None):
     """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
     `progress(line)` is called with one line per converged state."""
-    from softcrawl.materials import get_material
-    from softcrawl.materials.fem_law import solid_law
-    from softcrawl.studies.crawl.mesh import crawl_mesh
-    from softcrawl.studies.crawl.model import build, run_crawl
-    from softcrawl.studies.crawl.plot import plot_crawl
-    from softcrawl.studies.sweeps.tables import write_csv
-
     folder.mkdir(parents=True, exist_ok=True)
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     cm = build(mesh, solid_law(get_material(MATERIAL), hyperelastic_only=True), design, setup)

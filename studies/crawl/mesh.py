@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcrawl.geometry.design import RobotDesign
+from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.geometry.tagged_mesh import TaggedMesh
 
 FEET = ("rear", "front")
@@ -87,9 +89,6 @@ def crawl_mesh(mirrored: tuple[bool, bool] = (False, False), cache_dir=None, **m
     """(foot design, skfem MeshTet2 of the two feet) of the Table 1 robot (`geometry.design`);
     `mesh_options` go to `geometry.foot_meshers.mesh_foot_with` (mesher, sectors, thickness_layers,
     edge_length)."""
-    from softcrawl.geometry.design import RobotDesign
-    from softcrawl.geometry.foot_meshers import mesh_foot_with
-
     robot = RobotDesign()
     foot = mesh_foot_with(robot.foot, cache_dir=cache_dir, **mesh_options)
     separation = robot.epsa.length + robot.epsa.seal_head_thickness + robot.foot.hub_thickness

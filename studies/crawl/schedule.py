@@ -42,7 +42,10 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.analytic.loads import crawl_speed
+from softcrawl.analytic.prototype import actuator_set, nominal_epsa
 from softcrawl.errors import InputError
+from softcrawl.geometry.design import EPSADesign
 
 #: The preset schedules. gait1-3 keep the paper's names (its "gaits", Fig. 25) and the CLI option
 #: is `softcrawl crawl --gait`; in code they are schedules: a gait is `analytic.gait`'s planned
@@ -55,9 +58,6 @@ LAW_SOURCE = "paper eqs. 19-24 (prototype statics, mean of ePSA 1-3; analytic.pr
 
 
 def analytic_speed(pressure_kpa: float, cycle_s: float, friction_n: float) -> float:
-    from softcrawl.analytic.loads import crawl_speed
-    from softcrawl.analytic.prototype import actuator_set
-
     return crawl_speed(actuator_set("nominal"), pressure_kpa, friction_n, cycle_s).speed_mm_s
 
 
@@ -165,8 +165,6 @@ class AxialLaw:
     source: str = LAW_SOURCE
 
     def _actuator(self):
-        from softcrawl.analytic.prototype import nominal_epsa
-
         return nominal_epsa()
 
     def stiffness_preload(self, pressures_kpa) -> tuple[float, float]:
@@ -189,7 +187,5 @@ class AxialLaw:
         delta at its radius. An estimate: the axial law keeps no radius, so the chamber's radial
         growth under pressure (held small by the winding) is left out, and the end caps are taken
         as not stretching."""
-        from softcrawl.geometry.design import EPSADesign
-
         epsa = EPSADesign()
         return epsa.chamber_volume + math.pi * epsa.chamber_radius**2 * float(delta_mm)

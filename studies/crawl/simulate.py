@@ -16,9 +16,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcrawl.checks import number
+from softcrawl.materials import Material, get_material
+from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.crawl.files import MATERIAL, progress_line
-from softcrawl.studies.crawl.mesh import QUICK_SECTORS
-from softcrawl.studies.crawl.model import CrawlSetup
+from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
+from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
 from softcrawl.studies.crawl.outputs import CrawlResult
 from softcrawl.studies.crawl.schedule import Schedule, ScheduleError, preset, read_csv
 from softcrawl.studies.foot.contact_studies import FOOT_FRICTION
@@ -65,11 +67,6 @@ def simulate_crawl(
     cycles of the pressure schedule (kPa) -> `CrawlResult` (`strides`, per-cycle speed, states).
     `feet`: "paper" (skirts lean back), "backward" (both mirrored), "symmetric" (front mirrored);
     `material`: the feet's rubber, a preset name or a `Material`."""
-    from softcrawl.materials import Material, get_material
-    from softcrawl.materials.fem_law import solid_law
-    from softcrawl.studies.crawl.mesh import crawl_mesh
-    from softcrawl.studies.crawl.model import build, run_crawl
-
     number(pipe_diameter, "pipe_diameter", minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True,
            max_open=True, unit="mm", error=ScheduleError)  # fmt: skip
     for name, value in (("mu_smooth", mu_smooth), ("mu_grooved", mu_grooved)):

@@ -12,6 +12,10 @@ import json
 from collections.abc import Mapping
 from typing import Any
 
+from softcrawl.studies.epsa.evaluator import evaluate_epsa, response_at
+from softcrawl.studies.epsa.rules import SIMILAR_EXTENSION_REL, TARGET_PRESSURE_KPA
+from softcrawl.studies.sweeps.spec import Evaluation
+
 #: The most-turned design of the N study (paper Fig. 9: N = 50), the extension reference.
 REFERENCE_TURNS = 50
 #: Bound on |dR| / R0 at the target pressure: 5 % of the outer radius (0.45 mm for R0 = 9 mm).
@@ -23,10 +27,6 @@ MAX_RADIUS_CHANGE_REL = 0.05
 def evaluate_constrained(params: Mapping[str, Any], fixed: Mapping[str, Any], settings: Mapping[str, Any]):
     """Thread length (mm) and the constraints of `studies.epsa.optimiser`'s
     docstring. A diverged solve stays a failed trial (numerical, not physical)."""
-    from softcrawl.studies.epsa.evaluator import evaluate_epsa, response_at
-    from softcrawl.studies.epsa.rules import SIMILAR_EXTENSION_REL, TARGET_PRESSURE_KPA
-    from softcrawl.studies.sweeps.spec import Evaluation
-
     result = evaluate_epsa(params, fixed, dict(settings) | {"objectives": "sweep"})
     attrs = dict(result.attrs)
     metrics = attrs.get("metrics", {})
@@ -57,8 +57,6 @@ def evaluate_constrained(params: Mapping[str, Any], fixed: Mapping[str, Any], se
 def reference_extension(chamber_radius: float, settings_json: str) -> float | None:
     """Extension at the target of the REFERENCE_TURNS design of this radius (None if it does
     not withstand the target), with the trial's own simulator and settings (cached per process)."""
-    from softcrawl.studies.epsa.evaluator import evaluate_epsa
-
     settings = json.loads(settings_json) | {"objectives": "pareto"}
     params = {"chamber_radius": chamber_radius, "fiber_turns": REFERENCE_TURNS}
     result = evaluate_epsa(params, {}, settings)

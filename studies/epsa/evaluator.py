@@ -17,6 +17,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from softcrawl.fem.vtu import write_state, write_winding
+from softcrawl.files import atomic_path
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.materials import get_material
+from softcrawl.studies.epsa.response import same_pressure
+from softcrawl.studies.sweeps.faults import machine_fault
 from softcrawl.studies.sweeps.spec import Evaluation, TableLayout, load_callable
 from softcrawl.studies.sweeps.spec import jsonable as _jsonable
 
@@ -86,8 +92,6 @@ def response_at(
     """The equilibrium ("converged") row at ``pressure_kpa`` (default: the highest such pressure),
     matched with `same_pressure` (a target landed on by volume control reads e.g. 99.9999 kPa).
     Volume-controlled states past a limit point are not used."""
-    from softcrawl.studies.epsa.response import same_pressure
-
     good = [r for r in rows if r.get("status") == "converged"]
     if not good:
         return None
@@ -122,8 +126,6 @@ def evaluate_epsa(
     A curve with ``converged = False`` fails the trial (its rows are kept). In "pareto" mode a
     design that does not reach the highest pressure fails too: it does not meet the requirement.
     """
-    from softcrawl.geometry.design import EPSADesign
-
     merged = {**fixed, **params}
     load = {k: merged.pop(k) for k in SIMULATOR_PARAMS if k in merged}
     design = EPSADesign(**merged)
@@ -211,15 +213,10 @@ def _write_shape(solved, path: Path) -> str:
     partial file). A shape that cannot be written never fails the evaluation, except for a fault
     of the machine (a full disk, an unwritable folder), which the sweep engine turns into a
     handed-back point."""
-    from softcrawl.files import atomic_path
-    from softcrawl.studies.sweeps.faults import machine_fault
-
     try:
         steps = solved.path.steps
         if not steps:
             return ""
-        from softcrawl.fem.vtu import write_state, write_winding
-
         last = steps[-1]
         load = {"pressure_mpa": last.pressure, "factor": last.factor}
         with atomic_path(path) as temp:
@@ -241,8 +238,6 @@ def fiber_length_mm(design) -> float:
 def design_mass_g(design, material: str) -> float | None:
     """Silicone body plus Kevlar thread (g); None if the material is unknown to materials."""
     try:
-        from softcrawl.materials import get_material
-
         rho = get_material(material).density
         kevlar = get_material("kevlar").density
     except Exception:  # noqa: BLE001 - a fake material in tests

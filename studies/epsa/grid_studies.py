@@ -16,12 +16,19 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcrawl import jsonio
+from softcrawl.materials import get_material
 from softcrawl.studies.declaration import StudyRequest
-from softcrawl.studies.epsa.evaluator import PAPER_PRESSURES_KPA
+from softcrawl.studies.epsa import identification as fe_identification
+from softcrawl.studies.epsa import linearity, rules
+from softcrawl.studies.epsa.evaluator import EPSA_EVALUATOR, EPSA_TABLE, PAPER_PRESSURES_KPA
 from softcrawl.studies.epsa.identification import LOADS_N, PRESSURES_KPA
+from softcrawl.studies.epsa.model import DEFAULT_FIBERS
+from softcrawl.studies.epsa.plot_curves import plot_curves
 from softcrawl.studies.outcome import StudyOutcome
-from softcrawl.studies.sweeps.spec import read_spec
-from softcrawl.studies.sweeps.tables import read_csv
+from softcrawl.studies.plots.labels import parameter, study_title
+from softcrawl.studies.sweeps.spec import SweepSpec, read_spec
+from softcrawl.studies.sweeps.sweep import run_sweep
+from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
 #: Grids of the paper's sweeps (Section V-A) and the fixed parameters of each.
 GRIDS = {
@@ -50,8 +57,6 @@ def study_settings(
     simulator: str | None = None,
 ) -> dict:
     """The evaluator settings of a study run (stored with the study: a resume must match)."""
-    from softcrawl.studies.epsa.model import DEFAULT_FIBERS
-
     pressures = PRESSURES_KPA if name == "identify" else PAPER_PRESSURES_KPA
     settings = {
         "material": material,
@@ -67,9 +72,6 @@ def study_settings(
 
 
 def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
-    from softcrawl.studies.epsa.evaluator import EPSA_EVALUATOR
-    from softcrawl.studies.sweeps.spec import SweepSpec
-
     grid, fixed = GRIDS[name]
     tag = run_tag(settings.get("material", ""), settings.get("quick", False), settings.get("mesh_size"))
     return SweepSpec(
@@ -95,9 +97,6 @@ def run_sweep_study(
 ) -> StudyOutcome:
     """Run (or resume) the sweep `name` and write its outputs. Raises
     `studies.sweeps.faults.SweepStopped` when the run stopped early (a signal, a full disk)."""
-    from softcrawl.studies.epsa.evaluator import EPSA_TABLE
-    from softcrawl.studies.sweeps.sweep import run_sweep
-
     folder = study_folder(
         out, name, settings["material"], settings.get("quick", False), settings.get("mesh_size")
     )
@@ -111,8 +110,6 @@ def run_sweep_study(
 def _law_label(material) -> str:
     """The material's law and constants (every results row names its law); "" if unknown."""
     try:
-        from softcrawl.materials import get_material
-
         return get_material(str(material)).law_label
     except Exception:  # noqa: BLE001 - a fake material in tests
         return ""
@@ -120,8 +117,6 @@ def _law_label(material) -> str:
 
 def summary_rows(rows, param: str) -> list[dict]:
     """One row per design: status, limit pressure, the response at 100 kPa and the rule inputs."""
-    from softcrawl.studies.epsa import linearity, rules
-
     summary = []
     law = _law_label(rows[0].get("material")) if rows else ""
     for value, c in sorted(rules.design_curves(rows, param).items()):
@@ -150,9 +145,6 @@ def summary_rows(rows, param: str) -> list[dict]:
 
 def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, folder) -> Path:
     """NAME.png of a sweep from its rows (live, or read back from curves.csv by `softcrawl replot`)."""
-    from softcrawl.studies.epsa.plot_curves import plot_curves
-    from softcrawl.studies.plots.labels import parameter, study_title
-
     symbol, _, unit = parameter(param)
     title = study_title(name, settings.get("material"), bool(settings.get("quick")), fixed)
     return plot_curves(rows, param, Path(folder) / f"{name}.png", label=symbol, unit=unit, title=title)
@@ -160,9 +152,6 @@ def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, 
 
 def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
     """curves.csv, summary.csv and the PNG of a finished (or partial) sweep."""
-    from softcrawl.studies.epsa import identification as fe_identification
-    from softcrawl.studies.sweeps.tables import write_csv
-
     if name == "identify":
         return fe_identification.write_outputs(spec, rows, folder)
     param = next(iter(spec.grid))

@@ -30,9 +30,16 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl import jsonio
+from softcrawl.analytic.errors import ModelInputError
+from softcrawl.analytic.identification import identify
+from softcrawl.analytic.prototype import prototype_epsa
+from softcrawl.studies.epsa.plot_curves import plot_curves
+from softcrawl.studies.epsa.plot_identification import plot_identification
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.plots.labels import material_label, study_title
 from softcrawl.studies.sweeps.spec import read_spec
-from softcrawl.studies.sweeps.tables import read_csv
+from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
 #: Weights on the seal head, N (0, 51 and 102 g): within the paper's measured output force range
 #: (8.42 N blocked at 100 kPa) and small enough to keep the response linear in W.
@@ -107,9 +114,6 @@ def _collapse_pressure(lengths: dict[float, float]) -> float | None:
 
 
 def identify_from_rows(rows, breakpoint: float = 60.0) -> FEIdentification:
-    from softcrawl.analytic.errors import ModelInputError
-    from softcrawl.analytic.identification import identify
-
     table, skipped = load_extension_table(rows)
     loads = sorted({w for _, w, _ in table})
     pressures = sorted({p for p, _, _ in table})
@@ -140,8 +144,6 @@ def identify_from_rows(rows, breakpoint: float = 60.0) -> FEIdentification:
 
 def comparison_rows(ident: FEIdentification) -> list[dict]:
     """Per pressure: FE k_p (N/m), f_p (N) and the fit residual, beside eqs. 19-24 for ePSAs 1-3."""
-    from softcrawl.analytic.prototype import prototype_epsa
-
     protos = {i: prototype_epsa(i) for i in (1, 2, 3)}
     out = []
     if ident.result is None:
@@ -189,18 +191,12 @@ def fitted_laws(ident: FEIdentification) -> dict:
 
 def draw_identify_curves(settings: Mapping, rows, folder) -> Path:
     """identify.png: length against pressure under each weight (also from curves.csv alone)."""
-    from softcrawl.studies.epsa.plot_curves import plot_curves
-    from softcrawl.studies.plots.labels import study_title
-
     title = study_title("identify", settings.get("material"), bool(settings.get("quick")))
     return plot_curves(rows, "end_load_n", Path(folder) / "identify.png", label="W", unit=" N", title=title)
 
 
 def draw_identification(settings: Mapping, table, laws: Mapping, folder) -> Path:
     """identification.png: the FE's k_p(P), f_p(P) beside eqs. 19-24 (also from the files alone)."""
-    from softcrawl.studies.epsa.plot_identification import plot_identification
-    from softcrawl.studies.plots.labels import material_label
-
     quick = ", coarse (quick) mesh" if settings.get("quick") else ""
     title = (
         f"Static identification on FE results (paper Section VII-A): "
@@ -212,9 +208,6 @@ def draw_identification(settings: Mapping, table, laws: Mapping, folder) -> Path
 def write_outputs(spec, rows, folder) -> StudyOutcome:
     """curves.csv, identify.png (length per weight), identification.csv/.json and
     identification.png (k_p, f_p against eqs. 19-24)."""
-    from softcrawl import jsonio
-    from softcrawl.studies.sweeps.tables import write_csv
-
     write_csv(rows, folder / "curves.csv")
     material = spec.settings.get("material")
     draw_identify_curves(spec.settings, rows, folder)

@@ -45,7 +45,14 @@ import math
 from dataclasses import dataclass
 
 from softcrawl.checks import number
+from softcrawl.fem.fibers import FiberLines
+from softcrawl.fem.model import Dirichlet, SolidModel
+from softcrawl.fem.sheets import FiberSheet
 from softcrawl.geometry.design import MAX_DIMENSION, DesignError, EPSADesign
+from softcrawl.geometry.epsa_shape import helix_families
+from softcrawl.geometry.swept import mesh_epsa_swept
+from softcrawl.materials import Material, get_material
+from softcrawl.materials.fem_law import solid_law
 
 #: Smallest element size of an ePSA mesh (mm): a tenth of a millimetre, 25 times finer than the
 #: finest mesh of the convergence study (h = 2.5 mm, whose extension differs from h = 3.33 mm by
@@ -132,9 +139,6 @@ MESH_PRESETS = {"default": MeshSettings(), "quick": MeshSettings(n_around=12, n_
 
 def solid_material(name):
     """The `materials` preset (or Material) of the body and its solver law."""
-    from softcrawl.materials import Material, get_material
-    from softcrawl.materials.fem_law import solid_law
-
     mat = name if isinstance(name, Material) else get_material(name)
     return mat, solid_law(mat, hyperelastic_only=True)
 
@@ -171,8 +175,6 @@ def check_end_conditions(blocked: bool, guided: bool, end_load_n, side_load_n) -
 
 def _end_conditions(blocked: bool, guided: bool, end_load_n, side_load_n):
     """Dirichlet conditions and dead loads of the end conditions (module docstring)."""
-    from softcrawl.fem.model import Dirichlet
-
     bcs = [Dirichlet.fixed("end_bottom")] + ([Dirichlet.fixed("seal_top")] if blocked else [])
     dead_loads = None
     if end_load_n is not None or guided:
@@ -186,10 +188,6 @@ def _end_conditions(blocked: bool, guided: bool, end_load_n, side_load_n):
 
 def _winding(design: EPSADesign, fibers: str, tagged, kevlar):
     """(line fibers, fiber sheets) of the winding model `fibers` (one of them is empty)."""
-    from softcrawl.fem.fibers import FiberLines
-    from softcrawl.fem.sheets import FiberSheet
-    from softcrawl.geometry.epsa_shape import helix_families
-
     if fibers == "lines":
         lines = (
             FiberLines(tagged.fibers, kevlar.youngs_modulus, design.fiber_diameter) if tagged.fibers else None
@@ -214,11 +212,6 @@ def build_model(
     side_load_n: float | None = None,
 ):
     """The actuator model of the module docstring: (SolidModel, body Material, MeshSettings)."""
-    from softcrawl.fem.model import SolidModel
-    from softcrawl.geometry.swept import mesh_epsa_swept
-    from softcrawl.materials import get_material
-    from softcrawl.materials.fem_law import solid_law
-
     if fibers not in FIBER_MODELS:
         raise DesignError("fibers", f"{fibers!r} is not one of {FIBER_MODELS}")
     check_end_conditions(blocked, guided, end_load_n, side_load_n)

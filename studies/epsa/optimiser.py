@@ -31,26 +31,27 @@ from pathlib import Path
 from softcrawl import jsonio
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.epsa.constrained_objective import MAX_RADIUS_CHANGE_REL
+from softcrawl.studies.epsa.evaluator import SEARCH_METRICS
 from softcrawl.studies.epsa.grid_studies import run_tag, study_folder, study_settings
+from softcrawl.studies.epsa.plot_pareto import plot_pareto
+from softcrawl.studies.epsa.study import DEFAULT_TRIALS, QUICK_TRIALS
 from softcrawl.studies.outcome import StudyOutcome
-from softcrawl.studies.sweeps.spec import read_spec
-from softcrawl.studies.sweeps.tables import read_csv
+from softcrawl.studies.plots.labels import study_title
+from softcrawl.studies.sweeps.search import run_search
+from softcrawl.studies.sweeps.spec import SearchSpec, read_spec
+from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
-#: Search space and budget of optimise-actuator.
+#: Search space of optimise-actuator (its trial budget is declared in studies/epsa/study.py).
 SPACE = {"chamber_radius": ("int", 2, 6), "fiber_turns": ("int", 0, 50)}
 TABLE1_DESIGN = {"chamber_radius": 3, "fiber_turns": 20}
 OBJECTIVES = ("thread_length_mm",)
 DIRECTIONS = ("minimize",)
-DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 NAME = "optimise-actuator"
 CONSTRAINED_EVALUATOR = "epsa-constrained"  # its registry name (studies/epsa/study.py)
 
 
 def draw_pareto(settings: dict, rows, folder) -> Path:
     """pareto.png of the trials (live, or read back from trials.csv by `softcrawl replot`)."""
-    from softcrawl.studies.epsa.plot_pareto import plot_pareto
-    from softcrawl.studies.plots.labels import study_title
-
     title = study_title(NAME, settings.get("material"), bool(settings.get("quick")))
     return plot_pareto(rows, Path(folder) / "pareto.png", reference=TABLE1_DESIGN, title=title)
 
@@ -67,11 +68,6 @@ def run_optimiser(
     progress: bool = True,
 ) -> StudyOutcome:
     """Run (or resume) the optimiser and write trials.csv, optimum.json and pareto.png."""
-    from softcrawl.studies.epsa.evaluator import SEARCH_METRICS
-    from softcrawl.studies.sweeps.search import run_search
-    from softcrawl.studies.sweeps.spec import SearchSpec
-    from softcrawl.studies.sweeps.tables import write_csv
-
     material, quick = settings["material"], settings.get("quick", False)
     folder = study_folder(out, NAME, material, quick, settings.get("mesh_size"))
     folder.mkdir(parents=True, exist_ok=True)

@@ -8,16 +8,16 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.fem.post import element_fields
+from softcrawl.geometry.epsa_shape import fiber_helices
+from softcrawl.studies.plots.labels import material_label
+from softcrawl.studies.plots.render3d import render_state
 from softcrawl.units import mpa_to_kpa
 
 
 def render_path(out, design, solved, material: str) -> list[Path]:
     """render-PkPa.png for the reference state and each computed state of `solved`
     (`studies.epsa.response.Solved`); returns the files written."""
-    from softcrawl.fem.post import element_fields
-    from softcrawl.studies.plots.labels import material_label
-    from softcrawl.studies.plots.render3d import render_state
-
     model, steps = solved.model, solved.path.steps
     states = [(0.0, 0.0, model.initial_state())] + [(s.pressure, s.factor, s.x) for s in steps]
     top = max(float(element_fields(model, x).von_mises.max()) for _, _, x in states)
@@ -48,6 +48,4 @@ def render_path(out, design, solved, material: str) -> list[Path]:
 
 def _helices(design):
     """The reference helix polylines of the design's winding (for drawing)."""
-    from softcrawl.geometry.epsa_shape import fiber_helices
-
     return fiber_helices(design)

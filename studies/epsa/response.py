@@ -29,6 +29,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from softcrawl.fem.path import NewtonRecord, Step, load_path
+from softcrawl.fem.post import actuator_length, max_principal_stretch, outer_radius_at, volumetric_error
 from softcrawl.geometry.design import DesignError, EPSADesign
 from softcrawl.studies.epsa.model import DEFAULT_FIBERS, MeshSettings, build_model, resolve_mesh
 from softcrawl.units import kpa_to_mpa, mpa_to_kpa
@@ -136,8 +138,6 @@ def simulate_epsa(
     `Solved` with the model and path when `keep_model`). With `end_load_n` or `side_load_n`
     (`studies.epsa.model`) the load is put on first, at 0 kPa (a "converged" row at 0 kPa),
     and stays on through the ramp."""
-    from softcrawl.fem.path import NewtonRecord, Step, load_path
-
     t0 = time.perf_counter()
     mesh = resolve_mesh(design, mesh, mesh_size, quick)
     pressures = tuple(float(p) for p in pressures_kpa)
@@ -221,8 +221,6 @@ def _sway_events(rows) -> tuple[str, ...]:
 
 def _row_builder(model, design: EPSADesign, blocked: bool):
     """row(step, status) -> CurveRow of a computed state of `model`."""
-    from softcrawl.fem.post import actuator_length, max_principal_stretch, outer_radius_at, volumetric_error
-
     top_nodes = model.boundary_nodes("end_top")
 
     def row(step, status):

@@ -9,6 +9,9 @@ _EVALUATORS = {"epsa": "softcrawl.studies.epsa.evaluator:evaluate_epsa"}
 _RUN = "softcrawl.studies.epsa.grid_studies:run_request"
 _REPLOT = "softcrawl.studies.epsa.grid_studies:replot_folder"
 _TABLES = ("curves.csv", "summary.csv")
+#: Trial budget of optimise-actuator (`softcrawl study --trials`), here so that `--help` reads it
+#: without loading the optimiser.
+DEFAULT_TRIALS, QUICK_TRIALS = 60, 20
 
 STUDIES = (
     Study(

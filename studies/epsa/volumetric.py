@@ -19,6 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.fem.path import load_path
+from softcrawl.geometry.design import EPSADesign
+from softcrawl.studies.epsa.model import MeshSettings, build_model
 from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 #: A point whose |J - 1 - p/K| exceeds this has its deviatoric Cauchy stress off by more than
@@ -27,9 +30,6 @@ TRUST_LEVEL = 0.01
 
 
 def volumetric_rows(design, material, sizes, pressures_kpa, fibers="sheet") -> list[dict]:
-    from softcrawl.fem.path import load_path
-    from softcrawl.studies.epsa.model import MeshSettings, build_model
-
     rows = []
     for h in sizes:
         model, _, _ = build_model(design, material, MeshSettings.from_size(h, design), False, fibers=fibers)
@@ -74,8 +74,6 @@ CORNER_ZONE_MM = 2.0
 
 
 def main(argv=None) -> int:
-    from softcrawl.geometry.design import EPSADesign
-
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="10,5,3.33")
     ap.add_argument("--pressures", default="20,40,60,80,100")

@@ -28,7 +28,17 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.fem.vtu import write_state
+from softcrawl.geometry.design import FootDesign
+from softcrawl.geometry.foot_meshers import mesh_foot_with
+from softcrawl.materials import get_material
+from softcrawl.materials.fem_law import solid_law
 from softcrawl.paper import PIPE_DIAMETERS_MM
+from softcrawl.studies.foot.groove_model import GrooveSegment, run_groove
+from softcrawl.studies.foot.model import run_foot
+from softcrawl.studies.foot.study import FOOT_FRICTION
+from softcrawl.studies.sweeps.spec import Evaluation
 from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 GROOVE = "groove"
@@ -45,7 +55,6 @@ QUICK_GRIDS = {
     GROOVE: {"groove_height": (0.5, 1.0, 2.0), "mu": (0.3,)},
     FOOT: {"pipe_diameter": (60.0, 75.0)},
 }
-FOOT_FRICTION = {"mu_smooth": 0.5, "mu_grooved": 0.5}
 EVALUATORS = {
     GROOVE: "groove",  # registry names (studies/foot/study.py)
     FOOT: "foot",
@@ -70,8 +79,6 @@ def _vtu_writer(settings, stem):
         return None
     from xml.sax.saxutils import quoteattr
 
-    from softcrawl.fem.vtu import write_state
-
     series: dict[str, list] = {}
 
     def on_state(label, model, x, time=None):
@@ -89,16 +96,10 @@ def _vtu_writer(settings, stem):
 
 
 def _material(settings):
-    from softcrawl.materials import get_material
-    from softcrawl.materials.fem_law import solid_law
-
     return solid_law(get_material(settings.get("material", DEFAULT_MATERIAL)), hyperelastic_only=True)
 
 
 def evaluate_groove(params: dict, fixed: dict, settings: dict):
-    from softcrawl.studies.foot.groove_model import GrooveSegment, run_groove
-    from softcrawl.studies.sweeps.spec import Evaluation
-
     h, mu = float(params["groove_height"]), float(params["mu"])
     seg = GrooveSegment(groove_height=h, cell=float(settings.get("cell", 0.2)))
     stem = f"groove-h{h:g}-mu{mu:g}"
@@ -150,9 +151,6 @@ FOOT_MESHER = "revolved"
 
 
 def _foot_mesh(settings):
-    from softcrawl.geometry.design import FootDesign
-    from softcrawl.geometry.foot_meshers import mesh_foot_with
-
     design = FootDesign(angle=float(settings.get("angle", 120.0)))
     mesher = settings.get("mesher", "tetwild")
     edge = settings.get("edge_length") if mesher == "tetwild" else None
@@ -161,10 +159,6 @@ def _foot_mesh(settings):
 
 
 def evaluate_foot(params: dict, fixed: dict, settings: dict):
-    from softcrawl.analytic.pipe import Pipe
-    from softcrawl.studies.foot.model import run_foot
-    from softcrawl.studies.sweeps.spec import Evaluation
-
     D = float(params["pipe_diameter"])
     mu_s = float(settings.get("mu_smooth", FOOT_FRICTION["mu_smooth"]))
     mu_g = float(settings.get("mu_grooved", FOOT_FRICTION["mu_grooved"]))

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.studies.declaration import StudyRequest
+from softcrawl.studies.foot import groove_rule
 from softcrawl.studies.foot.contact_studies import (
     DEFAULT_MATERIAL,
     EVALUATORS,
@@ -26,8 +27,11 @@ from softcrawl.studies.foot.contact_studies import (
     QUICK_GRIDS,
     point_file,
 )
+from softcrawl.studies.foot.plots import plot_foot, plot_groove
 from softcrawl.studies.outcome import StudyOutcome
-from softcrawl.studies.sweeps.spec import sweep_spec_from_file
+from softcrawl.studies.sweeps.spec import SweepSpec, sweep_spec_from_file
+from softcrawl.studies.sweeps.sweep import run_sweep
+from softcrawl.studies.sweeps.tables import write_csv
 
 
 def study_folder(out, name: str, material: str, quick: bool) -> Path:
@@ -35,8 +39,6 @@ def study_folder(out, name: str, material: str, quick: bool) -> Path:
 
 
 def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=None):
-    from softcrawl.studies.sweeps.spec import SweepSpec
-
     settings = {
         "material": material,
         "quick": bool(quick),
@@ -73,8 +75,6 @@ def run_contact_study(
     progress: bool = True,
     retry: bool = False,
 ) -> StudyOutcome:
-    from softcrawl.studies.sweeps.sweep import run_sweep
-
     material = material or DEFAULT_MATERIAL
     folder = study_folder(out, name, material, quick)
     folder.mkdir(parents=True, exist_ok=True)
@@ -115,9 +115,6 @@ def load_points(spec, rows) -> list[dict]:
 
 
 def write_contact_outputs(name: str, spec, rows, folder: Path) -> StudyOutcome:
-    from softcrawl.studies.foot.plots import plot_foot, plot_groove
-    from softcrawl.studies.sweeps.tables import write_csv
-
     points = load_points(spec, rows)
     summary = [
         p["params"] | {"trial_status": p["status"], "reason": p["reason"]} | p.get("summary", {})
@@ -135,8 +132,6 @@ def write_contact_outputs(name: str, spec, rows, folder: Path) -> StudyOutcome:
     written.append(plot(points, folder / f"{name}.png", spec.settings))
     lines = _report_lines(name, summary)
     if name == GROOVE:
-        from softcrawl.studies.foot import groove_rule
-
         decision = groove_rule.decide(summary)
         rule_md = folder / "groove-rule.md"
         text = groove_rule.markdown(decision, Path(folder.name) / "summary.csv")
@@ -209,8 +204,6 @@ def run_request(request: StudyRequest) -> StudyOutcome:
 
 def replot_folder(folder: Path) -> list[Path]:
     """groove.png or foot.png of a run from its spec.json and stored point results."""
-    from softcrawl.studies.foot.plots import plot_foot, plot_groove
-
     spec = sweep_spec_from_file(folder)
     name = GROOVE if spec.name.startswith(GROOVE) else FOOT
     plot = plot_groove if name == GROOVE else plot_foot

@@ -14,6 +14,9 @@ from __future__ import annotations
 
 from softcrawl.checks import number
 from softcrawl.geometry.design import DesignError, FootDesign
+from softcrawl.geometry.foot_meshers import mesh_foot_with
+from softcrawl.materials import Material, get_material
+from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.foot.contact_studies import DEFAULT_MATERIAL, DRAG_MM, FOOT, FOOT_FRICTION, FOOT_MESHER
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S, FootResult, run_foot
 
@@ -41,10 +44,6 @@ def simulate_foot(
     mm forward and backward -> `FootResult` (normal force, resistances F_fwd, F_bwd and their
     `ratio`). `material`: a preset name (`material_names()`) or a `Material`; unset numbers take
     the foot study's values, or the quick ones with `quick=True`."""
-    from softcrawl.geometry.foot_meshers import mesh_foot_with
-    from softcrawl.materials import Material, get_material
-    from softcrawl.materials.fem_law import solid_law
-
     design = design or FootDesign()
     if not isinstance(design, FootDesign):
         raise DesignError("design", "the foot simulation needs a FootDesign")

@@ -6,6 +6,9 @@ from softcrawl.studies.declaration import Study
 _OPTIONS = frozenset({"workers", "max_memory", "storage", "retry_failed"})
 _RUN = "softcrawl.studies.foot.runs:run_request"
 _REPLOT = "softcrawl.studies.foot.runs:replot_folder"
+#: The foot's friction coefficients, a stated input (studies/foot/contact_studies.py), for the foot
+#: study and `softcrawl crawl`; here so that `--help` reads them without loading the solver.
+FOOT_FRICTION = {"mu_smooth": 0.5, "mu_grooved": 0.5}
 
 STUDIES = (
     Study(

@@ -20,7 +20,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcrawl.analytic.prototype import prototype_epsa
 from softcrawl.geometry.design import EPSADesign
+from softcrawl.materials import get_material
+from softcrawl.studies.epsa.model import DEFAULT_FIBERS
+from softcrawl.studies.epsa.response import same_pressure, simulate_epsa
 
 FAILED_PENALTY_MM = 1e3
 
@@ -39,8 +43,6 @@ class Calibration:
 
 
 def prototype_lengths(pressures_kpa) -> np.ndarray:
-    from softcrawl.analytic.prototype import prototype_epsa
-
     return np.mean([[prototype_epsa(i).length(p, g=0.0) for p in pressures_kpa] for i in (1, 2, 3)], axis=0)
 
 
@@ -55,10 +57,6 @@ def calibrate_mu(
     progress=None,
 ) -> Calibration:
     from scipy.optimize import minimize_scalar
-
-    from softcrawl.materials import get_material
-    from softcrawl.studies.epsa.model import DEFAULT_FIBERS
-    from softcrawl.studies.epsa.response import same_pressure, simulate_epsa
 
     design = design or EPSADesign()
     base = get_material(base_material)

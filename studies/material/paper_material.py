@@ -39,8 +39,14 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.fem.laws import Gent, NeoHookean, Yeoh
+from softcrawl.fem.tube_theory import closed_end_limit, closed_end_pressure
+from softcrawl.materials import get_material
+from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.declaration import StudyRequest
+from softcrawl.studies.epsa import rules
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.tables import read_csv, write_csv
 from softcrawl.units import kpa_to_mpa, mpa_to_kpa
 
 #: "the ePSA with an air chamber radius of r = 6 mm or r = 5 mm ... cannot withstand a pressure of
@@ -90,8 +96,6 @@ def _interval(*parts):
 
 def shape_window(law_name: str, shape: str, unit_law) -> ShapeWindow:
     """The mu window of one shape; `unit_law` is the law at mu = 1 MPa (limit pressures in MPa)."""
-    from softcrawl.fem.tube_theory import closed_end_limit
-
     k = {}
     for r in WITHSTAND_RADII + FAIL_RADII:
         lim = closed_end_limit(unit_law, r, OUTER_RADIUS, la_max=LA_MAX)
@@ -108,9 +112,6 @@ def shape_window(law_name: str, shape: str, unit_law) -> ShapeWindow:
 
 
 def scan(yeoh_shapes=YEOH_SHAPES, gent_jm=GENT_JM) -> list[ShapeWindow]:
-    from softcrawl.fem.laws import Gent, NeoHookean, Yeoh
-    from softcrawl.materials import get_material
-
     fit_yeoh, fit_gent = get_material("ecoflex-00-50-yeoh").law, get_material("ecoflex-00-50-gent").law
     c10, c20, c30 = fit_yeoh.c10, fit_yeoh.c20, fit_yeoh.c30
     out = [shape_window(NeoHookean.NAME, "-", NeoHookean(mu=1.0, bulk=1000.0))]
@@ -130,8 +131,6 @@ def length_curve(unit_law, mu: float, radius: float, pressures_kpa=(20, 40, 60, 
     limit point), for the fluctuation rule (`studies.epsa.rules.fluctuation`)."""
     from scipy.optimize import brentq
 
-    from softcrawl.fem.tube_theory import closed_end_limit, closed_end_pressure
-
     lim = closed_end_limit(unit_law, radius, OUTER_RADIUS, la_max=LA_MAX)
     la_top = lim[0] if lim is not None else LA_MAX
     lengths = []
@@ -148,9 +147,6 @@ def length_curve(unit_law, mu: float, radius: float, pressures_kpa=(20, 40, 60, 
 
 def fiber_observation(results: Path, material: str) -> dict | None:
     """N = 20, 25 vs N = 50 at 100 kPa from RESULTS/fiber-turns/MATERIAL/curves.csv, if present."""
-    from softcrawl.studies.epsa import rules
-    from softcrawl.studies.sweeps.tables import read_csv
-
     path = Path(results) / "fiber-turns" / material / "curves.csv"
     if not path.exists():
         return None
@@ -170,9 +166,6 @@ def _fmt(w):
 def centres(windows: list[ShapeWindow]) -> dict[str, dict]:
     """The window centre of each preset's own shape (Neo-Hookean; the full-range Yeoh and Gent
     fits), as a material name `PRESET@mu=CENTRE` for the studies."""
-    from softcrawl.fem.laws import Gent, NeoHookean, Yeoh
-    from softcrawl.materials import get_material
-
     shape_of = {  # the shape labels of `scan`, per law scanned
         NeoHookean: lambda law: "-",
         Yeoh: lambda law: f"C20/C10={round(law.c20 / law.c10, 6):g}",
@@ -191,10 +184,6 @@ def centres(windows: list[ShapeWindow]) -> dict[str, dict]:
 
 def run_paper_material(out, results=None) -> tuple[list[str], list[Path]]:
     """Scan, write windows.csv, paper-material.json and .md; returns (lines, written)."""
-    from softcrawl.fem.laws import NeoHookean
-    from softcrawl.studies.epsa import rules
-    from softcrawl.studies.sweeps.tables import write_csv
-
     folder = Path(out) / NAME
     folder.mkdir(parents=True, exist_ok=True)
     windows = scan()
@@ -266,10 +255,6 @@ def fe_check(results, materials) -> dict:
     """FE limit pressures of the chamber-radius studies under `results` against the closed-end
     tube theory with the same law (kPa), for every material that has such a study."""
     import csv
-
-    from softcrawl.fem.tube_theory import closed_end_limit
-    from softcrawl.materials import get_material
-    from softcrawl.materials.fem_law import solid_law
 
     out = {}
     for m in materials:

@@ -7,6 +7,8 @@ report use the same words.
 
 from __future__ import annotations
 
+from softcrawl.materials import get_material
+
 #: Design or load parameter -> (symbol for legends, words for titles, unit with its leading space).
 PARAMETERS = {
     "chamber_radius": ("r0", "chamber radius r0", " mm"),
@@ -40,8 +42,6 @@ def material_label(name: str | None) -> str:
     if not name:
         return "material not recorded"
     try:
-        from softcrawl.materials import get_material
-
         mu = get_material(name).mu
     except Exception:  # noqa: BLE001 - an unknown or fake material: show its name
         return str(name)

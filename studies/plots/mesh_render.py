@@ -10,6 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcrawl.geometry.tagged_mesh import TaggedMesh
+from softcrawl.studies.plots.render3d import colours, render_tagged
 from softcrawl.studies.plots.render3d import facet_group as _group
 from softcrawl.studies.plots.style import pyplot, save
 
@@ -18,8 +19,6 @@ def render_png(mesh: TaggedMesh, path: str | Path, title: str = "") -> str:
     """Cut-away render (`studies.plots.render3d.render_tagged`); matplotlib where VTK cannot render."""
     path = Path(path)
     try:
-        from softcrawl.studies.plots.render3d import render_tagged
-
         render_tagged(mesh, path, title=title)
         return "pyvista"
     except Exception:  # noqa: BLE001 - any VTK rendering failure: fall back to matplotlib
@@ -32,8 +31,6 @@ def _render_matplotlib(mesh: TaggedMesh, path: Path) -> str:
     plt = pyplot()
     fig = plt.figure(figsize=(8, 6))
     ax = fig.add_subplot(projection="3d")
-    from softcrawl.studies.plots.render3d import colours
-
     colors = colours({_group(mesh, t) for t in mesh.facets})
     for tag in sorted(mesh.facets):
         ax.add_collection3d(

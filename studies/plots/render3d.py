@@ -25,6 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.fem.vtu import write_state
+from softcrawl.studies.plots.style import pyplot, save
+
 #: Categorical colours (matplotlib's tab10), assigned in sorted tag order.
 PALETTE = (
     "#1f77b4",
@@ -129,8 +132,6 @@ def _compose(path: Path, image, title: str, entries=(), colourbar=None) -> Path:
     from matplotlib.colors import Normalize
     from matplotlib.patches import Patch
 
-    from softcrawl.studies.plots.style import pyplot, save
-
     plt = pyplot()
     h, w = image.shape[:2]
     fig = plt.figure(figsize=(4.0 + 6.5 * w / h, 6.5))
@@ -200,8 +201,6 @@ def render_state(
     the cell field `field` of `fem.vtu.write_state`, with the deformed fiber curves `helices`
     (reference polylines (n, 3)) and the undeformed outline for comparison."""
     pv = pyvista_offscreen()
-    from softcrawl.fem.vtu import write_state
-
     path = Path(path)
     with tempfile.TemporaryDirectory() as tmp:
         grid = pv.read(

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from softcrawl.files import atomic_path
+
 #: Resolution of every PNG (dots per inch).
 DPI = 120
 
@@ -30,8 +32,6 @@ def save(fig, path, *, rect=None, tight: bool = True, outside: bool = False) -> 
     plt = pyplot()
     if tight:
         fig.tight_layout(rect=rect)
-    from softcrawl.files import atomic_path
-
     path = Path(path)
     try:
         with atomic_path(path) as temp:  # a full disk leaves the old PNG, never half a new one

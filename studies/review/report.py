@@ -22,6 +22,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from softcrawl import __version__
 from softcrawl.studies.html import page
 from softcrawl.studies.review import report_sections as S
 from softcrawl.studies.robot_fe import report as R
@@ -73,8 +74,6 @@ def build_report(results, out, progress=print) -> Path:
     for sid, heading, make in SECTIONS:
         progress(f"  {heading}")
         sections.append((sid, heading, make(results)))
-    from softcrawl import __version__
-
     preamble = (
         f"<p>softcrawl {__version__}, commit {git_commit(results)}, Python {sys.version.split()[0]}. "
         "Built by <code>softcrawl report</code> from the files under <code>results/</code>; every figure "

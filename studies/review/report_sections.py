@@ -8,9 +8,13 @@ import math
 import re
 from pathlib import Path
 
+from softcrawl import materials
+from softcrawl.materials import load_tensile
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import resolve
 from softcrawl.studies.html import csv_rows, esc, figure, markdown, missing, table
+from softcrawl.studies.material.plot_fit import plot_fit
+from softcrawl.studies.plots.labels import material_label, study_title
 
 STUDY_COMMAND = 'softcrawl study {name} --workers 2 --material "{material}" --out results/'
 CALIBRATE = "softcrawl calibrate --full-mesh --out results/calibration"
@@ -42,8 +46,6 @@ def _design_rows(folder: Path, param: str, value: float) -> list[dict]:
 def _failure_stretch() -> float | None:
     """Stretch at failure of the shipped Ecoflex 00-50 pull-to-failure test (uniaxial)."""
     try:
-        from softcrawl.materials import load_tensile
-
         return 1.0 + float(load_tensile("ecoflex-00-50").strain.max())
     except Exception:  # noqa: BLE001 - the data file is optional for the report
         return None
@@ -51,8 +53,6 @@ def _failure_stretch() -> float | None:
 
 def _limits_row(results: Path, folder: Path) -> dict:
     """One material's answer row from the fiber-turns study (N = 0 and N = 20 at r0 = 3 mm)."""
-    from softcrawl.studies.plots.labels import material_label
-
     material = json.loads((folder / "spec.json").read_text())["settings"].get("material")
     plain = _design_rows(folder, "fiber_turns", 0.0)
     wound = [r for r in _design_rows(folder, "fiber_turns", 20.0) if r.get("row_status") == "converged"]
@@ -203,8 +203,6 @@ def _study_names() -> dict[str, str]:
 
 
 def _study_block(folder: Path, name: str) -> str:
-    from softcrawl.studies.plots.labels import material_label, study_title
-
     spec = json.loads((folder / "spec.json").read_text())
     material = spec["settings"].get("material")
     quick = bool(spec["settings"].get("quick")) or spec["settings"].get("mesh") == "quick"
@@ -240,9 +238,6 @@ def studies(results: Path) -> str:
 
 def material(results: Path) -> str:
     import tempfile
-
-    from softcrawl import materials
-    from softcrawl.studies.material.plot_fit import plot_fit
 
     data = materials.load_tensile("ecoflex-00-50")
     fit = materials.fit_tensile(data, "neo-hookean")

@@ -18,11 +18,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from softcrawl.fem.laws import NeoHookean
+from softcrawl.materials import get_material
 from softcrawl.paper import TABLE1
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import resolve
 from softcrawl.studies.epsa import rules
 from softcrawl.studies.epsa.linearity import linearity_claim
+from softcrawl.studies.review.table1_summary import closing, paper_note, robot_evidence, summary_table
+from softcrawl.studies.sweeps.tables import read_csv
 from softcrawl.studies.table1_row import StudyRow
 
 #: The paper's Table 1: parameter key -> (label, value, unit) (`softcrawl.paper`).
@@ -69,8 +73,6 @@ def material_run(results: str | Path, material: str) -> MaterialRun:
 def select_all(run: MaterialRun, robot_rows: dict | None = None) -> dict[str, rules.Selection]:
     """Apply every rule of one material's study data; the robot-level and foot rows come from
     `study_rows` (the same for every silicone; read once by `render`)."""
-    from softcrawl.studies.sweeps.tables import read_csv
-
     out = {
         "length": rules.input_parameter(
             "length", PAPER_TABLE1["length"][1], "paper Section V-A: l0 = 100 mm in the FE model"
@@ -127,8 +129,6 @@ def agreement(param: str, sel: rules.Selection) -> tuple[str, str]:
         return "undetermined", sel.reason
     if abs(sel.value - paper) < 1e-9:
         return "agree", sel.reason
-    from softcrawl.studies.review.table1_summary import paper_note
-
     return (
         "disagree",
         f"{sel.reason}; the paper's {paper:g} is excluded or not preferred by "
@@ -147,9 +147,6 @@ def _mu(material: str) -> float | None:
     """mu of a Neo-Hookean material (its limit pressures scale with mu at fixed K/mu), else None:
     for Yeoh and Gent the scaling with the initial modulus alone does not hold."""
     try:
-        from softcrawl.fem.laws import NeoHookean
-        from softcrawl.materials import get_material
-
         m = get_material(material)
         return float(m.mu) if isinstance(m.law, NeoHookean) else None
     except Exception:  # noqa: BLE001 - a material unknown to materials
@@ -159,8 +156,6 @@ def _mu(material: str) -> float | None:
 def _material_label(material: str) -> str:
     """The material's name and its law with constants (every row names its material law)."""
     try:
-        from softcrawl.materials import get_material
-
         return f"{material} ({get_material(material).law_label})"
     except Exception:  # noqa: BLE001 - unknown (e.g. a calibrated material file)
         return material
@@ -222,8 +217,6 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             lines += [f"- {e}" for e in sel[param].evidence] or ["- (none)"]
             lines += [""]
     if materials:
-        from softcrawl.studies.review.table1_summary import closing, robot_evidence, summary_table
-
         quick = {m for m in materials if any(material_run(results, m).quick(p) for p in STUDY_DIRS)}
         lines[4:4] = summary_table(results, materials, selections, quick)
         lines += robot_evidence(robot_rows, PAPER_TABLE1)

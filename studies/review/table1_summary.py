@@ -16,6 +16,7 @@ import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+from softcrawl.materials import get_material
 from softcrawl.studies.epsa import rules
 
 PAPER = {"chamber_radius": 3.0, "fiber_turns": 20.0}
@@ -60,8 +61,6 @@ def _json(path: Path) -> dict:
 
 def _law(material: str) -> str:
     try:
-        from softcrawl.materials import get_material
-
         return get_material(material).law_label
     except Exception:  # noqa: BLE001 - a material unknown to materials
         return "unknown law"

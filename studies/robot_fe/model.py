@@ -29,8 +29,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
+from softcrawl.fem.sheets import FiberSheet
 from softcrawl.geometry.design import DesignError, RobotDesign
+from softcrawl.geometry.epsa_shape import helix_families
 from softcrawl.geometry.robot_mesh import MESH_PRESETS, RobotMeshSettings, mesh_robot_swept
+from softcrawl.materials import get_material
+from softcrawl.materials.fem_law import solid_law
+from softcrawl.studies.epsa.model import solid_material
 
 #: The robot studies' silicone: the calibrated modulus of `softcrawl calibrate`
 #: (docs/decisions/001-materials.md), at which the Fig. 11 load case bends the robot ~120 deg instead of a
@@ -62,9 +68,6 @@ def _fiber_sheets(design: RobotDesign, kevlar) -> list:
     the actuator's axis."""
     import math
 
-    from softcrawl.fem.sheets import FiberSheet
-    from softcrawl.geometry.epsa_shape import helix_families
-
     e = design.epsa
     axial = kevlar.youngs_modulus * math.pi * e.fiber_diameter**2 / 4
     sheets = []
@@ -85,11 +88,6 @@ def build_robot_model(
 ) -> RobotModel:
     """The robot model of the module docstring. `gravity`: the acceleration direction and size in
     units of g, e.g. (0, -1, 0) for a robot lying in a horizontal pipe (None: no gravity)."""
-    from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
-    from softcrawl.materials import get_material
-    from softcrawl.materials.fem_law import solid_law
-    from softcrawl.studies.epsa.model import solid_material
-
     design = design or RobotDesign()
     if not isinstance(design, RobotDesign):
         raise DesignError("design", "the robot model needs a RobotDesign")

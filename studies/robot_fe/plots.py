@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcrawl.geometry.swept import boundary_faces
 from softcrawl.studies.plots.style import number, pyplot, save
 
 
@@ -76,8 +77,6 @@ def render_robot(robot, x, path, title: str = "") -> Path:
     mesh = robot.mesh
     u = robot.model.displacement(x)[:, : mesh.n_nodes].T
     pts = mesh.points + u
-    from softcrawl.geometry.swept import boundary_faces
-
     faces = boundary_faces(mesh.tets)
     part = np.zeros(len(mesh.tets), int)
     names = sorted(set(mesh.region_names.values()))

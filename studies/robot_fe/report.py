@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from softcrawl.geometry.foot_revolved import N_THETA, THICKNESS_LAYERS
 from softcrawl.studies.html import csv_rows, esc, figure, markdown, missing, table
 
 ROBOT_TABLE1 = "softcrawl robot --mesh quick --first 0,40,60 --pressures 100,40,60 --out results/robot-table1"
@@ -67,8 +68,6 @@ def feet_mesh(setup: dict) -> str:
     if setup.get("mesher", "tetwild") == "tetwild":
         edge = setup.get("edge_length")
         return "pytetwild" + (f", {edge:g} mm edge" if edge else "")
-    from softcrawl.geometry.foot_revolved import N_THETA, THICKNESS_LAYERS
-
     sectors, layers = setup.get("sectors") or N_THETA, setup.get("thickness_layers") or THICKNESS_LAYERS
     return f"revolved, {sectors} sectors, {layers} cells"
 

@@ -32,6 +32,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from softcrawl.analytic import kinematics as kin
 from softcrawl.fem.path import NewtonOptions, load_path
 from softcrawl.studies.robot_fe.model import RobotModel
 from softcrawl.units import mpa_to_kpa
@@ -134,8 +135,6 @@ def arc_fit_rms(points: np.ndarray) -> float:
 
 def robot_state(robot: RobotModel, probes: Probes, x: np.ndarray, pressures_mpa) -> RobotState:
     """The outputs of the module docstring at state x."""
-    from softcrawl.analytic import kinematics as kin
-
     design = robot.design
     n_v = robot.mesh.n_nodes
     pos = robot.mesh.points + robot.model.displacement(x)[:, :n_v].T

@@ -22,8 +22,13 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.files import write_text_atomic
+from softcrawl.geometry.design import RobotDesign
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.robot_fe.model import build_robot_model
+from softcrawl.studies.robot_fe.plots import plot_robot_study
+from softcrawl.studies.robot_fe.response import simulate_robot
+from softcrawl.studies.robot_fe.rules import foot_radius_rule, ring_rule
 from softcrawl.studies.sweeps.spec import Evaluation, SweepSpec, load_callable, sweep_spec_from_file
 from softcrawl.studies.sweeps.sweep import run_sweep
 from softcrawl.studies.sweeps.tables import write_csv
@@ -45,8 +50,6 @@ GRIDS = {
 
 
 def _design(params):
-    from softcrawl.geometry.design import RobotDesign
-
     kwargs = {}
     if "n_rings" in params:
         kwargs["n_rings"] = int(params["n_rings"])
@@ -62,9 +65,6 @@ def point_name(params) -> str:
 def run_cases(design, material: str, mesh: str, cases) -> dict:
     """The FE robot of `design` under each load case: rows (one per converged state), whether
     every case converged, the messages, the DOFs and the path time."""
-    from softcrawl.studies.robot_fe.model import build_robot_model
-    from softcrawl.studies.robot_fe.response import simulate_robot
-
     robot = build_robot_model(design, material, mesh)
     rows, ok, messages, wall = [], True, [], 0.0
     for case in cases:
@@ -151,9 +151,6 @@ def point_rows(spec: SweepSpec, material: str) -> tuple[list[dict], list[dict]]:
 def write_tables(name: str, spec: SweepSpec, material: str) -> StudyOutcome:
     """curves.csv, summary.csv, decision.json, spec.json and the figure from the points/ files of
     the study folder (the points computed so far; a missing one is a row that says so)."""
-    from softcrawl.studies.robot_fe.plots import plot_robot_study
-    from softcrawl.studies.robot_fe.rules import foot_radius_rule, ring_rule
-
     folder = Path(spec.out_dir)
     curves, summary = point_rows(spec, material)
     written = [write_csv(curves, folder / "curves.csv"), write_csv(summary, folder / "summary.csv")]
@@ -196,8 +193,6 @@ def run_request(request: StudyRequest) -> StudyOutcome:
 
 def replot_folder(folder: Path) -> list[Path]:
     """NAME.png of a rings or foot-radius run from its spec.json and points/ files."""
-    from softcrawl.studies.robot_fe.plots import plot_robot_study
-
     spec = sweep_spec_from_file(folder)
     name = spec.name.removeprefix("robot-")
     curves, summary = point_rows(spec, spec.settings["material"])

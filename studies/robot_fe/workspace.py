@@ -33,8 +33,15 @@ from pathlib import Path
 import numpy as np
 
 from softcrawl import jsonio
+from softcrawl.analytic import kinematics as kin
+from softcrawl.analytic.prototype import actuator_set
+from softcrawl.geometry.design import EPSADesign
 from softcrawl.studies.declaration import StudyRequest
+from softcrawl.studies.epsa.response import simulate_epsa
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.robot_fe.model import build_robot_model
+from softcrawl.studies.robot_fe.plots import plot_workspace
+from softcrawl.studies.robot_fe.response import simulate_robot
 from softcrawl.studies.sweeps.tables import read_csv, write_csv
 from softcrawl.units import kpa_to_mpa
 
@@ -79,8 +86,6 @@ def fe_cloud(robot, levels, progress=None, on_line=None) -> tuple[dict, list[str
     """{(P1, P2, P3) kPa: RobotState} over the whole grid (computed and turned), and messages.
     The paths run cheapest first (least bending: smallest spread of the pressures); `on_line`,
     if given, gets (grid so far, messages) after every path, so partial results are kept."""
-    from softcrawl.studies.robot_fe.response import simulate_robot
-
     states, messages = {}, []
     for line in sorted(fe_lines(levels), key=lambda ln: max(max(P) - min(P) for P in ln)):
         targets = _dense([(0.0, 0.0, 0.0), *line])
@@ -111,8 +116,6 @@ def _expand(states: dict) -> dict:
 
 
 def _cc_end(lengths, d):
-    from softcrawl.analytic import kinematics as kin
-
     k, t, p, lc = kin.forward(np.asarray(lengths), d)
     return kin.arc_point(t, p, lc), np.degrees(t)
 
@@ -120,8 +123,6 @@ def _cc_end(lengths, d):
 def workspace_comparison(full: dict, single_fe: dict, d: float) -> tuple[list[dict], dict]:
     """Rows (one per grid triple) and the summary of the module docstring."""
     from scipy.spatial import ConvexHull
-
-    from softcrawl.analytic.prototype import actuator_set
 
     acts = actuator_set("prototype")
     rows = []
@@ -186,9 +187,6 @@ def workspace_comparison(full: dict, single_fe: dict, d: float) -> tuple[list[di
 
 def single_actuator_lengths(material: str, mesh: str, levels) -> dict:
     """{P kPa: length mm} of the single guided FE ePSA (Table 1 design)."""
-    from softcrawl.geometry.design import EPSADesign
-    from softcrawl.studies.epsa.response import simulate_epsa
-
     positive = [p for p in levels if p > 0]
     curve = simulate_epsa(EPSADesign(), material=material, pressures_kpa=positive, mesh=mesh, guided=True)
     out = {0.0: EPSADesign().length}
@@ -199,9 +197,6 @@ def single_actuator_lengths(material: str, mesh: str, levels) -> dict:
 
 
 def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcome:
-    from softcrawl.studies.robot_fe.model import build_robot_model
-    from softcrawl.studies.robot_fe.plots import plot_workspace
-
     levels = QUICK_LEVELS_KPA if quick else LEVELS_KPA
     mesh = "quick" if quick else "default"
     folder = Path(out) / "robot-workspace" / (material + ("-quick" if quick else ""))
@@ -252,8 +247,6 @@ def _title(material: str, mesh: str) -> str:
 
 def replot_folder(folder: Path) -> list[Path]:
     """workspace.png from workspace.csv and summary.json."""
-    from softcrawl.studies.robot_fe.plots import plot_workspace
-
     if not (folder / "workspace.csv").exists():
         return []
     summary = json.loads((folder / "summary.json").read_text())

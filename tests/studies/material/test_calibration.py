@@ -17,7 +17,7 @@ def test_calibration_recovers_a_known_modulus(monkeypatch):
         )
         return actuator.ActuatorCurve(rows, True, None, "ok", 0.0, 0, material.name, material.mu)
 
-    monkeypatch.setattr(actuator, "simulate_epsa", fake)
+    monkeypatch.setattr(calibrate, "simulate_epsa", fake)  # where calibrate_mu looks it up
     cal = calibrate.calibrate_mu(pressures_kpa=pressures, xatol=1e-3)
     assert cal.mu_mpa == pytest.approx(mu_true, rel=0.01)
     assert cal.rms_error_mm < 0.5

@@ -147,21 +147,21 @@ def test_a_study_whose_every_point_fails_on_input_exits_2(tmp_path):
 
 def test_a_full_disk_while_writing_the_tables_is_one_line_and_loses_nothing(tmp_path, monkeypatch, capsys):
     from softcrawl.studies.cli import main
-    from softcrawl.studies.sweeps import tables
+    from softcrawl.studies.epsa import grid_studies  # writes the tables of the grid studies
 
     log = tmp_path / "log"
     monkeypatch.setenv("SOFTCRAWL_FAKE_LOG", str(log))
-    real = tables.write_csv
+    real = grid_studies.write_csv
 
     def full(rows, path):
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
 
-    monkeypatch.setattr(tables, "write_csv", full)
+    monkeypatch.setattr(grid_studies, "write_csv", full)
     assert main(study_argv(tmp_path)) == 1
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 1 and "disk full: No space left on device" in err[0], err
     assert err[0].endswith("run the same command to write the tables")
-    monkeypatch.setattr(tables, "write_csv", real)
+    monkeypatch.setattr(grid_studies, "write_csv", real)
     assert main(study_argv(tmp_path)) == 0
     assert len(log.read_text().splitlines()) == 5  # nothing computed twice
     assert Path(spec_of(tmp_path).out_dir, "curves.csv").exists()
