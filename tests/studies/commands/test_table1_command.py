@@ -92,8 +92,9 @@ def test_table1_follows_the_study_data(tmp_path, capsys):
 
 
 def test_table1_without_results(tmp_path, capsys):
-    assert main(["table1", "--out", str(tmp_path)]) == 0
-    assert "No study results found" in (tmp_path / "table1.md").read_text()
+    """A folder with no study results is bad input (issue 30): one line naming it, no table1.md."""
+    assert main(["table1", "--out", str(tmp_path)]) == 2
+    assert "results" in capsys.readouterr().err and not (tmp_path / "table1.md").exists()
     assert main(["table1", "--out", str(tmp_path / "x"), "--results", str(tmp_path / "nope")]) == 2
     assert "results" in capsys.readouterr().err
 
