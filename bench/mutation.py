@@ -1,0 +1,166 @@
+"""Mutation testing (issue 32): run mutmut on a chosen set of modules, print the kill rate per module.
+
+    python bench/mutation.py                          # every group below, one after the other
+    python bench/mutation.py units rules              # chosen groups
+    python bench/mutation.py --list                   # the groups, their modules and their tests
+    python bench/mutation.py --report units           # the scores of the last run, no new run
+
+Not part of the default CI run: it runs the group's tests once per mutant (minutes to an hour a
+group on 2 cores). Needs `pip install mutmut` (3.x).
+
+Why a staged copy: mutmut 3 copies the source into ``mutants/`` and names every mutant after its
+file's path (``fem/contact.py`` -> ``fem.contact.x_...``); the trampoline it plants only switches a
+mutant on when that name matches the module the tests import. This project's setup.py maps the
+folders fem/, geometry/ and studies/ to ``softcrawl.fem``, ``softcrawl.geometry`` and
+``softcrawl.studies``, so in the checkout the names never match (and the editable install would
+import the unmutated folders). The script therefore builds, per group, ``out/mutation/<group>/``
+with the installed layout written out (``softcrawl/``, ``softcrawl/fem/``, ``softcrawl/geometry/``,
+``softcrawl/studies/``) plus tests/, results/, docs/, examples/ and pyproject.toml, adds the
+group's modules (``only_mutate``) and tests (``pytest_add_cli_args_test_selection``) to the
+``[tool.mutmut]`` table of pyproject.toml, and runs ``mutmut run --max-children N`` there. The
+mutated package in ``mutants/`` comes first on sys.path, ahead of the editable install's finder
+(appended to sys.meta_path), so the tests import the mutants. out/ and mutants/ are gitignored.
+
+Kill rate = (killed + timeout) / (every mutant checked); "no tests" and "survived" count against.
+Survivors are listed with `--survivors` (then `cd out/mutation/<group> && mutmut show NAME`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import subprocess
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+STAGE = ROOT / "out" / "mutation"
+#: folder in the checkout -> folder in the installed package (setup.py's MAPPED).
+LAYOUT = {
+    "softcrawl": "softcrawl",
+    "fem": "softcrawl/fem",
+    "geometry": "softcrawl/geometry",
+    "studies": "softcrawl/studies",
+}
+ALSO = ("tests", "results", "docs", "examples", "README.md", "pyproject.toml")
+
+#: group -> (modules as checkout paths, tests that guard them).
+GROUPS = {
+    "units": (["softcrawl/units.py"], ["tests/test_units.py", "tests/test_identities.py"]),
+    "post": (
+        ["studies/crawl/outputs.py", "studies/foot/outputs.py", "studies/sweeps/tables.py"],
+        [
+            "tests/studies/crawl/test_crawl_outputs.py",
+            "tests/studies/sweeps/test_sweep_records.py",
+            "tests/test_identities.py",
+        ],
+    ),
+    "rules": (
+        ["studies/robot_fe/rules.py", "studies/epsa/linearity.py", "studies/table1_row.py"],
+        [
+            "tests/studies/robot_fe/test_rules_flip.py",
+            "tests/studies/epsa/test_linearity_flip.py",
+            "tests/studies/robot_fe/test_robot_rules.py",
+        ],
+    ),
+    "fem": (
+        ["fem/axial_link.py", "fem/chamber.py"],
+        ["tests/fem/test_axial_link.py", "tests/fem/test_chambers.py"],
+    ),
+    "contact": (["fem/contact.py"], ["tests/fem/test_contact_report.py", "tests/fem/test_contact.py"]),
+}
+
+
+def staged(path: str) -> str:
+    """A checkout path (fem/contact.py) as a path in the installed layout (softcrawl/fem/contact.py)."""
+    head, _, rest = path.partition("/")
+    return f"{LAYOUT[head]}/{rest}" if head in LAYOUT else path
+
+
+def stage(group: str, modules: list[str], tests: list[str]) -> Path:
+    where = STAGE / group
+    if where.exists():
+        shutil.rmtree(where)
+    ignore = shutil.ignore_patterns("__pycache__", "*.egg-info", "mesh", "*.vtu")
+    for src, dst in LAYOUT.items():
+        shutil.copytree(ROOT / src, where / dst, ignore=ignore, dirs_exist_ok=True)
+    for name in ALSO:
+        src = ROOT / name
+        if src.is_dir():
+            shutil.copytree(src, where / name, ignore=ignore)
+        elif src.exists():
+            shutil.copy2(src, where / name)
+    text = (where / "pyproject.toml").read_text()
+    extra = f"only_mutate = {json.dumps([staged(m) for m in modules])}\n"
+    extra += f"pytest_add_cli_args_test_selection = {json.dumps(tests)}\n"
+    if "[tool.mutmut]\n" not in text:
+        raise SystemExit("pyproject.toml has no [tool.mutmut] table")
+    (where / "pyproject.toml").write_text(text.replace("[tool.mutmut]\n", "[tool.mutmut]\n" + extra, 1))
+    return where
+
+
+def statuses(where: Path, modules: list[str]) -> dict[str, dict[str, int | None]]:
+    """Module -> {mutant name: exit code} from mutmut's .meta files."""
+    out = {}
+    for m in modules:
+        meta = where / "mutants" / (staged(m) + ".meta")
+        out[m] = json.loads(meta.read_text())["exit_code_by_key"] if meta.exists() else {}
+    return out
+
+
+KILLED = {1, 3, 36, 24, -24, 152, 255, 37}  # killed, pytest internal error, timeouts, type check
+
+
+def report(group: str, modules: list[str], survivors: bool) -> list[tuple[str, int, int]]:
+    where = STAGE / group
+    rows = []
+    for m, codes in statuses(where, modules).items():
+        checked = {k: c for k, c in codes.items() if c is not None and c != 34}
+        killed = sum(c in KILLED for c in checked.values())
+        rows.append((m, killed, len(checked)))
+        rate = f"{100 * killed / len(checked):5.1f} %" if checked else "  n/a  "
+        kinds = Counter(
+            "killed" if c in KILLED else {0: "survived", 5: "no tests", 33: "no tests"}.get(c, str(c))
+            for c in checked.values()
+        )
+        print(f"{group:8s} {m:34s} {rate}  {killed:4d}/{len(checked):<4d}  {dict(kinds)}")
+        if survivors:
+            for k, c in sorted(checked.items()):
+                if c not in KILLED:
+                    print(f"    {k}  (exit {c})")
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("groups", nargs="*", help=f"groups to run (default all: {', '.join(GROUPS)})")
+    ap.add_argument("--max-children", type=int, default=1, help="mutmut workers (default 1)")
+    ap.add_argument("--list", action="store_true", help="print the groups and exit")
+    ap.add_argument("--report", action="store_true", help="only print the scores of the last run")
+    ap.add_argument("--survivors", action="store_true", help="list the surviving mutants")
+    args = ap.parse_args(argv)
+    groups = args.groups or list(GROUPS)
+    if args.list:
+        for g in groups:
+            print(g, "modules:", *GROUPS[g][0], "tests:", *GROUPS[g][1])
+        return 0
+    for g in groups:
+        modules, tests = GROUPS[g]
+        if not args.report:
+            where = stage(g, modules, tests)
+            t0 = time.perf_counter()
+            cmd = ["mutmut", "run", "--max-children", str(args.max_children)]
+            with open(where / "mutmut.log", "w") as log:
+                done = subprocess.run(cmd, cwd=where, stdout=log, stderr=subprocess.STDOUT)
+            print(f"{g}: mutmut run exit {done.returncode} in {time.perf_counter() - t0:.0f} s")
+            if done.returncode != 0:
+                print((where / "mutmut.log").read_text()[-3000:], file=sys.stderr)
+        report(g, modules, args.survivors)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
