@@ -55,6 +55,7 @@ GROUPS = {
         [
             "tests/studies/crawl/test_crawl_outputs.py",
             "tests/studies/sweeps/test_sweep_records.py",
+            "tests/studies/foot/test_contact_runs.py",
             "tests/test_identities.py",
         ],
     ),
