@@ -13,31 +13,36 @@ file's path (``fem/contact.py`` -> ``fem.contact.x_...``); the trampoline it pla
 mutant on when that name matches the module the tests import. This project's setup.py maps the
 folders fem/, geometry/ and studies/ to ``softcrawl.fem``, ``softcrawl.geometry`` and
 ``softcrawl.studies``, so in the checkout the names never match (and the editable install would
-import the unmutated folders). The script therefore builds, per group, ``out/mutation/<group>/``
+import the unmutated folders). The script therefore builds, per group, ``$SOFTCRAWL_MUTATION_DIR/<group>/``
+(default /tmp/softcrawl-mutation, outside the checkout)
 with the installed layout written out (``softcrawl/``, ``softcrawl/fem/``, ``softcrawl/geometry/``,
 ``softcrawl/studies/``) plus tests/, results/, docs/, examples/ and pyproject.toml, adds the
 group's modules (``only_mutate``) and tests (``pytest_add_cli_args_test_selection``) to the
 ``[tool.mutmut]`` table of pyproject.toml, and runs ``mutmut run --max-children N`` there. The
 mutated package in ``mutants/`` comes first on sys.path, ahead of the editable install's finder
-(appended to sys.meta_path), so the tests import the mutants. out/ and mutants/ are gitignored.
+(appended to sys.meta_path), so the tests import the mutants.
+mutants/ is gitignored in case mutmut is run in the checkout.
 
 Kill rate = (killed + timeout) / (every mutant checked); "no tests" and "survived" count against.
-Survivors are listed with `--survivors` (then `cd out/mutation/<group> && mutmut show NAME`).
+Survivors are listed with `--survivors` (then `cd /tmp/softcrawl-mutation/<group> && mutmut show NAME`).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-STAGE = ROOT / "out" / "mutation"
+#: Outside the checkout: the project's tests scan every file under it (tests/test_docs.py).
+STAGE = Path(os.environ.get("SOFTCRAWL_MUTATION_DIR", Path(tempfile.gettempdir()) / "softcrawl-mutation"))
 #: folder in the checkout -> folder in the installed package (setup.py's MAPPED).
 LAYOUT = {
     "softcrawl": "softcrawl",
