@@ -191,17 +191,7 @@ def evaluate_epsa(
         # loosens the robot's body; so the objective is the size of the change, |dR|
         values = (at["length_mm"] - length0, abs(at["outer_radius_mm"] - radius0), attrs["fiber_length_mm"])
         return Evaluation(ok=True, values=values, attrs=_packed(attrs))
-    packed = _packed(attrs)
-    if settings.get("objective"):  # the study's own objective and constraints (sweep_objective)
-        from softcrawl.studies.epsa.sweep_objective import objective_of, score
-
-        value, constraints, extra = score(settings["objective"], params, packed, settings)
-        packed["metrics"] |= extra
-        if constraints:
-            names = list(objective_of(settings["objective"]).constraints)
-            packed |= {"constraints": constraints, "constraint_names": names}
-        return Evaluation(ok=True, values=(value,), attrs=packed)
-    return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=packed)
+    return Evaluation(ok=True, values=(attrs["extension_mm"],), attrs=_packed(attrs))
 
 
 def _parameters(fn) -> set[str]:

@@ -68,19 +68,23 @@ def study_settings(
 
 def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
     from softcrawl.studies.epsa.evaluator import EPSA_EVALUATOR
-    from softcrawl.studies.epsa.sweep_objective import objective_of
+    from softcrawl.studies.epsa.sweep_objective import RULE_EVALUATOR, objective_of
     from softcrawl.studies.sweeps.spec import SweepSpec
 
     grid, fixed = GRIDS[name]
     tag = run_tag(settings.get("material", ""), settings.get("quick", False), settings.get("mesh_size"))
     objective = objective_of(name)  # what optuna's "best" means for this study, and why
+    if objective.constraints:
+        settings = settings | {"objective": name}
+    if name == "fiber-turns":
+        settings = settings | {"reference_turns": max(grid["fiber_turns"])}
     return SweepSpec(
         name=f"{name}-{tag}",
         grid=grid,
         fixed=fixed,
         out_dir=str(out_dir),
-        evaluator=EPSA_EVALUATOR,
-        settings=settings | {"objective": name},
+        evaluator=RULE_EVALUATOR if objective.constraints else EPSA_EVALUATOR,
+        settings=settings,
         storage=storage,
         directions=(objective.direction,),
         metric_names=(objective.metric,),

@@ -57,8 +57,30 @@ OBJECTIVES = {
 }
 
 
+#: The evaluator of the chamber-radius and fiber-turns sweeps (registry name, studies/epsa/study.py).
+RULE_EVALUATOR = "epsa-rule"
+
+
 def objective_of(name: str) -> SweepObjective:
     return OBJECTIVES[name]
+
+
+def evaluate_rule_sweep(params: Mapping[str, Any], fixed: Mapping[str, Any], settings: Mapping[str, Any]):
+    """The ePSA evaluator (`studies.epsa.evaluator.evaluate_epsa`) with the objective and the
+    constraints of ``settings["objective"]`` (the sweep's name) in place of the extension."""
+    from softcrawl.studies.epsa.evaluator import evaluate_epsa
+    from softcrawl.studies.sweeps.spec import Evaluation
+
+    result = evaluate_epsa(params, fixed, settings)
+    if not result.ok:
+        return result
+    name = settings["objective"]
+    attrs = dict(result.attrs)
+    value, constraints, extra = score(name, params, attrs, settings)
+    attrs["metrics"] = dict(attrs["metrics"]) | extra
+    if constraints:
+        attrs |= {"constraints": constraints, "constraint_names": list(objective_of(name).constraints)}
+    return Evaluation(ok=True, values=(value,), attrs=attrs)
 
 
 def _withstands(rows, limit) -> tuple[float, bool]:
@@ -105,9 +127,7 @@ def score(name: str, params: Mapping[str, Any], attrs: Mapping[str, Any], settin
         fluct, _ = fluctuation(curve) if curve.pressures else (False, "")
         value = extra.get("radial_expansion_100kpa_mm", metrics["radial_expansion_mm"])
         return float(value), [c_hold, 1.0 if fluct else 0.0], extra | {"fluctuating": fluct}
-    from softcrawl.studies.epsa.grid_studies import GRIDS
-
-    n_ref = max(GRIDS["fiber-turns"][0]["fiber_turns"])
+    n_ref = int(settings["reference_turns"])  # the most-turned design of the grid (sweep_spec)
     if not ok:
         ref = None
     elif int(params["fiber_turns"]) == n_ref:
@@ -125,5 +145,5 @@ def reference(chamber_radius: float, turns: int, settings: Mapping[str, Any]) ->
     with the trial's own simulator and settings, cached per process."""
     from softcrawl.studies.epsa.constrained_objective import reference_extension
 
-    keep = {k: v for k, v in settings.items() if k not in ("vtu_dir", "objective")}
+    keep = {k: v for k, v in settings.items() if k not in ("vtu_dir", "objective", "reference_turns")}
     return reference_extension(chamber_radius, json.dumps(keep, sort_keys=True), turns)

@@ -13,6 +13,7 @@ import subprocess
 import sys
 import time
 import urllib.request
+from pathlib import Path
 
 import pytest
 
@@ -133,3 +134,17 @@ def test_optuna_dashboard_reads_the_metric_names(tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=10)
+
+
+@pytest.mark.parametrize("name", ["rings", "foot-radius"])
+def test_robot_best_trial_is_the_rule_s_design(tmp_path, name):
+    from softcrawl.studies.robot_fe.robot_studies import run_robot_study, study_spec
+
+    runner = "tests.studies.fakes:fake_robot_cases"
+    run_robot_study(name, tmp_path, "fake", True, progress=False, runner=runner)
+    spec = study_spec(name, tmp_path, "fake", True, runner)
+    decision = json.loads((Path(spec.out_dir) / "decision.json").read_text())
+    study = optuna.load_study(study_name=spec.name, storage=spec.storage_url)
+    assert study.metric_names == ["theta_asym_deg"]
+    key = "n_rings" if name == "rings" else "d"
+    assert study.best_trial.params[key] == decision["value"]
