@@ -28,7 +28,7 @@ followed by the converged states of the path. The .pvd time of a state is the pa
 the ramp (`path_times`): the load travelled, in kPa, s_k = s_(k-1) + max_i |P_i,k - P_i,(k-1)| +
 100 |f_k - f_(k-1)|. Up to a limit point with one driving pressure it equals the pressure; past
 it, where the pressure falls under volume control, it keeps increasing, as ParaView's sorting by
-time needs (docs/decisions/063; it was the step index). Each file's `pressure_kPa`,
+time needs (decision 063; it was the step index). Each file's `pressure_kPa`,
 `load_factor` and `path_parameter` are field data.
 
 Precision: float32 by default (points, point and cell data; half the bytes, 7 digits for a view),

@@ -285,7 +285,7 @@ def add_json(parser) -> None:
 
 
 def add_vtu_precision(parser) -> None:
-    """--vtu-precision 32|64: the bits of the VTU files' floating-point arrays (docs/decisions/063)."""
+    """--vtu-precision 32|64: the bits of the VTU files' floating-point arrays (decision 063)."""
     parser.add_argument(
         "--vtu-precision",
         type=int,

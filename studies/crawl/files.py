@@ -8,7 +8,7 @@ the pipe wall in vtu/pipe.vtu as a second block of every time step (one file, re
 so that a reader shows pipe and feet together at every time. Each state's field data: time_s,
 pressure_kPa (P1-P3), actuator_force_N, the feet's slip shares and friction forces; its point
 data: the contact pressure and the slip state (`fem.vtu.contact_fields`). Float32 unless
-``precision=64`` (docs/decisions/063).
+``precision=64`` (decision 063).
 """
 
 from __future__ import annotations

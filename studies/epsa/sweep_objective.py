@@ -1,6 +1,6 @@
 """What optuna's "best" means in the ePSA sweeps: one objective and trial constraints per study,
 so that ``optuna.load_study(...).best_trial`` is the design the study's Table 1 rule
-(`studies.epsa.rules`) picks, and a rejected design is never best (docs/decisions/063).
+(`studies.epsa.rules`) picks, and a rejected design is never best (decision 063).
 
 * chamber-radius: minimise the radial expansion at 100 kPa (mm), subject to ``withstands``
   (reaches 100 kPa with no limit point below it) and ``not_fluctuating`` (the rule's

@@ -47,7 +47,7 @@ QUICK_GRIDS = {
     FOOT: {"pipe_diameter": (60.0, 75.0)},
 }
 FOOT_FRICTION = {"mu_smooth": 0.5, "mu_grooved": 0.5}
-#: What optuna's "best" means per study (docs/decisions/063): groove, the largest groove height
+#: What optuna's "best" means per study (decision 063): groove, the largest groove height
 #: that passes the groove rule's per-point tests (`groove_constraints`); foot, the backward over
 #: forward drag force (the foot's anchoring asymmetry, maximised; the foot study decides no Table 1
 #: value, so best only ranks).
@@ -152,7 +152,7 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
 def groove_constraints(h: float, summary) -> dict:
     """The groove rule's per-point tests as optuna constraints (<= 0 feasible): h >= 0.5 mm and
     the p99 strain after the drag <= 10 %. The rule's "at every mu" compares points, which optuna
-    cannot: best_trial is the largest h that passes at its own mu (docs/decisions/063)."""
+    cannot: best_trial is the largest h that passes at its own mu (decision 063)."""
     from softcrawl.studies.foot.groove_rule import GrooveRuleInputs
 
     rule = GrooveRuleInputs()

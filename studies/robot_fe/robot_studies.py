@@ -95,7 +95,7 @@ def evaluate_robot(params, fixed, settings) -> Evaluation:
 
 
 def rule_constraints(name: str, params, attrs) -> dict:
-    """What optuna's "best" means (docs/decisions/063): the objective is the bending angle theta
+    """What optuna's "best" means (decision 063): the objective is the bending angle theta
     at the asymmetric load, maximised, as both rules rank by it; the constraints are each rule's
     per-design test, so that a design its rule rejects is never best. rings: the actuators act as
     one body (splay and arc-fit RMS within `rules`' bounds); foot-radius: the central channel

@@ -75,7 +75,7 @@ class SweepSpec:
     passed to the evaluator unchanged. ``directions`` are the optuna directions of the values the
     evaluator returns, ``metric_names`` their names (optuna's ``set_metric_names``: what
     ``optuna best-trial`` and optuna-dashboard show); the study's declaration says why its
-    objective makes optuna's "best" the design its rule picks (docs/decisions/063).
+    objective makes optuna's "best" the design its rule picks (decision 063).
     """
 
     name: str

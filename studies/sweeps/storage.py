@@ -30,7 +30,7 @@ LOCAL_FIELDS = ("out_dir", "storage", "heartbeat_interval", "grace_period")
 LOCAL_SETTINGS = ("vtu_dir", "out_dir")
 #: What a study created by this engine records (study user attribute ``softcrawl_schema``): 2 =
 #: named objectives (`set_metric_names`), the objective of the study's declaration, metrics as
-#: flat user attributes, no machine paths in the stored spec (docs/decisions/063). A study
+#: flat user attributes, no machine paths in the stored spec (decision 063). A study
 #: without it was made before and is refused, not migrated: optuna cannot rename, re-direct or
 #: re-score finished trials.
 SCHEMA = 2
@@ -191,7 +191,7 @@ def connect(
         raise StudyError(
             "storage",
             f"study {spec.name!r} in {safe_url(url)} was made by an older softcrawl (unnamed objective, "
-            "packed metrics; docs/decisions/063): it cannot be resumed; use another --out/--storage",
+            "packed metrics; decision 063): it cannot be resumed; use another --out/--storage",
         )
     if stored is not None:
         check_same_study(stored, spec.to_dict(), ignore)

@@ -98,7 +98,7 @@ def store(trial: Any, result: Evaluation, n_values: int) -> list[float]:
     (`Trial.set_constraint`), which the TPE and NSGA-II samplers use to prefer feasible trials
     and ``best_trial`` / ``best_trials`` use to leave infeasible ones out. The dict attribute
     ``metrics`` is stored flat, one user attribute per metric, so that optuna-dashboard can sort
-    and plot them (docs/decisions/063)."""
+    and plot them (decision 063)."""
     for key, value in result.attrs.items():
         if key == "metrics" and isinstance(value, dict):
             for name, metric in value.items():

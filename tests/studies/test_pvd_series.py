@@ -1,5 +1,5 @@
 """Every VTU series read as ParaView reads it, with pyvista's PVDReader at every time: times that
-increase, every block present at every time, the load in the field data (docs/decisions/063).
+increase, every block present at every time, the load in the field data (decision 063).
 The ePSA and the robot on their quickest settings; the crawl (one cycle, quick feet) is slow."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""What optuna's own tools read in a study (docs/decisions/063): named objectives, the Table 1
+"""What optuna's own tools read in a study (decision 063): named objectives, the Table 1
 rule's design as ``best_trial``, flat metrics, no machine paths, and older databases refused.
 Fake simulators (`tests.studies.fakes`), no FE."""
 
