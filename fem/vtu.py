@@ -24,9 +24,15 @@ fiber, the facet's quadrature average of E A (lam - 1)) and their maximum; the e
 line cells with the segment forces. The points carry the displacement, as in the solid file.
 
 Series (`write_path`). The reference state (0 kPa, load factor 0) is step 0 of every series,
-followed by the converged states of the path. The .pvd time of a state is its index along the
-path, not its pressure: past a limit point the pressure falls, and ParaView sorts a series by
-time. The pressure of each file is its `pressure_kPa` field (a Python Annotation shows it).
+followed by the converged states of the path. The .pvd time of a state is the path parameter of
+the ramp (`path_times`): the load travelled, in kPa, s_k = s_(k-1) + max_i |P_i,k - P_i,(k-1)| +
+100 |f_k - f_(k-1)|. Up to a limit point with one driving pressure it equals the pressure; past
+it, where the pressure falls under volume control, it keeps increasing, as ParaView's sorting by
+time needs (decision 063; it was the step index). Each file's `pressure_kPa`,
+`load_factor` and `path_parameter` are field data.
+
+Precision: float32 by default (points, point and cell data; half the bytes, 7 digits for a view),
+``precision=64`` keeps float64 (the commands' ``--vtu-precision 64``).
 """
 
 from __future__ import annotations
@@ -52,12 +58,46 @@ SKFEM_TET_EDGES = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))
 VTK_TET10_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
 
 
-def _field_data(model: SolidModel, pressure_mpa, factor: float) -> dict:
+#: Bits of the floating-point arrays a VTU gets unless the caller asks otherwise.
+DEFAULT_PRECISION = 32
+
+
+def _float(array, precision: int) -> np.ndarray:
+    array = np.asarray(array)
+    if array.dtype.kind != "f":
+        return array
+    return array.astype(np.float32 if precision == 32 else np.float64)
+
+
+def check_precision(precision: int) -> int:
+    if precision not in (32, 64):
+        raise ValueError(f"VTU precision is 32 or 64 bits, got {precision!r}")
+    return precision
+
+
+def path_times(pressures_kpa, factors) -> list[float]:
+    """The path parameter of each state (module docstring): strictly increasing (a state that
+    moves no load gets 1e-6 kPa more than the previous one)."""
+    times, last = [], None
+    for p, f in zip(pressures_kpa, factors):
+        p = np.atleast_1d(np.asarray(p, dtype=float))
+        if last is None:
+            times.append(0.0)
+        else:
+            dp = float(np.max(np.abs(p - last[0]))) if p.shape == last[0].shape else float(np.max(np.abs(p)))
+            times.append(times[-1] + max(dp + 100.0 * abs(float(f) - last[1]), 1e-6))
+        last = (p, float(f))
+    return times
+
+
+def _field_data(model: SolidModel, pressure_mpa, factor: float, time: float | None = None) -> dict:
     pressures = model.pressures(pressure_mpa) if model.chambers else np.atleast_1d(float(pressure_mpa))
     out = {
         "pressure_kPa": mpa_to_kpa(np.asarray(pressures, dtype=float)),
         "load_factor": np.array([float(factor)]),
     }
+    if time is not None:
+        out["path_parameter"] = np.array([float(time)])
     for k, name in enumerate(sorted(model.mesh.subdomains or {})):
         out[f"region:{name}"] = np.array([k])
     return out
@@ -94,8 +134,16 @@ def write_state(
     pressure_mpa=0.0,
     factor: float = 0.0,
     extra_cell_data: dict | None = None,
+    time: float | None = None,
+    precision: int = DEFAULT_PRECISION,
+    extra_field_data: dict | None = None,
 ) -> Path:
-    """The solid at state `x` under chamber pressure `pressure_mpa` and load factor `factor`."""
+    """The solid at state `x` under chamber pressure `pressure_mpa` and load factor `factor`;
+    `time`, the state's path parameter (`path_times`), goes into the field data too, and so do
+    `extra_field_data` (name -> numbers; they replace a default of the same name). A model with
+    contacts gets `contact_pressure_MPa` and `slip` (1 slipping, 0 sticking or free) at its points:
+    the largest over the contact facets that share the point."""
+    check_precision(precision)
     path = Path(path)
     mesh = model.mesh
     space = model.space
@@ -116,14 +164,35 @@ def write_state(
     for k, v in (extra_cell_data or {}).items():
         cell[k] = np.asarray(v)
     used, cells = _compact(space.elem_nodes)  # a mesher may leave a vertex that no element uses
+    point = {"displacement_mm": model.displacement(x)[:, used].T}
+    point |= {k: v[used] for k, v in contact_fields(model, x).items()}
     out = meshio.Mesh(
-        space.nodes[:, used].T,
+        _float(space.nodes[:, used].T, precision),
         [("tetra10", cells)],
-        point_data={"displacement_mm": model.displacement(x)[:, used].T},
-        cell_data={k: [v] for k, v in cell.items()},
+        point_data={k: _float(v, precision) for k, v in point.items()},
+        cell_data={k: [_float(v, precision)] for k, v in cell.items()},
     )
     components = {"displacement_mm": VECTOR, "cauchy_stress_MPa": SYMMETRIC_TENSOR}
-    return _write(path, out, components, _field_data(model, pressure_mpa, factor))
+    field_data = _field_data(model, pressure_mpa, factor, time)
+    field_data |= {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in (extra_field_data or {}).items()}
+    return _write(path, out, components, field_data)
+
+
+def contact_fields(model: SolidModel, x: np.ndarray) -> dict:
+    """{"contact_pressure_MPa", "slip"} at every P2 node of a model with contacts ({} without):
+    each contact facet's averages (`ContactReport.facet_pressure`, `facet_slip`) on its six nodes,
+    the largest where facets share a node."""
+    contacts = getattr(model, "contacts", None) or ()
+    if not contacts:
+        return {}
+    n = model.space.nodes.shape[1]
+    pressure, slip = np.zeros(n), np.zeros(n)
+    for term in contacts:
+        report = term.report(x)
+        nodes = _facet_triangle6(model.mesh, term.facets)
+        np.maximum.at(pressure, nodes, np.repeat(report.facet_pressure[:, None], 6, axis=1))
+        np.maximum.at(slip, nodes, np.repeat(report.facet_slip[:, None], 6, axis=1))
+    return {"contact_pressure_MPa": pressure, "slip": slip}
 
 
 def _facet_triangle6(mesh, facets: np.ndarray) -> np.ndarray:
@@ -143,7 +212,7 @@ def _compact(cells: np.ndarray):
     return used, inverse.reshape(cells.shape)
 
 
-def _winding_mesh(model: SolidModel, x: np.ndarray):
+def _winding_mesh(model: SolidModel, x: np.ndarray, precision: int = DEFAULT_PRECISION):
     """(meshio.Mesh, component names) of the fiber sheets or lines at x; None without fibers."""
     u = x[: model.n_u].reshape(-1, 3)
     if model.sheets is not None:
@@ -155,14 +224,20 @@ def _winding_mesh(model: SolidModel, x: np.ndarray):
         tension = np.zeros((facets.size, n_fam))
         tension[[row[int(f)] for f in sq.facets], sq.family] = force
         used, cells = _compact(_facet_triangle6(model.mesh, facets))
+        # one array per family as well as the two-component array with its ComponentNames:
+        # readers that drop VTK's ComponentName (pyvista, meshio) still see which family is which
+        families = {
+            f"fiber_tension_family{k + 1}_N": [_float(tension[:, k], precision)] for k in range(n_fam)
+        }
         mesh = meshio.Mesh(
-            model.nodes[:, used].T,
+            _float(model.nodes[:, used].T, precision),
             [("triangle6", cells)],
-            point_data={"displacement_mm": u[used]},
+            point_data={"displacement_mm": _float(u[used], precision)},
             cell_data={
-                "fiber_tension_N": [tension],
-                "max_fiber_tension_N": [tension.max(axis=1)],
-            },
+                "fiber_tension_N": [_float(tension, precision)],
+                "max_fiber_tension_N": [_float(tension.max(axis=1), precision)],
+            }
+            | families,
         )
         return mesh, {"fiber_tension_N": tuple(f"family {k + 1}" for k in range(n_fam))}
     if model.fibers is not None:
@@ -170,53 +245,73 @@ def _winding_mesh(model: SolidModel, x: np.ndarray):
         current = fiber_state(fibers, u)
         force = segment_forces(fibers, current)[0]
         mesh = meshio.Mesh(
-            fibers.points,
+            _float(fibers.points, precision),
             [("line", fibers.segments)],
-            point_data={"displacement_mm": current - fibers.points},
-            cell_data={"fiber_tension_N": [force], "fiber": [fibers.fiber_of_segment]},
+            point_data={"displacement_mm": _float(current - fibers.points, precision)},
+            cell_data={"fiber_tension_N": [_float(force, precision)], "fiber": [fibers.fiber_of_segment]},
         )
         return mesh, {}
     return None
 
 
-def write_winding(path, model: SolidModel, x: np.ndarray, *, pressure_mpa=0.0, factor: float = 0.0):
+def write_winding(
+    path,
+    model: SolidModel,
+    x: np.ndarray,
+    *,
+    pressure_mpa=0.0,
+    factor: float = 0.0,
+    time: float | None = None,
+    precision: int = DEFAULT_PRECISION,
+):
     """The winding at state x (module docstring); None (nothing written) for a model without fibers."""
-    built = _winding_mesh(model, x)
+    built = _winding_mesh(model, x, check_precision(precision))
     if built is None:
         return None
     mesh, components = built
-    field_data = {k: v for k, v in _field_data(model, pressure_mpa, factor).items() if ":" not in k}
+    field_data = {k: v for k, v in _field_data(model, pressure_mpa, factor, time).items() if ":" not in k}
     return _write(Path(path), mesh, {"displacement_mm": VECTOR} | components, field_data)
 
 
-def write_pvd(path, files) -> Path:
-    """A ParaView collection of `files` (Path, in order); the time of each is its index."""
+def write_pvd(path, files, times=None) -> Path:
+    """A ParaView collection of `files` (Path, in order) at `times` (strictly increasing; default:
+    the index of each)."""
     path = Path(path)
+    times = list(range(len(files))) if times is None else [float(t) for t in times]
+    if len(times) != len(files) or any(b <= a for a, b in zip(times, times[1:])):
+        raise ValueError("a series needs one strictly increasing time per file")
     lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
-    for k, f in enumerate(files):
-        lines.append(f'<DataSet timestep="{k}" file={quoteattr(Path(f).name)}/>')
+    for t, f in zip(times, files):
+        lines.append(f'<DataSet timestep="{t!r}" file={quoteattr(Path(f).name)}/>')
     lines += ["</Collection>", "</VTKFile>"]
     path.write_text("\n".join(lines) + "\n")
     return path
 
 
-def write_path(directory, model: SolidModel, result, stem="step", winding_stem="winding") -> list[Path]:
+def write_path(
+    directory,
+    model: SolidModel,
+    result,
+    stem="step",
+    winding_stem="winding",
+    precision: int = DEFAULT_PRECISION,
+) -> list[Path]:
     """The reference state and every converged step of a `fem.path.PathResult`: `{stem}_NNN.vtu`
-    and `{stem}.pvd`, and for a model with fibers `{winding_stem}_NNN.vtu` and `{winding_stem}.pvd`.
-    Returns the solid files."""
+    and `{stem}.pvd`, and for a model with fibers `{winding_stem}_NNN.vtu` and `{winding_stem}.pvd`,
+    at the path parameter of each state (`path_times`). Returns the solid files."""
     directory = Path(directory)
     states = [(0.0, 0.0, model.initial_state())] + [(s.pressure, s.factor, s.x) for s in result.steps]
+    times = path_times(
+        [mpa_to_kpa(np.asarray(p, dtype=float)) for p, _, _ in states], [f for _, f, _ in states]
+    )
     files, winding = [], []
-    for k, (pressure, factor, x) in enumerate(states):
-        files.append(
-            write_state(directory / f"{stem}_{k:03d}.vtu", model, x, pressure_mpa=pressure, factor=factor)
-        )
-        w = write_winding(
-            directory / f"{winding_stem}_{k:03d}.vtu", model, x, pressure_mpa=pressure, factor=factor
-        )
+    for k, ((pressure, factor, x), t) in enumerate(zip(states, times)):
+        load = {"pressure_mpa": pressure, "factor": factor, "time": t, "precision": precision}
+        files.append(write_state(directory / f"{stem}_{k:03d}.vtu", model, x, **load))
+        w = write_winding(directory / f"{winding_stem}_{k:03d}.vtu", model, x, **load)
         if w is not None:
             winding.append(w)
-    write_pvd(directory / f"{stem}.pvd", files)
+    write_pvd(directory / f"{stem}.pvd", files, times)
     if winding:
-        write_pvd(directory / f"{winding_stem}.pvd", winding)
+        write_pvd(directory / f"{winding_stem}.pvd", winding, times)
     return files

@@ -43,7 +43,7 @@ MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 m
 
 
 def register(subparsers) -> None:
-    from softcrawl.studies.commands.options import add_number
+    from softcrawl.studies.commands.options import add_number, add_vtu_precision
 
     p = subparsers.add_parser(
         "crawl",
@@ -90,6 +90,7 @@ def register(subparsers) -> None:
     movie = p.add_mutually_exclusive_group()
     movie.add_argument("--gif", action="store_true", help="also write OUT/crawl.gif of the deformed feet")
     movie.add_argument("--animation", default=None, metavar="PATH", help="write that GIF at PATH (.gif)")
+    add_vtu_precision(p)
     p.add_argument("--out", required=True, help="output folder")
     p.set_defaults(func=run)
 
@@ -120,7 +121,12 @@ def run(args) -> int:
     )
     print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
     result, summary = run_and_write(
-        setup, schedule, Path(out), quick=args.quick, progress=lambda line: print(line, flush=True)
+        setup,
+        schedule,
+        Path(out),
+        quick=args.quick,
+        progress=lambda line: print(line, flush=True),
+        precision=args.vtu_precision,
     )
     print(summary["text"])
     if animation is not None:

@@ -23,7 +23,7 @@ from softcrawl import jsonio
 
 
 def register(subparsers) -> None:
-    from softcrawl.studies.commands.options import add_number
+    from softcrawl.studies.commands.options import add_number, add_vtu_precision
     from softcrawl.studies.epsa.model import (
         DEFAULT_FIBERS,
         FIBER_MODELS,
@@ -86,6 +86,7 @@ def register(subparsers) -> None:
         maximum=MAX_SIDE_LOAD_N,
     )
     p.add_argument("--no-vtu", action="store_true", help="skip the VTU files")
+    add_vtu_precision(p)
     p.add_argument(
         "--render",
         action="store_true",
@@ -190,7 +191,7 @@ def run(args) -> int:
     if not args.no_vtu:
         from softcrawl.fem.vtu import write_path
 
-        files = write_path(out / "vtu", solved.model, solved.path, stem="step")
+        files = write_path(out / "vtu", solved.model, solved.path, stem="step", precision=args.vtu_precision)
         print(f"  wrote {len(files)} VTU states from 0 kPa on: {out / 'vtu' / 'step.pvd'}", flush=True)
     plot_epsa(out / "epsa.png", curve, solved.model, solved.path, side_load_n=args.side_load)
     if args.render:

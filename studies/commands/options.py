@@ -284,3 +284,15 @@ def add_length(parser, flag: str, help: str, default=None, **kwargs) -> None:
 
 def add_json(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print JSON on stdout")
+
+
+def add_vtu_precision(parser) -> None:
+    """--vtu-precision 32|64: the bits of the VTU files' floating-point arrays (decision 063)."""
+    parser.add_argument(
+        "--vtu-precision",
+        type=int,
+        choices=(32, 64),
+        default=32,
+        metavar="{32,64}",
+        help="bits of the floats in the VTU files (default 32: half the size, 7 digits; 64: full)",
+    )

@@ -26,7 +26,7 @@ from softcrawl.units import kpa_to_mpa
 
 def register(subparsers) -> None:
     from softcrawl.geometry.robot_mesh import MESH_PRESETS
-    from softcrawl.studies.commands.options import add_number
+    from softcrawl.studies.commands.options import add_number, add_vtu_precision
     from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL
 
     p = subparsers.add_parser(
@@ -58,6 +58,7 @@ def register(subparsers) -> None:
     p.add_argument(
         "--out", default=None, help="folder for states.csv, vtu/ and robot.png (default: print only)"
     )
+    add_vtu_precision(p)
     p.set_defaults(func=run)
 
 
@@ -113,24 +114,25 @@ def run(args) -> int:
         )
     print(f"{run_.message}; {run_.newton_iterations} Newton iterations, {run_.seconds:.1f} s")
     if args.out:
-        write_outputs(robot, run_, Path(args.out))
+        write_outputs(robot, run_, Path(args.out), args.vtu_precision)
     return 0 if run_.converged else 1
 
 
-def write_outputs(robot, run_, folder: Path) -> None:
-    """states.csv, vtu/robot.pvd (one VTU per converged state) and robot.png (the last state)."""
-    from softcrawl.fem.vtu import write_pvd, write_state
+def write_outputs(robot, run_, folder: Path, precision: int = 32) -> None:
+    """states.csv, vtu/robot.pvd (one VTU per converged state, at the ramp's path parameter,
+    `fem.vtu.path_times`) and robot.png (the last state)."""
+    from softcrawl.fem.vtu import path_times, write_pvd, write_state
     from softcrawl.studies.robot_fe.plots import render_robot
     from softcrawl.studies.sweeps.tables import write_csv
 
     write_csv([s.row() | {"material": run_.material} for s in run_.states], folder / "states.csv")
-    files = []
-    for k, (step, state) in enumerate(zip(run_.path.steps, run_.states)):
+    files, pairs = [], list(zip(run_.path.steps, run_.states))
+    times = path_times([s.pressures_kpa for _, s in pairs], [step.factor for step, _ in pairs])
+    for k, ((step, state), t) in enumerate(zip(pairs, times)):
         pressure = [kpa_to_mpa(p) for p in state.pressures_kpa]
-        files.append(
-            write_state(folder / "vtu" / f"robot_{k:03d}.vtu", robot.model, step.x, pressure_mpa=pressure)
-        )
-    write_pvd(folder / "vtu" / "robot.pvd", files)
+        load = {"pressure_mpa": pressure, "factor": step.factor, "time": t, "precision": precision}
+        files.append(write_state(folder / "vtu" / f"robot_{k:03d}.vtu", robot.model, step.x, **load))
+    write_pvd(folder / "vtu" / "robot.pvd", files, times)
     if run_.path.steps:
         last = run_.states[-1]
         title = f"P = {tuple(round(p, 1) for p in last.pressures_kpa)} kPa, {run_.material}"

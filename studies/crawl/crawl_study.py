@@ -109,6 +109,9 @@ def run_crawl_study(out, *, quick=False, storage=None, workers=1, progress=True,
         evaluator=EVALUATOR,
         settings={"quick": bool(quick), "out_dir": str(folder), "cycles": 1 if quick else 2},
         storage=storage,
+        # best = the longest steady stride among points that converged (a failed point is FAIL);
+        # the crawl study decides no Table 1 value, so best only ranks (decision 063)
+        metric_names=("steady_stride_mm",),
     )
     jsonio.write(folder / "spec.json", spec.to_dict())
     run_sweep(spec, workers=workers, progress=progress, retry=retry)

@@ -4,7 +4,11 @@ FOLDER/states.csv (one row per converged state, `studies.crawl.outputs`), cycles
 row per cycle), summary.json (strict JSON: setup, sources, the speeds beside Table 2 and the
 analytic model, solver figures), crawl.png (foot positions and pressures against time),
 vtu/crawl.pvd (one VTU per state, the time in s; the setup states at small negative times) with
-the pipe wall in vtu/pipe.vtu.
+the pipe wall in vtu/pipe.vtu as a second block of every time step (one file, referenced per step),
+so that a reader shows pipe and feet together at every time. Each state's field data: time_s,
+pressure_kPa (P1-P3), actuator_force_N, the feet's slip shares and friction forces; its point
+data: the contact pressure and the slip state (`fem.vtu.contact_fields`). Float32 unless
+``precision=64`` (decision 063).
 """
 
 from __future__ import annotations
@@ -49,24 +53,49 @@ def write_pipe(path: Path, pipe, z0: float, z1: float, n: int = 96) -> Path:
     return path
 
 
+#: State-row columns that go into each VTU's field data, under their VTU names.
+ROW_FIELDS = {
+    "time_s": "time_s",
+    "actuator_force_n": "actuator_force_N",
+    "rear_slip_share": "rear_slip_share",
+    "front_slip_share": "front_slip_share",
+    "rear_friction_n": "rear_friction_N",
+    "front_friction_n": "front_friction_N",
+}
+
+
 class _VtuSeries:
-    def __init__(self, folder: Path) -> None:
-        self.folder, self.entries = folder, []
+    def __init__(self, folder: Path, precision: int = 32) -> None:
+        self.folder, self.entries, self.precision = folder, [], precision
         folder.mkdir(parents=True, exist_ok=True)
 
-    def __call__(self, index, model, x, time_s) -> None:
-        path = write_state(self.folder / f"crawl_{index:04d}.vtu", model, x)
+    def __call__(self, index, model, x, time_s, row=None) -> None:
+        fields = {}
+        if row is not None:
+            fields = {name: row[key] for key, name in ROW_FIELDS.items() if key in row}
+            fields["pressure_kPa"] = [row.get(f"p{i}_kpa", 0.0) for i in (1, 2, 3)]
+        fields["time_s"] = time_s  # the series time (setup states: small negative times)
+        path = write_state(
+            self.folder / f"crawl_{index:04d}.vtu",
+            model,
+            x,
+            extra_field_data=fields,
+            precision=self.precision,
+        )
         self.entries.append((time_s, path.name))
         write_pvd(self.folder, self.entries)
 
 
 def write_pvd(folder: Path, entries) -> Path:
-    """folder/crawl.pvd: the states (time_s, VTU file name) in order, then the pipe as part 1."""
+    """folder/crawl.pvd: the states (time_s, VTU file name) in order, each time with the pipe as its
+    part 1 (the same pipe.vtu at every time)."""
     from xml.sax.saxutils import quoteattr
 
     lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "<Collection>"]
-    lines += [f'<DataSet timestep="{t:.6g}" file={quoteattr(f)}/>' for t, f in entries]
-    lines += ['<DataSet timestep="0" part="1" file="pipe.vtu"/>', "</Collection>", "</VTKFile>"]
+    for t, f in entries:
+        lines.append(f'<DataSet timestep="{t:.6g}" part="0" file={quoteattr(f)}/>')
+        lines.append(f'<DataSet timestep="{t:.6g}" part="1" file="pipe.vtu"/>')
+    lines += ["</Collection>", "</VTKFile>"]
     path = Path(folder) / "crawl.pvd"
     path.write_text("\n".join(lines) + "\n")
     return path
@@ -148,22 +177,24 @@ def progress_line(row: dict) -> str:
     )
 
 
-def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool = True, progress=None):
+def run_and_write(
+    setup, schedule, folder: Path, quick: bool = False, vtu: bool = True, progress=None, precision: int = 32
+):
     """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
-    `progress(line)` is called with one line per converged state."""
+    `progress(line)` is called with one line per converged state; `precision`: the VTU floats."""
     folder.mkdir(parents=True, exist_ok=True)
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     cm = build(mesh, solid_law(get_material(MATERIAL), hyperelastic_only=True), design, setup)
     series = None
     if vtu:
-        series = _VtuSeries(folder / "vtu")
+        series = _VtuSeries(folder / "vtu", precision)
         z = mesh.p[2]
         write_pipe(series.folder / "pipe.vtu", setup.pipe, float(z.min()) - 20, float(z.max()) + 80)
 
     def on_state(row, model, x):
         if series is not None:  # setup states (insertion, friction on) at negative times, in order
             t = row["time_s"] if row["cycle"] > 0 else (row["index"] - 1000) * 1e-3
-            series(row["index"], model, x, t)
+            series(row["index"], model, x, t, row)
         if progress is not None:
             progress(progress_line(row))
 

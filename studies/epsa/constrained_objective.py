@@ -54,10 +54,12 @@ def evaluate_constrained(params: Mapping[str, Any], fixed: Mapping[str, Any], se
 
 
 @functools.lru_cache(maxsize=16)
-def reference_extension(chamber_radius: float, settings_json: str) -> float | None:
+def reference_extension(
+    chamber_radius: float, settings_json: str, turns: int = REFERENCE_TURNS
+) -> float | None:
     """Extension at the target of the REFERENCE_TURNS design of this radius (None if it does
     not withstand the target), with the trial's own simulator and settings (cached per process)."""
     settings = json.loads(settings_json) | {"objectives": "pareto"}
-    params = {"chamber_radius": chamber_radius, "fiber_turns": REFERENCE_TURNS}
+    params = {"chamber_radius": chamber_radius, "fiber_turns": turns}
     result = evaluate_epsa(params, {}, settings)
     return float(result.values[0]) if result.ok else None

@@ -106,7 +106,7 @@ def response_at(
 def _packed(attrs: dict[str, Any]) -> dict[str, Any]:
     """Few user attributes (each is one database commit): rows, design, metrics (scalars) and,
     for a constrained optimisation, the constraints (optuna's constraints_func reads them)."""
-    top = ("rows", "design", "constraints")
+    top = ("rows", "design", "constraints", "constraint_names")
     return {k: attrs[k] for k in top if k in attrs} | {
         "metrics": {k: v for k, v in attrs.items() if k not in top}
     }

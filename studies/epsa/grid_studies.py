@@ -24,6 +24,7 @@ from softcrawl.studies.epsa.evaluator import EPSA_EVALUATOR, EPSA_TABLE, PAPER_P
 from softcrawl.studies.epsa.identification import LOADS_N, PRESSURES_KPA
 from softcrawl.studies.epsa.model import DEFAULT_FIBERS
 from softcrawl.studies.epsa.plot_curves import plot_curves
+from softcrawl.studies.epsa.sweep_objective import RULE_EVALUATOR, objective_of
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.plots.labels import parameter, study_title
 from softcrawl.studies.sweeps.spec import SweepSpec, read_spec
@@ -74,14 +75,21 @@ def study_settings(
 def sweep_spec(name: str, out_dir, settings: dict, storage: str | None = None):
     grid, fixed = GRIDS[name]
     tag = run_tag(settings.get("material", ""), settings.get("quick", False), settings.get("mesh_size"))
+    objective = objective_of(name)  # what optuna's "best" means for this study, and why
+    if objective.constraints:
+        settings = settings | {"objective": name}
+    if name == "fiber-turns":
+        settings = settings | {"reference_turns": max(grid["fiber_turns"])}
     return SweepSpec(
         name=f"{name}-{tag}",
         grid=grid,
         fixed=fixed,
         out_dir=str(out_dir),
-        evaluator=EPSA_EVALUATOR,
+        evaluator=RULE_EVALUATOR if objective.constraints else EPSA_EVALUATOR,
         settings=settings,
         storage=storage,
+        directions=(objective.direction,),
+        metric_names=(objective.metric,),
     )
 
 

@@ -5,7 +5,11 @@ mismatch report."""
 from softcrawl.studies.declaration import Study
 
 _SWEEP = frozenset({"workers", "max_memory", "storage", "retry_failed", "simulator", "mesh_size", "fibers"})
-_EVALUATORS = {"epsa": "softcrawl.studies.epsa.evaluator:evaluate_epsa"}
+_EVALUATORS = {
+    "epsa": "softcrawl.studies.epsa.evaluator:evaluate_epsa",
+    # chamber-radius and fiber-turns: optuna's best is the rule's design (sweep_objective.py)
+    "epsa-rule": "softcrawl.studies.epsa.sweep_objective:evaluate_rule_sweep",
+}
 _RUN = "softcrawl.studies.epsa.grid_studies:run_request"
 _REPLOT = "softcrawl.studies.epsa.grid_studies:replot_folder"
 _TABLES = ("curves.csv", "summary.csv")

@@ -23,6 +23,7 @@ resumable and records failures with their reason.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +37,7 @@ from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.paper import PIPE_DIAMETERS_MM
 from softcrawl.studies.foot.groove_model import GrooveSegment, run_groove
+from softcrawl.studies.foot.groove_rule import GrooveRuleInputs
 from softcrawl.studies.foot.model import run_foot
 from softcrawl.studies.foot.study import FOOT_FRICTION
 from softcrawl.studies.sweeps.spec import Evaluation
@@ -55,6 +57,11 @@ QUICK_GRIDS = {
     GROOVE: {"groove_height": (0.5, 1.0, 2.0), "mu": (0.3,)},
     FOOT: {"pipe_diameter": (60.0, 75.0)},
 }
+#: What optuna's "best" means per study (decision 063): groove, the largest groove height
+#: that passes the groove rule's per-point tests (`groove_constraints`); foot, the backward over
+#: forward drag force (the foot's anchoring asymmetry, maximised; the foot study decides no Table 1
+#: value, so best only ranks).
+OBJECTIVES = {GROOVE: ("groove_height", "maximize"), FOOT: ("friction_ratio_bwd_fwd", "maximize")}
 EVALUATORS = {
     GROOVE: "groove",  # registry names (studies/foot/study.py)
     FOOT: "foot",
@@ -139,7 +146,20 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
     )
     if not r.converged:
         return Evaluation(ok=False, attrs=summary, message=r.message)
+    if settings.get("objective") == GROOVE:
+        return Evaluation(ok=True, values=(h,), attrs=summary | groove_constraints(h, summary))
     return Evaluation(ok=True, values=(r.plateau,), attrs=summary)
+
+
+def groove_constraints(h: float, summary) -> dict:
+    """The groove rule's per-point tests as optuna constraints (<= 0 feasible): h >= 0.5 mm and
+    the p99 strain after the drag <= 10 %. The rule's "at every mu" compares points, which optuna
+    cannot: best_trial is the largest h that passes at its own mu (decision 063)."""
+
+    rule = GrooveRuleInputs()
+    strain = float(summary.get("max_principal_strain_p99", float("nan")))
+    c_strain = strain - rule.strain_limit if math.isfinite(strain) else 1.0
+    return {"constraints": [rule.min_height - h, c_strain], "constraint_names": ["min_height", "strain_p99"]}
 
 
 #: The foot study's mesher: on the revolved mesh (`geometry.foot_revolved`, three cells through

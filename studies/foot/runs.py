@@ -24,6 +24,7 @@ from softcrawl.studies.foot.contact_studies import (
     FOOT_MESHER,
     GRIDS,
     GROOVE,
+    OBJECTIVES,
     QUICK_GRIDS,
     point_file,
 )
@@ -54,13 +55,16 @@ def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=No
         settings |= {"drag_mm": 5.0, "drag_steps": 5}
     grid = (QUICK_GRIDS if quick else GRIDS)[name]
     tag = material + ("-quick" if quick else "")
+    metric, direction = OBJECTIVES[name]
     return SweepSpec(
         name=f"{name}-{tag}",
         grid=grid,
         out_dir=str(folder),
         evaluator=EVALUATORS[name],
-        settings=settings,
+        settings=settings | {"objective": name},
         storage=storage,
+        directions=(direction,),
+        metric_names=(metric,),
     )
 
 

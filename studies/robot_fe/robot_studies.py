@@ -25,6 +25,7 @@ from softcrawl.files import write_text_atomic
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.robot_fe import rules
 from softcrawl.studies.robot_fe.model import build_robot_model
 from softcrawl.studies.robot_fe.plots import plot_robot_study
 from softcrawl.studies.robot_fe.response import simulate_robot
@@ -89,7 +90,33 @@ def evaluate_robot(params, fixed, settings) -> Evaluation:
     last = [r for r in attrs["rows"] if r["case"] == settings["cases"][-1]]
     ok = bool(attrs["converged"])
     theta = last[-1]["theta_deg"] if last and ok else math.nan
+    if ok and settings.get("objective"):
+        attrs = attrs | rule_constraints(settings["objective"], params, attrs)
     return Evaluation(ok=ok and math.isfinite(theta), values=(theta,), attrs=attrs, message=attrs["message"])
+
+
+def rule_constraints(name: str, params, attrs) -> dict:
+    """What optuna's "best" means (decision 063): the objective is the bending angle theta
+    at the asymmetric load, maximised, as both rules rank by it; the constraints are each rule's
+    per-design test, so that a design its rule rejects is never best. rings: the actuators act as
+    one body (splay and arc-fit RMS within `rules`' bounds); foot-radius: the central channel
+    holds the endoscope camera. What optuna cannot see: the rules' tie-breaks (rings: no more than
+    2 % loss of bending and extension goes to the fewest rings; d: 1 % ties go to the smaller d)
+    compare designs, so best_trial is the rule's pick or a feasible design within that tie."""
+
+    row = summary_row(params, attrs)
+    flat = {k: row[k] for k in ("theta_asym_deg", "extension_equal_mm", "splay_max_mm", "arc_rms_max_mm")}
+    if name == "rings":
+        names = ["splay_within_bound", "one_arc"]
+        values = [
+            row["splay_max_mm"] - rules.SPLAY_MAX_FRACTION_OF_D * 14.0,
+            row["arc_rms_max_mm"] - rules.ARC_RMS_MAX_FRACTION_OF_L * 100.0,
+        ]
+        values = [v if math.isfinite(v) else 1.0 for v in values]
+    else:
+        names = ["camera_fits"]
+        values = [0.0 if rules.channel_admits_camera(float(params["d"]), 9.0) else 1.0]
+    return flat | {"constraints": values, "constraint_names": names}
 
 
 def summary_row(params, data) -> dict:
@@ -177,9 +204,10 @@ def study_spec(name: str, out, material: str, quick: bool, runner: str | None = 
                 "out_dir": str(folder)}  # fmt: skip
     if runner:
         settings["runner"] = runner
+    settings["objective"] = name  # theta maximised under the rule's constraints (`rule_constraints`)
     return SweepSpec(
         name=f"robot-{name}", grid=grid, out_dir=str(folder), evaluator=EVALUATOR, settings=settings,
-        storage=storage,
+        storage=storage, metric_names=("theta_asym_deg",),
     )  # fmt: skip
 
 

@@ -73,7 +73,9 @@ class SweepSpec:
 
     ``storage`` is an RDB URL; ``None`` means ``sqlite:///<out_dir>/study.db``. ``settings`` are
     passed to the evaluator unchanged. ``directions`` are the optuna directions of the values the
-    evaluator returns.
+    evaluator returns, ``metric_names`` their names (optuna's ``set_metric_names``: what
+    ``optuna best-trial`` and optuna-dashboard show); the study's declaration says why its
+    objective makes optuna's "best" the design its rule picks (decision 063).
     """
 
     name: str
@@ -86,6 +88,7 @@ class SweepSpec:
     directions: tuple[str, ...] = ("maximize",)
     heartbeat_interval: int = DEFAULT_HEARTBEAT_S
     grace_period: int = DEFAULT_GRACE_S
+    metric_names: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.grid:
@@ -100,6 +103,7 @@ class SweepSpec:
             grid[str(key)] = values
         object.__setattr__(self, "grid", grid)
         _normalise(self)
+        object.__setattr__(self, "metric_names", _names(self.metric_names, self.directions))
         _check_heartbeat(self)
 
     @property
@@ -151,8 +155,7 @@ class SearchSpec:
                 raise StudyError(f"space.{key}", f"bad range {(kind, low, high)!r}")
         object.__setattr__(self, "space", {k: tuple(v) for k, v in self.space.items()})
         object.__setattr__(self, "initial", tuple(dict(p) for p in self.initial))
-        names = tuple(self.objective_names) or tuple(f"value_{i}" for i in range(len(self.directions)))
-        object.__setattr__(self, "objective_names", names)
+        object.__setattr__(self, "objective_names", _names(self.objective_names, self.directions))
         object.__setattr__(self, "metric_columns", tuple(self.metric_columns))
         _normalise(self)
         _check_heartbeat(self)
@@ -160,6 +163,10 @@ class SearchSpec:
     @property
     def storage_url(self) -> str:
         return _storage_url(self)
+
+    @property
+    def metric_names(self) -> tuple[str, ...]:
+        return self.objective_names
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -174,6 +181,14 @@ def _normalise(spec: SweepSpec | SearchSpec) -> None:
         raise StudyError(
             "evaluator", f"expected a registry name or 'module:function', got {spec.evaluator!r}"
         )
+
+
+def _names(names: Sequence[str], directions: Sequence[str]) -> tuple[str, ...]:
+    """One name per objective (``value_0``, ... where none is given)."""
+    names = tuple(str(n) for n in names) or tuple(f"value_{i}" for i in range(len(directions)))
+    if len(names) != len(directions) or len(set(names)) != len(names):
+        raise StudyError("metric_names", f"need {len(directions)} distinct names, got {list(names)}")
+    return names
 
 
 def _check_heartbeat(spec: SweepSpec | SearchSpec) -> None:
@@ -251,4 +266,5 @@ def sweep_spec_from_file(folder: str | Path) -> SweepSpec:
     data = read_spec(folder) | {"out_dir": str(folder)}
     data["grid"] = {k: tuple(v) for k, v in data["grid"].items()}
     data["directions"] = tuple(data.get("directions", ("maximize",)))
+    data["metric_names"] = tuple(data.get("metric_names", ()))
     return SweepSpec(**data)

@@ -27,7 +27,13 @@ from softcrawl.studies.sweeps.spec import SearchSpec, StudyError, SweepSpec, jso
 SQLITE_TIMEOUT_S = 60
 #: Spec fields that may differ between runs of one study (per-machine paths, worker tuning).
 LOCAL_FIELDS = ("out_dir", "storage", "heartbeat_interval", "grace_period")
-LOCAL_SETTINGS = ("vtu_dir",)
+LOCAL_SETTINGS = ("vtu_dir", "out_dir")
+#: What a study created by this engine records (study user attribute ``softcrawl_schema``): 2 =
+#: named objectives (`set_metric_names`), the objective of the study's declaration, metrics as
+#: flat user attributes, no machine paths in the stored spec (decision 063). A study
+#: without it was made before and is refused, not migrated: optuna cannot rename, re-direct or
+#: re-score finished trials.
+SCHEMA = 2
 
 
 def sqlite_path(url: str) -> Path | None:
@@ -171,16 +177,35 @@ def connect(
             )
             stored = study.user_attrs.get("spec")
             if stored is None:
-                study.set_user_attr("spec", jsonable(spec.to_dict()))
+                study.set_metric_names(list(spec.metric_names))
+                study.set_user_attr("spec", stored_spec(spec))
+                study.set_user_attr("softcrawl_schema", SCHEMA)
                 if on_create is not None:
                     on_create(study)
+            schema = study.user_attrs.get("softcrawl_schema")
     except StudyError:
         raise
     except Exception as exc:  # every way a database can be unreachable is one line
         raise storage_error(url, exc) from exc
+    if schema != SCHEMA:
+        raise StudyError(
+            "storage",
+            f"study {spec.name!r} in {safe_url(url)} was made by an older softcrawl (unnamed objective, "
+            "packed metrics; decision 063): it cannot be resumed; use another --out/--storage",
+        )
     if stored is not None:
         check_same_study(stored, spec.to_dict(), ignore)
     return study, lock
+
+
+def stored_spec(spec: SweepSpec | SearchSpec) -> dict[str, Any]:
+    """The spec as the database keeps it: without the fields and settings that name this
+    machine's folders (`LOCAL_FIELDS`, `LOCAL_SETTINGS`), so no absolute path is stored."""
+    d = jsonable(spec.to_dict())
+    for key in ("out_dir", "storage"):
+        d.pop(key, None)
+    d["settings"] = {k: v for k, v in d.get("settings", {}).items() if k not in LOCAL_SETTINGS}
+    return d
 
 
 def check_same_study(stored: Mapping[str, Any], new: Mapping[str, Any], ignore: tuple[str, ...] = ()) -> None:

@@ -95,11 +95,19 @@ def evaluate(evaluator: Any, params: dict, spec: Any, guard: SignalGuard) -> Eva
 def store(trial: Any, result: Evaluation, n_values: int) -> list[float]:
     """Store the evaluation's attributes; its values, or `EvaluationFailed` with the reason. An
     evaluation's ``constraints`` (floats, <= 0 feasible) become optuna trial constraints
-    (`Trial.set_constraint`), which the TPE and NSGA-II samplers use to prefer feasible trials."""
+    (`Trial.set_constraint`), which the TPE and NSGA-II samplers use to prefer feasible trials
+    and ``best_trial`` / ``best_trials`` use to leave infeasible ones out. The dict attribute
+    ``metrics`` is stored flat, one user attribute per metric, so that optuna-dashboard can sort
+    and plot them (decision 063)."""
     for key, value in result.attrs.items():
-        trial.set_user_attr(key, jsonable(value))
+        if key == "metrics" and isinstance(value, dict):
+            for name, metric in value.items():
+                trial.set_user_attr(str(name), jsonable(metric))
+        else:
+            trial.set_user_attr(key, jsonable(value))
+    names = list(result.attrs.get("constraint_names") or ())
     for i, value in enumerate(result.attrs.get("constraints") or ()):
-        trial.set_constraint(f"c{i}", float(value))
+        trial.set_constraint(names[i] if i < len(names) else f"c{i}", float(value))
     values = [float(v) for v in result.values]
     if result.ok and len(values) == n_values and all(map(math.isfinite, values)):
         return values

@@ -10,7 +10,7 @@ import meshio
 import numpy as np
 import pytest
 
-from softcrawl.fem.vtu import SKFEM_TET_EDGES, VTK_TET10_EDGES, write_path
+from softcrawl.fem.vtu import SKFEM_TET_EDGES, VTK_TET10_EDGES, path_times, write_path, write_state
 from softcrawl.geometry.design import EPSADesign
 from softcrawl.studies.epsa.response import simulate_epsa
 
@@ -77,24 +77,34 @@ def test_every_file_names_its_pressure_load_factor_regions_and_components(series
     assert array.GetComponentName(3) == "XY"  # VTK's reader sees the names
     m = meshio.read(files[-1])
     assert m.field_data["pressure_kPa"][0] == pytest.approx(10.0)
-    # the nodal displacements are the solver's, to the last digit
+    # the nodal displacements are the solver's, in float32 by default (063), to the last digit
+    # with precision=64
     u_model = solved.model.displacement(solved.path.steps[-1].x)
     u_file = m.point_data["displacement_mm"]
-    assert np.abs(u_file).max(axis=0) == pytest.approx(np.abs(u_model).max(axis=1), rel=1e-12)
+    assert u_file.dtype == np.float32 and m.points.dtype == np.float32
+    assert np.abs(u_file).max(axis=0) == pytest.approx(np.abs(u_model).max(axis=1), rel=1e-6)
     assert u_file[:, 2].max() > 1.0  # and the state is not the reference one
+    full = write_state(folder / "f64.vtu", solved.model, solved.path.steps[-1].x, precision=64)
+    u64 = meshio.read(full).point_data["displacement_mm"]
+    assert np.abs(u64).max(axis=0) == pytest.approx(np.abs(u_model).max(axis=1), rel=1e-12)
+    assert full.stat().st_size > 1.5 * files[-1].stat().st_size
 
 
 def test_series_starts_at_the_reference_state_and_has_the_winding(series):
     solved, folder, files = series
     pvd = ET.parse(folder / "step.pvd").getroot()
     entries = [(float(d.get("timestep")), d.get("file")) for d in pvd.iter("DataSet")]
-    assert entries == [(0.0, "step_000.vtu"), (1.0, "step_001.vtu"), (2.0, "step_002.vtu")]
+    # the time is the ramp's path parameter: here, below any limit point, the pressure in kPa
+    assert entries == [(0.0, "step_000.vtu"), (5.0, "step_001.vtu"), (10.0, "step_002.vtu")]
+    assert pv.read(files[-1]).field_data["path_parameter"][0] == pytest.approx(10.0)
     assert np.abs(meshio.read(files[0]).point_data["displacement_mm"]).max() == 0.0
     winding = sorted(folder.glob("winding_*.vtu"))
     assert len(winding) == 3 and (folder / "winding.pvd").exists()
     w = pv.read(winding[-1])
     assert set(np.unique(w.celltypes)) == {22}  # VTK_QUADRATIC_TRIANGLE: the wrapped outer surface
     assert w.GetCellData().GetArray("fiber_tension_N").GetComponentName(1) == "family 2"
+    # and one array per family, for readers that drop VTK's component names
+    assert np.array_equal(w.cell_data["fiber_tension_family2_N"], w.cell_data["fiber_tension_N"][:, 1])
     tension = w.cell_data["fiber_tension_N"]
     assert tension.shape[1] == 2 and tension.max() > 0
     # the same fibers, the same forces as the solver's (facet averages of its quadrature points)
@@ -117,3 +127,10 @@ def test_line_fibers_are_written_with_their_segment_forces(tmp_path):
     assert set(np.unique(w.celltypes)) == {3}  # VTK_LINE
     assert w.cell_data["fiber_tension_N"].max() == pytest.approx(solved.curve.rows[-1].max_fiber_tension_n)
     assert w.field_data["pressure_kPa"][0] == pytest.approx(5.0)
+
+
+def test_path_times_increase_past_a_limit_point():
+    """Under volume control past a limit point the pressure falls; the path parameter does not."""
+    times = path_times([0.0, 40.0, 80.0, 92.0, 85.0, 70.0], [0.0] * 6)
+    assert times == [0.0, 40.0, 80.0, 92.0, 99.0, 114.0]
+    assert path_times([[0, 0, 0], [100, 40, 60], [100, 40, 60]], [0, 1, 1])[1:] == [200.0, 200.000001]
