@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import sys
 
-from softcrawl import jsonio
+from softcrawl.provenance import write_summary
 
 
 def register(subparsers) -> None:
@@ -184,7 +184,7 @@ def run(args) -> int:
         summary["volumetric_error_last_state"] = dict(
             zip(("pressure_kpa", "max", "volume_average"), curve.volumetric_error[-1])
         )
-    jsonio.write(out / "summary.json", summary)
+    write_summary(out / "summary.json", summary)
     if not args.no_vtu:
         from softcrawl.fem.vtu import write_path
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcrawl import jsonio
+from softcrawl.provenance import write_summary
 from softcrawl.studies.crawl.outputs import steady_stride
 
 MATERIAL = "rubber-70a"
@@ -188,7 +188,7 @@ def run_and_write(setup, schedule, folder: Path, quick: bool = False, vtu: bool 
         "cycles": list(result.cycles),
         "text": text,
     } | fields
-    jsonio.write(folder / "summary.json", summary, indent=1)
+    write_summary(folder / "summary.json", summary, indent=1)
     if result.states:
         plot_crawl(list(result.states), folder / "crawl.png", text.splitlines()[0])
     return result, summary

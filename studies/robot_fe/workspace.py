@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcrawl import jsonio
+from softcrawl.provenance import write_summary
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.tables import read_csv, write_csv
@@ -219,7 +219,7 @@ def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcom
         summary |= {"partial": partial}
         folder.mkdir(parents=True, exist_ok=True)
         written[:] = [write_csv(rows, folder / "workspace.csv"), folder / "summary.json"]
-        jsonio.write(folder / "summary.json", summary)
+        write_summary(folder / "summary.json", summary)
         arrays = [np.array(clouds[k]) for k in ("fe", "cc_fe", "cc_eq3")]
         written.append(plot_workspace(*arrays, folder / "workspace.png", _title(material, mesh)))
         return summary
