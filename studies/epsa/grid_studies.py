@@ -150,12 +150,24 @@ def summary_rows(rows, param: str) -> list[dict]:
 
 def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, folder) -> Path:
     """NAME.png of a sweep from its rows (live, or read back from curves.csv by `softcrawl replot`)."""
+    from softcrawl.paper import TABLE1
     from softcrawl.studies.epsa.plot_curves import plot_curves
+    from softcrawl.studies.epsa.rules import TARGET_PRESSURE_KPA
     from softcrawl.studies.plots.labels import parameter, study_title
 
     symbol, _, unit = parameter(param)
     title = study_title(name, settings.get("material"), bool(settings.get("quick")), fixed)
-    return plot_curves(rows, param, Path(folder) / f"{name}.png", label=symbol, unit=unit, title=title)
+    chosen = TABLE1[param][1] if param in TABLE1 else None
+    return plot_curves(
+        rows,
+        param,
+        Path(folder) / f"{name}.png",
+        label=symbol,
+        unit=unit,
+        title=title,
+        chosen=chosen,
+        target_kpa=TARGET_PRESSURE_KPA,
+    )
 
 
 def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:
