@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import sys
 
+from softcrawl.console import progress
 from softcrawl.provenance import write_summary
 
 
@@ -169,7 +170,7 @@ def run(args) -> int:
         keep_model=True,
         fibers=args.fibers,
         side_load_n=args.side_load,
-        progress=lambda msg: print("  " + msg, flush=True),
+        progress=lambda msg: progress("  " + msg),
     )
     curve = solved.curve
     make_folder(out)
@@ -226,7 +227,7 @@ def run_convergence(args, design, pressures, sizes, out) -> int:
         sizes=sizes,
         steps=len(pressures),
         fibers=args.fibers,
-        progress=lambda m: print("  " + m, flush=True),
+        progress=lambda m: progress("  " + m),
     )
     make_folder(out)
     write_csv(convergence_table(rows), out / "convergence.csv")

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 from softcrawl.studies.html import page
@@ -72,9 +73,13 @@ def build_report(results, out, progress=print) -> Path:
     """Write OUT/index.html from the results folder `results`; returns its path."""
     results, out = Path(results), Path(out)
     sections = []
+    from softcrawl.console import detail
+
     for sid, heading, make in SECTIONS:
         progress(f"  {heading}")
+        t0 = time.perf_counter()
         sections.append((sid, heading, make(results)))
+        detail(f"    {time.perf_counter() - t0:.2f} s")
     from softcrawl import __version__
 
     preamble = (
