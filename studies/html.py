@@ -73,7 +73,11 @@ window.addEventListener('load', function () {
 });
 function openTarget() {
   var el = location.hash && document.getElementById(location.hash.slice(1));
-  for (; el; el = el.parentElement) { if (el.tagName === 'DETAILS') { el.open = true; } }
+  if (!el) { return; }
+  var own = el.querySelector(':scope > details');
+  if (own) { own.open = true; }
+  for (var up = el; up; up = up.parentElement) { if (up.tagName === 'DETAILS') { up.open = true; } }
+  el.scrollIntoView();
 }
 window.addEventListener('hashchange', openTarget);
 window.addEventListener('DOMContentLoaded', openTarget);
