@@ -17,6 +17,12 @@ Error policy: no traceback reaches a user, whatever the input.
   the same way, with a hint to reduce the problem size.
 
 Pressures are entered in kPa here and converted to MPa once, in the command modules.
+
+Conventions of every command: ``softcrawl --version``; ``-q`` (no progress lines) and ``-v``
+(more detail) before or after the command's name (`softcrawl.console`); one spelling per option,
+dashed (``--outer-radius``, ``--mesh-size``, ``--cycle-time``), the old spellings accepted with a
+one-line deprecation warning (`options.add_alias`); ``--json [FILE]``: JSON on stdout, or into
+FILE (`options.add_json`).
 """
 
 from __future__ import annotations
@@ -68,8 +74,30 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"{self.prog}: error: {' '.join(message.split())}\n")
 
 
+def _add_verbosity(parser: argparse.ArgumentParser) -> None:
+    """-q/--quiet and -v/--verbose on `parser` and on every subcommand below it (so that they may
+    stand before or after the command's name); counted, so -vv is more than -v."""
+    for flags, dest, text in (
+        (("-q", "--quiet"), "quiet", "no progress lines: only results and errors"),
+        (("-v", "--verbose"), "verbose", "more detail where a command has any (repeatable)"),
+    ):
+        parser.add_argument(*flags, action="count", dest=dest, default=argparse.SUPPRESS, help=text)
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for child in dict.fromkeys(action.choices.values()):
+                _add_verbosity(child)
+
+
+def verbosity(args: argparse.Namespace) -> int:
+    """-1 with -q, 0 by default, the count of -v otherwise (`softcrawl.console.LEVEL`)."""
+    return getattr(args, "verbose", 0) - getattr(args, "quiet", 0)
+
+
 def build_parser() -> argparse.ArgumentParser:
+    from softcrawl import __version__
+
     parser = _Parser(prog="softcrawl", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"softcrawl {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name in COMMAND_MODULES:
         try:
@@ -79,6 +107,7 @@ def build_parser() -> argparse.ArgumentParser:
                 continue
             raise
         module.register(sub)
+    _add_verbosity(parser)
     return parser
 
 
@@ -113,12 +142,17 @@ def attach_negative_values(argv: list[str]) -> list[str]:
 
 
 def _parse(argv: list[str] | None) -> argparse.Namespace | int:
-    """The parsed options, or the exit code of argparse (2 for a usage error, 0 after --help)."""
+    """The parsed options, or the exit code of argparse (2 for a usage error, 0 after --help and
+    --version); sets the verbosity (`softcrawl.console`)."""
+    from softcrawl import console
+
     argv = attach_negative_values(sys.argv[1:] if argv is None else list(argv))
     try:
-        return build_parser().parse_args(argv)
+        args = build_parser().parse_args(argv)
     except SystemExit as exc:
         return exc.code if isinstance(exc.code, int) else EXIT_INPUT
+    console.set_level(verbosity(args))
+    return args
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import asdict
 
 from softcrawl import jsonio
+from softcrawl.console import progress
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
@@ -51,7 +52,7 @@ def run(args) -> int:
     cal = calibrate_mu(
         base_material=args.material,
         mesh="default" if args.full_mesh else "quick",
-        progress=lambda m: print("  " + m, flush=True),
+        progress=lambda m: progress("  " + m),
     )
     make_folder(out)
     jsonio.write(out / "calibration.json", asdict(cal))

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 
+from softcrawl.console import progress
 from softcrawl.geometry.foot_meshers import FOOT_MESHERS
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS
 from softcrawl.studies.crawl.schedule import SCHEDULES
@@ -43,7 +44,7 @@ MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 m
 
 
 def register(subparsers) -> None:
-    from softcrawl.studies.commands.options import add_number, add_vtu_precision
+    from softcrawl.studies.commands.options import add_alias, add_number, add_vtu_precision
 
     p = subparsers.add_parser(
         "crawl",
@@ -81,8 +82,9 @@ def register(subparsers) -> None:
                minimum=24, maximum=256, integer=True)  # fmt: skip
     add_number(p, "--layers", help="revolved feet: cells through the skirt", default_text="3",
                minimum=1, maximum=12, integer=True)  # fmt: skip
-    add_number(p, "--edge-length", help="tetwild feet: the mesh edge", unit="mm",
-               default_text="pytetwild's, 0.05 x the foot's diagonal", minimum=1.0, maximum=20.0)  # fmt: skip
+    edge = add_number(p, "--mesh-size", help="tetwild feet: the mesh edge", unit="mm", dest="edge_length",
+                      default_text="pytetwild's, 0.05 x the diagonal", minimum=1.0, maximum=20.0)  # fmt: skip
+    add_alias(p, edge, "--edge-length")
     p.add_argument("--quick", action="store_true", help=f"4 insertion steps, {QUICK_SECTORS} sectors")
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet mirrored: skirts lean forward")
@@ -121,12 +123,7 @@ def run(args) -> int:
     )
     print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
     result, summary = run_and_write(
-        setup,
-        schedule,
-        Path(out),
-        quick=args.quick,
-        progress=lambda line: print(line, flush=True),
-        precision=args.vtu_precision,
+        setup, schedule, Path(out), quick=args.quick, progress=progress, precision=args.vtu_precision
     )
     print(summary["text"])
     if animation is not None:
@@ -140,7 +137,7 @@ def mesh_settings(args) -> dict:
 
     if args.mesher == "revolved":
         if args.edge_length is not None:
-            raise CommandLineError("edge-length", "refines the tetwild feet: add --mesher tetwild")
+            raise CommandLineError("mesh-size", "refines the tetwild feet: add --mesher tetwild")
         sectors = args.sectors if args.sectors is not None else (QUICK_SECTORS if args.quick else None)
         return {"mesher": "revolved", "sectors": sectors, "thickness_layers": args.layers}
     for name, value in (("sectors", args.sectors), ("layers", args.layers)):

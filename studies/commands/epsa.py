@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import sys
 
-from softcrawl import jsonio
+from softcrawl.console import progress
+from softcrawl.provenance import write_summary
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
@@ -172,7 +173,7 @@ def run(args) -> int:
         keep_model=True,
         fibers=args.fibers,
         side_load_n=args.side_load,
-        progress=lambda msg: print("  " + msg, flush=True),
+        progress=lambda msg: progress("  " + msg),
     )
     curve = solved.curve
     make_folder(out)
@@ -187,7 +188,7 @@ def run(args) -> int:
         summary["volumetric_error_last_state"] = dict(
             zip(("pressure_kpa", "max", "volume_average"), curve.volumetric_error[-1])
         )
-    jsonio.write(out / "summary.json", summary)
+    write_summary(out / "summary.json", summary)
     if not args.no_vtu:
         from softcrawl.fem.vtu import write_path
 
@@ -229,7 +230,7 @@ def run_convergence(args, design, pressures, sizes, out) -> int:
         sizes=sizes,
         steps=len(pressures),
         fibers=args.fibers,
-        progress=lambda m: print("  " + m, flush=True),
+        progress=lambda m: progress("  " + m),
     )
     make_folder(out)
     write_csv(convergence_table(rows), out / "convergence.csv")

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+from softcrawl.studies.commands.options import add_json, write_json
 
 DATA_CHOICES_HELP = "ecoflex-00-50 | ecoflex-00-30 | dragon-skin-30 | PATH to a CSV"
 
@@ -28,12 +29,12 @@ def register(subparsers) -> None:
     sub = parser.add_subparsers(dest="material_command", required=True)
 
     list_parser = sub.add_parser("list", help="table of the material presets")
-    list_parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    add_json(list_parser)
     list_parser.set_defaults(func=_run_list)
 
     show = sub.add_parser("show", help="all constants of one preset")
     show.add_argument("name", help="preset name (see `softcrawl material list`)")
-    show.add_argument("--json", action="store_true", help="print JSON")
+    add_json(show)
     show.set_defaults(func=_run_show)
 
     fit = sub.add_parser("fit", help="fit a law's constants (--model) to uniaxial tensile data")
@@ -52,12 +53,12 @@ def register(subparsers) -> None:
     )
     _max_strain_option(fit, "upper engineering strain of the fit (1.0: stretch 2, the actuator's range)")
     fit.add_argument("--out", default=None, help="folder for fit.json and fit.png (created if needed)")
-    fit.add_argument("--json", action="store_true", help="print JSON")
+    add_json(fit)
     fit.set_defaults(func=_run_fit)
 
     table = sub.add_parser("fit-table", help="every law fitted to every shipped data set")
     _max_strain_option(table, "upper engineering strain of the fits")
-    table.add_argument("--json", action="store_true", help="print JSON")
+    add_json(table)
     table.set_defaults(func=_run_fit_table)
 
 
@@ -84,11 +85,11 @@ def _max_strain_option(parser, help_text: str) -> None:
 
 
 def _run_list(args: argparse.Namespace) -> int:
-    from softcrawl import jsonio, materials
+    from softcrawl import materials
 
     records = [materials.get_material(name) for name in materials.material_names()]
     if args.json:
-        print(jsonio.dumps([m.to_dict() for m in records], indent=2))
+        write_json(args.json, [m.to_dict() for m in records])
         return 0
     header = (
         f"{'name':<20} {'model':<15} {'mu [MPa]':>10} {'K [MPa]':>10} {'E [MPa]':>10} "
@@ -113,11 +114,11 @@ def _first_clause(text: str, width: int = 70) -> str:
 
 
 def _run_show(args: argparse.Namespace) -> int:
-    from softcrawl import jsonio, materials
+    from softcrawl import materials
 
     record = materials.get_material(args.name).to_dict()
     if args.json:
-        print(jsonio.dumps(record, indent=2))
+        write_json(args.json, record)
     else:
         for key, value in record.items():
             print(f"{key:<15} {value}")
@@ -168,7 +169,7 @@ def _run_fit(args: argparse.Namespace) -> int:
         plot_fit(data, fit, out / "fit.png")
         record["outputs"] = [str(out / "fit.json"), str(out / "fit.png")]
     if args.json:
-        print(jsonio.dumps(record, indent=2))
+        write_json(args.json, record)
     else:
         _print_fit(record)
     return 0
@@ -194,7 +195,7 @@ def _print_fit(record: dict) -> None:
 
 
 def _run_fit_table(args: argparse.Namespace) -> int:
-    from softcrawl import jsonio, materials
+    from softcrawl import materials
     from softcrawl.fem.laws import LAWS
 
     records = []
@@ -203,7 +204,7 @@ def _run_fit_table(args: argparse.Namespace) -> int:
         for model in LAWS:
             records.append(_fit_record(data, materials.fit_tensile(data, model, _max_strain(args))))
     if args.json:
-        print(jsonio.dumps(records, indent=2))
+        write_json(args.json, records)
         return 0
     print(
         f"{'data':<15} {'model':<12} {'constants [MPa]':<44} {'mu0 [MPa]':>9} {'strain':>11} "

@@ -2,9 +2,11 @@
 
 Writes DIR/mesh.vtu, DIR/mesh.msh (Gmsh 2.2 with named physical groups), DIR/mesh.json (counts,
 volume, area per tag, fiber length, quality, design and its hash), DIR/design.json and DIR/mesh.png
-(off-screen render). Design parameters are options named after the dataclass fields
-(``--chamber_radius 4`` or ``--chamber-radius 4``); for the robot, part parameters are prefixed with the
-part (``--epsa.chamber_radius 4``, ``--foot.angle 100``, ``--ring.thickness 4``). ``--design FILE``
+(off-screen render). Design parameters are options named after the dataclass fields, dashed
+(``--chamber-radius 4``; the field's own ``--chamber_radius`` is accepted with a deprecation
+warning); for the robot, part parameters are prefixed with the part (``--epsa.chamber-radius 4``,
+``--foot.angle 100``, ``--ring.thickness 4``). ``--mesh-size`` (formerly ``--edge-length``) is the
+target tet edge. ``--design FILE``
 starts from a saved design (.json/.toml); options override it.
 """
 
@@ -40,18 +42,19 @@ def _scalar_fields(cls) -> list[tuple[str, type]]:
 
 def _add_param(parser, name: str, typ: type, field: dataclasses.Field, default) -> None:
     """A design field as an option; the design class checks its value (and names it)."""
-    flags = [f"--{name}"]
-    if "_" in name:
-        flags.append("--" + name.replace("_", "-"))
+    from softcrawl.studies.commands.options import add_alias
+
     doc, unit = field.metadata.get("doc", name), field.metadata.get("unit", "")
-    parser.add_argument(
-        *flags,
+    action = parser.add_argument(
+        "--" + name.replace("_", "-"),
         dest=f"p:{name}",
         type=typ,
         default=None,
         metavar=typ.__name__.upper(),
         help=f"{doc} ({unit + '; ' if unit else ''}default {default:g})",
     )
+    if "_" in name:  # the field's own spelling, accepted with a deprecation warning
+        add_alias(parser, action, f"--{name}")
 
 
 def _add_design_options(parser, kind: str, classes: dict) -> None:
@@ -73,7 +76,7 @@ def register(subparsers) -> None:
     from softcrawl.geometry.design import EPSADesign, FootDesign, RingDesign, RobotDesign
     from softcrawl.geometry.foot_meshers import FOOT_MESHERS
     from softcrawl.geometry.tetwild import MAX_EDGE_LENGTH, MIN_EDGE_LENGTH
-    from softcrawl.studies.commands.options import add_number
+    from softcrawl.studies.commands.options import add_alias, add_number
 
     classes = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign, "robot": RobotDesign}
     parser = subparsers.add_parser(
@@ -84,15 +87,17 @@ def register(subparsers) -> None:
         sp = kinds.add_parser(kind, help=f"mesh the {kind}", description=f"Mesh the {kind} (pytetwild).")
         sp.add_argument("--out", required=True, help="output folder (created if needed)")
         sp.add_argument("--design", default=None, help="design file (.json or .toml) to start from")
-        add_number(
+        edge = add_number(
             sp,
-            "--edge-length",
+            "--mesh-size",
+            dest="edge_length",
             help="target tet edge length",
             unit="mm",
             default_text="5 %% of the part's bounding-box diagonal",
             minimum=MIN_EDGE_LENGTH,
             maximum=MAX_EDGE_LENGTH,
         )
+        add_alias(sp, edge, "--edge-length")
         sp.add_argument(
             "--cache-dir",
             default=None,
@@ -106,7 +111,7 @@ def register(subparsers) -> None:
                 default="tetwild",
                 choices=FOOT_MESHERS,
                 help="tetwild (default) or revolved: the foot study's structured mesh, three cells "
-                "through the skirt (geometry.foot_revolved; no --edge-length, no cache)",
+                "through the skirt (geometry.foot_revolved; no --mesh-size, no cache)",
             )
         _add_design_options(sp, kind, classes)
         sp.set_defaults(func=run)
@@ -187,7 +192,7 @@ def run(args: argparse.Namespace) -> int:
         from softcrawl.studies.commands.options import CommandLineError
 
         raise CommandLineError(
-            "edge-length", "the revolved foot mesh has no edge length (geometry.foot_revolved)"
+            "mesh-size", "the revolved foot mesh has no edge length (geometry.foot_revolved)"
         )
     with _progress_lines("geometry"):  # the mesher's log lines: what it meshes, not a cache hit
         if args.kind == "foot":

@@ -18,7 +18,7 @@ from softcrawl.analytic.limits import (
     MAX_TIME_S,
 )
 from softcrawl.paper import D_MM, F_EPSA_MAX_N, FRICTION_N, G_EQ27_M_S2, ROBOT_MASS_G, table2
-from softcrawl.studies.commands.options import add_json, add_length, add_number, emit
+from softcrawl.studies.commands.options import add_alias, add_json, add_length, add_number, emit
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
@@ -267,9 +267,18 @@ def _register_loads(sub) -> None:
         minimum=0.0,
         maximum=MAX_FORCE_N,
     )
-    add_number(
-        s, "--cycle", help="cycle time", unit="s", default=2.0, minimum=0.0, min_open=True, maximum=MAX_TIME_S
+    cycle = add_number(
+        s,
+        "--cycle-time",
+        dest="cycle",
+        help="cycle time",
+        unit="s",
+        default=2.0,
+        minimum=0.0,
+        min_open=True,
+        maximum=MAX_TIME_S,
     )
+    add_alias(s, cycle, "--cycle")
     add_gravity(s, 0.0, "axial gravity (0 = horizontal)")
     s.add_argument(
         "--actuators",

@@ -139,6 +139,7 @@ def parse_pressures(spec: str, parameter: str = "pressures") -> tuple[float, ...
         ) from None
     if ":" in spec:
         values = _range(a, b, s, parameter, spec)  # its own range errors, naming START, STOP, STEP
+    _within_limit(values, parameter, spec)
     if len(values) > MAX_PRESSURE_TARGETS + 1:
         raise CommandLineError(
             parameter, f"{brief(spec)} gives {len(values)} pressures; at most {MAX_PRESSURE_TARGETS}"
@@ -157,7 +158,19 @@ def parse_pressures(spec: str, parameter: str = "pressures") -> tuple[float, ...
     return positive
 
 
+def _within_limit(values, parameter: str, spec: str) -> None:
+    """A pressure above `MAX_PRESSURE_KPA` is named with the limit (not "is not START:STOP:STEP")."""
+    high = [v for v in values if v == v and v > MAX_PRESSURE_KPA]
+    if high:
+        raise CommandLineError(
+            parameter,
+            f"{brief(spec)}: {high[0]:g} kPa is above the {MAX_PRESSURE_KPA:g} kPa limit "
+            f"(pressures in [0, {MAX_PRESSURE_KPA:g}] kPa)",
+        )
+
+
 def _range(start: float, stop: float, step: float, parameter: str, spec: str) -> list[float]:
+    _within_limit((start, stop), f"{parameter} {'STOP' if stop > MAX_PRESSURE_KPA else 'START'}", spec)
     for name, v in (("START", start), ("STOP", stop), ("STEP", step)):
         number(v, f"{parameter} {name}", minimum=0.0, maximum=MAX_PRESSURE_KPA, error=CommandLineError)
     if step <= 0 or stop <= start:
@@ -254,15 +267,31 @@ def body_material(name: str, parameter: str = "material"):
     return material
 
 
-def emit(args, payload: dict, text: str) -> None:
-    """`payload` as JSON with --json, else `text`."""
-    if getattr(args, "json", False):
-        from softcrawl.jsonio import dumps  # strict JSON: null, not NaN
+def emit(args, payload, text: str | None) -> None:
+    """`payload` as JSON with --json (on stdout, or into the FILE that --json names), else
+    `text` (None: nothing)."""
+    target = getattr(args, "json", None)
+    if target:
+        write_json(target, payload)
+    elif text is not None:
+        print(text)
 
+
+#: The value of a bare --json: standard output.
+STDOUT = "-"
+
+
+def write_json(target: str, payload) -> None:
+    """Strict JSON (null, not NaN) on stdout (`STDOUT`) or into the file `target` (its folder
+    created)."""
+    from softcrawl.jsonio import dumps, write
+
+    if target == STDOUT:
         sys.stdout.write(dumps(payload, indent=2))
         sys.stdout.write("\n")
-    else:
-        print(text)
+        return
+    make_folder(Path(target).parent if str(Path(target).parent) else ".", "json")
+    write(target, payload)
 
 
 def add_length(parser, flag: str, help: str, default=None, **kwargs) -> None:
@@ -282,8 +311,51 @@ def add_length(parser, flag: str, help: str, default=None, **kwargs) -> None:
     )
 
 
-def add_json(parser) -> None:
-    parser.add_argument("--json", action="store_true", help="print JSON on stdout")
+def add_json(parser, help: str = "the result as JSON") -> None:
+    """--json [FILE], the same in every command: JSON on stdout, or into FILE (checked before any
+    work by `check_json`). Give FILE after --json as the last word, or as --json=FILE."""
+    parser.add_argument(
+        "--json",
+        nargs="?",
+        const=STDOUT,
+        default=None,
+        metavar="FILE",
+        help=f"{help}: on stdout, or into FILE",
+    )
+
+
+def check_json(args) -> None:
+    """A --json FILE that can be written (checked before any work)."""
+    target = getattr(args, "json", None)
+    if target and target != STDOUT:
+        output_file(target, "json")
+
+
+class _DeprecatedAlias(argparse.Action):
+    """An old spelling of an option: does what the canonical one does, with one line on stderr."""
+
+    def __init__(self, option_strings, dest, canonical: str = "", **kwargs):
+        self.canonical = canonical
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from softcrawl.console import warn
+
+        warn(f"softcrawl: warning: {option_string} is deprecated; use {self.canonical}")
+        setattr(namespace, self.dest, self.const if self.nargs == 0 else values)
+
+
+def add_alias(parser, action: argparse.Action, *old: str) -> None:
+    """Accept the old spellings `old` of the option `action` (hidden from --help), each with a
+    one-line deprecation warning on stderr."""
+    kwargs = {"dest": action.dest, "default": argparse.SUPPRESS, "help": argparse.SUPPRESS}
+    if action.nargs == 0:
+        kwargs |= {"nargs": 0, "const": action.const}
+    else:
+        kwargs |= {"type": action.type, "nargs": action.nargs, "metavar": action.metavar}
+        if action.choices is not None:
+            kwargs["choices"] = action.choices
+    parser.add_argument(*old, action=_DeprecatedAlias, canonical=action.option_strings[0], **kwargs)
 
 
 def add_vtu_precision(parser) -> None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from softcrawl.console import progress
 from softcrawl.errors import InputError
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import resolve
@@ -31,7 +32,7 @@ def redraw(root: Path) -> list[Path]:
             continue
         for folder in study.results_folders(root, nested=True):
             for path in resolve(study.replot)(folder):
-                print(f"  {path}", flush=True)
+                progress(f"  {path}")
                 written.append(path)
     return written
 

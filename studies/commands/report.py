@@ -2,8 +2,9 @@
 
 Reads the committed results (study tables and figures, Table 1, calibration, renders,
 verification, convergence) and writes DIR/index.html with every image embedded, so the page opens
-anywhere without a network. Computes no finite-element solution (seconds). A section whose results
-are missing names the command that makes them.
+anywhere without a network. Computes no finite-element solution: about 8 s of CPU (15-20 s wall
+on a loaded 2-core machine; docs/decisions/064-review-and-cli.md), and it prints its build time.
+A section whose results are missing names the command that makes them.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import time
 from pathlib import Path
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+from softcrawl.console import progress
 
 
 def register(subparsers) -> None:
@@ -32,9 +34,10 @@ def run(args) -> int:
     if not results.is_dir():
         raise InputError("results", f"{results} is not a folder (run from the checkout, or give --results)")
     output_folder(args.out)  # before the report is built
-    t0 = time.perf_counter()
-    print(f"design review from {results}:", flush=True)
-    path = build_report(results, Path(args.out), progress=lambda m: print(m, flush=True))
+    t0, cpu0 = time.perf_counter(), time.process_time()
+    progress(f"design review from {results}:")
+    path = build_report(results, Path(args.out), progress=progress)
     size = path.stat().st_size / 1e6
-    print(f"wrote {path} ({size:.1f} MB, {time.perf_counter() - t0:.1f} s)")
+    wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+    print(f"wrote {path} ({size:.1f} MB) in {wall:.1f} s ({cpu:.1f} s CPU)")
     return 0

@@ -18,6 +18,7 @@ import argparse
 import math
 from pathlib import Path
 
+from softcrawl.console import progress
 from softcrawl.errors import InputError
 from softcrawl.units import kpa_to_mpa
 
@@ -102,7 +103,7 @@ def run(args) -> int:
     robot = build_robot_model(
         design, args.material, args.mesh, gravity=(0.0, -1.0, 0.0) if args.gravity else None
     )
-    print(f"robot: {robot.n_dofs} DOFs, materials {robot.materials}, {args.mesh} mesh")
+    progress(f"robot: {robot.n_dofs} DOFs, materials {robot.materials}, {args.mesh} mesh")
     run_ = simulate_robot(robot, [tuple(kpa_to_mpa(p) for p in P) for P in targets], gravity=args.gravity)
     for s in run_.states:
         print(

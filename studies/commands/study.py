@@ -20,6 +20,7 @@ import argparse
 import sys
 import textwrap
 
+from softcrawl import console
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import StudyRequest, resolve
 from softcrawl.studies.epsa.study import DEFAULT_TRIALS, QUICK_TRIALS  # the declaration: light
@@ -235,7 +236,7 @@ def _request(args: argparse.Namespace) -> StudyRequest:
         material=args.material,
         storage=args.storage,
         workers=args.workers,
-        progress=not args.no_progress,
+        progress=not args.no_progress and console.LEVEL >= 0,
         retry=args.retry_failed,
         mesh_size=args.mesh_size,
         fibers=args.fibers,

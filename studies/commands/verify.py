@@ -1,15 +1,15 @@
-"""`softcrawl verify [--json FILE] [--case NAME ...]`: the solver against closed-form solutions.
+"""`softcrawl verify [--json [FILE]] [--case NAME ...]`: the solver against closed-form solutions.
 
 Runs the verification cases of `fem.verification` and `fem.contact_verification` on coarse
 meshes (about a minute and a half in all on two cores), prints each case's error, tolerance and
-pass/fail, and writes them as JSON. Exit code 0 when every case passes, 1 otherwise.
+pass/fail (with -v each case's details), and with --json writes them as JSON (on stdout, the
+table then on stderr, or into FILE). Exit code 0 when every case passes, 1 otherwise.
 """
 
 from __future__ import annotations
 
 import sys
 import time
-from pathlib import Path
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
@@ -23,10 +23,12 @@ def _cases() -> dict:
 
 
 def register(subparsers) -> None:
+    from softcrawl.studies.commands.options import add_json
+
     p = subparsers.add_parser(
         "verify", help="run the solver verification cases", description=__doc__.splitlines()[0]
     )
-    p.add_argument("--json", metavar="FILE", help="write the results as JSON to FILE (its folder is created)")
+    add_json(p, "the results")
     # The case names are checked in run(), not by argparse's choices: listing them here would import
     # the whole solver (2 s) for every `softcrawl --help`.
     p.add_argument(
@@ -47,18 +49,20 @@ def _plain(value):
 
 
 def run(args) -> int:
-    from softcrawl.studies.commands.options import CommandLineError, make_folder, output_file
+    from softcrawl.console import detail
+    from softcrawl.studies.commands.options import STDOUT, CommandLineError, check_json, write_json
 
     CASES = _cases()
     unknown = [name for name in args.case or () if name not in CASES]
     if unknown:
         raise CommandLineError("case", f"unknown case {unknown[0]!r}; valid: {', '.join(sorted(CASES))}")
-    if args.json:
-        output_file(args.json, "json")  # checked before the cases run
+    check_json(args)  # before the cases run
+    # with JSON on stdout the table goes to stderr, so that stdout is the JSON alone
+    table = sys.stderr if args.json == STDOUT else sys.stdout
     names = args.case or list(CASES)
     rows = []
     width = max(len(n) for n in names) + 2
-    print(f"{'case':<{width}}{'error':>12}{'tolerance':>12}  result   time")
+    print(f"{'case':<{width}}{'error':>12}{'tolerance':>12}  result   time", file=table)
     for name in names:
         t0 = time.perf_counter()
         result = CASES[name]()
@@ -77,12 +81,12 @@ def run(args) -> int:
             f"{name:<{width}}{result.error:>12.3e}{result.tolerance:>12.1e}  "
             f"{'pass' if result.passed else 'FAIL':<6} {dt:6.1f} s",
             flush=True,
+            file=table,
         )
+        for key, value in rows[-1]["details"].items():
+            detail(f"    {key} = {value}")
     if args.json:
-        from softcrawl.jsonio import write
-
-        make_folder(Path(args.json).parent, "json")
-        write(args.json, {"cases": rows, "all_passed": all(r["passed"] for r in rows)})
+        write_json(args.json, {"cases": rows, "all_passed": all(r["passed"] for r in rows)})
     failed = [r["case"] for r in rows if not r["passed"]]
     if failed:
         print(f"failed: {', '.join(failed)}", file=sys.stderr)

@@ -18,11 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
-from softcrawl import jsonio
 from softcrawl.fem.vtu import write_state
 from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.paper import FRICTION_N, table2
+from softcrawl.provenance import write_summary
 from softcrawl.studies.crawl.mesh import crawl_mesh
 from softcrawl.studies.crawl.model import build, run_crawl
 from softcrawl.studies.crawl.outputs import steady_stride
@@ -216,7 +216,7 @@ def run_and_write(
         "cycles": list(result.cycles),
         "text": text,
     } | fields
-    jsonio.write(folder / "summary.json", summary, indent=1)
+    write_summary(folder / "summary.json", summary, indent=1)
     if result.states:
         plot_crawl(list(result.states), folder / "crawl.png", text.splitlines()[0])
     return result, summary

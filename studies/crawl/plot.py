@@ -33,8 +33,9 @@ def plot_crawl(states, path, title: str = ""):
 
 
 def plot_crawl_study(rows, path):
-    """Left: speed = stride / cycle time against pipe diameter, one line per mu (hollow markers:
-    no foot slid in the extension), beside Table 2's forward speeds and the analytic crawl_speed
+    """Left: speed = stride / cycle time against pipe diameter, one line per mu through the points
+    where a foot slid (hollow markers, not joined: no foot slid in the extension), beside Table 2's
+    forward speeds and the analytic crawl_speed
     with the paper's friction; right: the anchoring slip ratio. Failed and missing points are not
     drawn (summary.csv and summary.md have their reasons)."""
     plt = pyplot()
@@ -46,9 +47,12 @@ def plot_crawl_study(rows, path):
         )
         if not ok:
             continue
-        d = [r["pipe_diameter"] for r in ok]
-        speed = [r.get("speed_mm_s", float("nan")) for r in ok]
-        ratio = [r.get("anchoring_slip_ratio", float("nan")) for r in ok]
+        # lines join only the points where a foot slid (the robot moved): a "no foot slid" point
+        # is a hollow marker on its own, not a stretch of a curve through the moving ones
+        moving = [r for r in ok if r.get("extend_slid") != "none"]
+        d = [r["pipe_diameter"] for r in moving]
+        speed = [r.get("speed_mm_s", float("nan")) for r in moving]
+        ratio = [r.get("anchoring_slip_ratio", float("nan")) for r in moving]
         line = axes[0].plot(d, speed, "-", label=f"FE, mu = {mu:g}")[0]
         axes[1].plot(d, ratio, "-", color=line.get_color())
         for r in ok:

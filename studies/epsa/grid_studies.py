@@ -17,6 +17,7 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.materials import get_material
+from softcrawl.paper import TABLE1
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.epsa import identification as fe_identification
 from softcrawl.studies.epsa import linearity, rules
@@ -24,6 +25,7 @@ from softcrawl.studies.epsa.evaluator import EPSA_EVALUATOR, EPSA_TABLE, PAPER_P
 from softcrawl.studies.epsa.identification import LOADS_N, PRESSURES_KPA
 from softcrawl.studies.epsa.model import DEFAULT_FIBERS
 from softcrawl.studies.epsa.plot_curves import plot_curves
+from softcrawl.studies.epsa.rules import TARGET_PRESSURE_KPA
 from softcrawl.studies.epsa.sweep_objective import RULE_EVALUATOR, objective_of
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.plots.labels import parameter, study_title
@@ -155,7 +157,17 @@ def draw_study_figure(name: str, param: str, fixed: dict, settings: dict, rows, 
     """NAME.png of a sweep from its rows (live, or read back from curves.csv by `softcrawl replot`)."""
     symbol, _, unit = parameter(param)
     title = study_title(name, settings.get("material"), bool(settings.get("quick")), fixed)
-    return plot_curves(rows, param, Path(folder) / f"{name}.png", label=symbol, unit=unit, title=title)
+    chosen = TABLE1[param][1] if param in TABLE1 else None
+    return plot_curves(
+        rows,
+        param,
+        Path(folder) / f"{name}.png",
+        label=symbol,
+        unit=unit,
+        title=title,
+        chosen=chosen,
+        target_kpa=TARGET_PRESSURE_KPA,
+    )
 
 
 def write_sweep_outputs(name: str, spec, rows, folder) -> StudyOutcome:

@@ -18,6 +18,10 @@ What is drawn, and how (the figure's second legend says the same):
 
 When some designs hold their radius and others balloon (the fiber-turns study), a third panel
 shows the radius change R - R0 of the designs that hold it on their own axis.
+
+The Table 1 rule's threshold (`target_kpa`, the 100 kPa the design must withstand) is a vertical
+line on every panel, and the paper's chosen value (`chosen`) is drawn with a thick line and named
+"Table 1" in the legend.
 """
 
 from __future__ import annotations
@@ -51,14 +55,14 @@ def _limit_state(c, controlled, volume):
     return c.limit_pressure, states[k, 1], states[k, 2]
 
 
-def _draw_design(axes, c, color, name, zoom_axis):
+def _draw_design(axes, c, color, name, zoom_axis, lw=1.2):
     controlled, volume = _branches(c)
     failed = c.trial_status == "failed"
     panels = [(axes[0], 1, 0.0), (axes[1], 2, 0.0)] + ([(zoom_axis, 2, c.radius0)] if zoom_axis else [])
     for ax, col, offset in panels:
         label = name if ax is axes[0] else None
-        ax.plot(controlled[:, 0], controlled[:, col] - offset, "-", lw=1.2, marker="o", ms=3.5, color=color)
-        ax.plot([], [], "-", marker="o", ms=3.5, color=color, label=label)
+        ax.plot(controlled[:, 0], controlled[:, col] - offset, "-", lw=lw, marker="o", ms=3.5, color=color)
+        ax.plot([], [], "-", lw=lw, marker="o", ms=3.5, color=color, label=label)
         if len(volume):
             gap = np.vstack([controlled[-1], volume[0]])
             ax.plot(gap[:, 0], gap[:, col] - offset, ":", lw=1.2, color=color)
@@ -120,6 +124,8 @@ def plot_curves(
     title: str = "",
     label: str | None = None,
     unit: str = "",
+    chosen: float | None = None,
+    target_kpa: float | None = None,
 ) -> Path:
     """Length and outer radius against pressure, one colour per value of ``param`` (module
     docstring); `label` and `unit` name the parameter in the legend ("r0", " mm")."""
@@ -143,7 +149,10 @@ def plot_curves(
             name += f", limit {c.limit_pressure:.3g} kPa"
         elif c.trial_status == "failed":
             name += ", diverged"
-        _draw_design(axes, c, color, name, axes[2] if value in small else None)
+        thick = chosen is not None and value == chosen
+        if thick:
+            name += " (Table 1)"
+        _draw_design(axes, c, color, name, axes[2] if value in small else None, lw=3.2 if thick else 1.2)
     axes[0].set_ylabel("ePSA length L (mm)")
     axes[1].set_ylabel("outer radius R at mid-length (mm)")
     axes[0].set_title("length")
@@ -156,6 +165,10 @@ def plot_curves(
     for ax in axes:
         ax.set_xlabel("chamber pressure P (kPa)")
         ax.grid(alpha=0.3)
+        if target_kpa is not None:
+            ax.axvline(target_kpa, color="crimson", lw=1.2, ls="-.", zorder=0)
+    if target_kpa is not None:
+        axes[0].plot([], [], color="crimson", lw=1.2, ls="-.", label=f"rule: withstand {target_kpa:g} kPa")
     ncol = 3 if len(curves) > 4 else 2
     axes[0].legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=ncol, frameon=False)
     _style_legend(axes[1])

@@ -74,6 +74,20 @@ def _tip_path(ax, model, path_result) -> None:
     ax.grid(alpha=0.3)
 
 
+#: Smallest span of a value axis (mm): a radius that changes by micrometres (a wound chamber) is
+#: drawn flat on a half-millimetre axis, not stretched until the solver's noise looks like a trend.
+MIN_SPAN_MM = {"length_mm": 2.0, "outer_radius_mm": 0.5}
+
+
+def _minimum_span(ax, values, span: float) -> None:
+    """Widen the y axis about the data's middle to at least `span`."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size and values.max() - values.min() < span:
+        mid = 0.5 * (values.max() + values.min())
+        ax.set_ylim(mid - span / 2, mid + span / 2)
+
+
 def plot_epsa(path, curve, model=None, path_result=None, side_load_n: float | None = None):
     """Length and radius against P (volume-controlled branch dashed), the silhouettes, and with a
     side load the tip path (module docstring)."""
@@ -106,6 +120,7 @@ def plot_epsa(path, curve, model=None, path_result=None, side_load_n: float | No
         ax.set_xlabel("chamber pressure P (kPa)")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
+        _minimum_span(ax, y[ok], MIN_SPAN_MM[col])
     axes[0].legend(fontsize=8, loc="upper left")
     turns = curve.design.get("fiber_turns")
     winding = f", {curve.fibers} winding model" if curve.fibers and turns else ""

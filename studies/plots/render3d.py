@@ -99,9 +99,19 @@ def _half_line(pv, points: np.ndarray, reference: np.ndarray):
     return pv.PolyData(points, lines=cells)
 
 
-def _finish(pl, bounds) -> np.ndarray:
-    """Ruler along z, axes triad, a camera that fits `bounds`; the screenshot (rows, cols, 3)
-    cropped to what was drawn."""
+#: The camera of a part's render (direction from the focal point, view up): from the front-right,
+#: above, the z axis up. A solved state uses `LYING`: the actuator lies along the image (z to the
+#: right, -x up), seen in a three-quarter view from the cut side (-y), above and from its top end,
+#: so that the cut face shows the chamber and the wall and the render is wide enough to read.
+STANDING = ((2.0, -1.6, 1.0), (0.0, 0.0, 1.0))
+LYING = ((-0.4, -1.0, 0.25), (-1.0, 0.0, 0.0))
+#: The window of a lying render (pixels): wide, like the actuator.
+WIDE_WINDOW = (2200, 800)
+
+
+def _finish(pl, bounds, view=STANDING) -> np.ndarray:
+    """Ruler along z, axes triad, a camera (`view`) that fits `bounds`; the screenshot (rows,
+    cols, 3) cropped to what was drawn."""
     x0, x1, y0, y1, z0, z1 = bounds
     pad = 0.08 * max(x1 - x0, z1 - z0)
     pl.add_ruler(
@@ -112,8 +122,9 @@ def _finish(pl, bounds) -> np.ndarray:
         font_size_factor=0.7,
         label_size_factor=0.7,
     )
-    pl.add_axes(line_width=3)
-    pl.camera_position = [(2.0, -1.6, 1.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)]
+    if view == STANDING:
+        pl.add_axes(line_width=3)  # a lying render is cropped to the part: the ruler names z
+    pl.camera_position = [view[0], (0.0, 0.0, 0.0), view[1]]
     pl.reset_camera(bounds=(x0 - pad, x1 + 2 * pad, y0 - pad, y1 + pad, z0 - pad, z1 + pad))
     image = np.asarray(pl.screenshot(return_img=True))[..., :3]
     pl.close()
@@ -125,17 +136,18 @@ def _finish(pl, bounds) -> np.ndarray:
     return image
 
 
-def _compose(path: Path, image, title: str, entries=(), colourbar=None) -> Path:
+def _compose(path: Path, image, title: str, entries=(), colourbar=None, height: float = 6.5) -> Path:
     """The render with a matplotlib title, legend swatches in the render's own colours, and a
-    colour bar (label, cmap, (low, high)) beside it."""
+    colour bar (label, cmap, (low, high)) beside it; `height` in inches (a wide render is made
+    lower, so that its labels stay legible when the page scales it to its width)."""
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize
     from matplotlib.patches import Patch
 
     plt = pyplot()
     h, w = image.shape[:2]
-    fig = plt.figure(figsize=(4.0 + 6.5 * w / h, 6.5))
-    ax = fig.add_axes((0.0, 0.0, 6.5 * w / h / (4.0 + 6.5 * w / h), 0.92))
+    fig = plt.figure(figsize=(4.0 + height * w / h, height))
+    ax = fig.add_axes((0.0, 0.0, height * w / h / (4.0 + height * w / h), 0.88))
     ax.imshow(image)
     ax.set_axis_off()
     if title:
@@ -145,7 +157,8 @@ def _compose(path: Path, image, title: str, entries=(), colourbar=None) -> Path:
         fig.legend(handles=handles, loc="upper right", fontsize=9, frameon=False, bbox_to_anchor=(0.99, 0.9))
     if colourbar is not None:
         label, cmap, (low, high) = colourbar
-        cax = fig.add_axes((0.86, 0.12, 0.025, 0.6))
+        left = 1.0 - 2.6 / (4.0 + height * w / h)
+        cax = fig.add_axes((left, 0.12, 0.25 / (4.0 + height * w / h), 0.55))
         fig.colorbar(ScalarMappable(Normalize(low, high), cmap), cax=cax, label=label)
     return save(fig, path, tight=False)
 
@@ -208,7 +221,7 @@ def render_state(
         )
     linear = grid.linear_copy()
     deformed = linear.warp_by_vector("displacement_mm")
-    pl = pv.Plotter(off_screen=True, window_size=list(WINDOW))
+    pl = pv.Plotter(off_screen=True, window_size=list(WIDE_WINDOW))
     pl.set_background("white")
     # the elements whose reference centroid lies in y >= 0 (VTK's clip of this grid crashes
     # with VTK 9.7, and a whole-element cut shows the elements as they are)
@@ -241,6 +254,5 @@ def render_state(
     entries = [("undeformed outline (0 kPa)", "#888888")] + (
         [("Kevlar fibers", FIBER_COLOUR)] if helices else []
     )
-    return _compose(
-        path, _finish(pl, tuple(bounds.ravel())), title, entries, (field_label, "viridis", (low, high))
-    )
+    image = _finish(pl, tuple(bounds.ravel()), LYING)
+    return _compose(path, image, title, entries, (field_label, "viridis", (low, high)), height=4.0)

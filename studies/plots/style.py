@@ -13,6 +13,9 @@ from softcrawl.files import atomic_path
 
 #: Resolution of every PNG (dots per inch).
 DPI = 120
+#: PNG metadata, pinned: no "Software" entry (matplotlib writes its version there), so the same
+#: data gives the same bytes with any matplotlib, and `softcrawl replot` leaves a clean checkout.
+METADATA = {"Software": None}
 
 
 def pyplot():
@@ -35,7 +38,7 @@ def save(fig, path, *, rect=None, tight: bool = True, outside: bool = False) -> 
     path = Path(path)
     try:
         with atomic_path(path) as temp:  # a full disk leaves the old PNG, never half a new one
-            fig.savefig(temp, dpi=DPI, bbox_inches="tight" if outside else None)
+            fig.savefig(temp, dpi=DPI, bbox_inches="tight" if outside else None, metadata=METADATA)
     finally:
         plt.close(fig)
     return path

@@ -20,10 +20,13 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 from softcrawl import __version__
 from softcrawl.studies.html import page
+from softcrawl.studies.review import headline as H
+from softcrawl.studies.review import provenance as P
 from softcrawl.studies.review import report_sections as S
 from softcrawl.studies.robot_fe import report as R
 
@@ -31,7 +34,7 @@ from softcrawl.studies.robot_fe import report as R
 TABLE1_TURNS = 20.0
 
 SECTIONS = (
-    ("answer", "What limits the Table 1 actuator, at what pressure, and how sure are we?", S.answer),
+    ("answer", "The answer in detail: every material of the tables", S.answer),
     ("table1", "Table 1: the paper's values against rules and evidence", S.table1),
     ("renders", "The Table 1 actuator at 0, 50 and 100 kPa", S.renders),
     ("studies", "Studies: figures and tables", S.studies),
@@ -41,7 +44,7 @@ SECTIONS = (
     ("calibration", "Calibration of the body's modulus to the prototype", S.calibration),
     ("verify", "Verification of the solver (softcrawl verify)", S.verify),
     ("benchmarks", "Solver benchmarks and mesh convergence", S.benchmarks),
-    ("provenance", "Provenance: version, commit, commands and materials of every result", S.provenance),
+    ("provenance", "Provenance: version, commit, commands and materials of every result", P.provenance),
 )
 
 
@@ -71,9 +74,14 @@ def build_report(results, out, progress=print) -> Path:
     """Write OUT/index.html from the results folder `results`; returns its path."""
     results, out = Path(results), Path(out)
     sections = []
+    from softcrawl.console import detail
+
     for sid, heading, make in SECTIONS:
         progress(f"  {heading}")
+        t0 = time.perf_counter()
         sections.append((sid, heading, make(results)))
+        detail(f"    {time.perf_counter() - t0:.2f} s")
+
     preamble = (
         f"<p>softcrawl {__version__}, commit {git_commit(results)}, Python {sys.version.split()[0]}. "
         "Built by <code>softcrawl report</code> from the files under <code>results/</code>; every figure "
@@ -81,5 +89,6 @@ def build_report(results, out, progress=print) -> Path:
     )
     out.mkdir(parents=True, exist_ok=True)
     path = out / "index.html"
-    path.write_text(page("softcrawl design review: the Table 1 ePSA", sections, preamble))
+    title = "softcrawl design review: the Table 1 ePSA"
+    path.write_text(page(title, sections, preamble, headline=H.headline(results)))
     return path

@@ -5,18 +5,16 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from pathlib import Path
 
 from softcrawl import materials
 from softcrawl.materials import load_tensile
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import resolve
-from softcrawl.studies.html import csv_rows, esc, figure, markdown, missing, table
+from softcrawl.studies.html import Html, csv_rows, esc, figure, markdown, missing, number_text, table
 from softcrawl.studies.material.plot_fit import plot_fit
 from softcrawl.studies.plots.labels import material_label, study_title
 
-STUDY_COMMAND = 'softcrawl study {name} --workers 2 --material "{material}" --out results/'
 CALIBRATE = "softcrawl calibrate --full-mesh --out results/calibration"
 RENDERS = (
     'softcrawl epsa --material "ecoflex-00-50@mu=0.0638" --pressures 0:100:50 --render --no-vtu '
@@ -25,6 +23,24 @@ RENDERS = (
 VERIFY = "softcrawl verify --json results/verify/verify.json"
 #: The decision records whose measurements the benchmarks section shows (the solver's efficiency).
 SOLVER_RECORDS = ("016-solver-pass1.md", "017-solver-pass2.md")
+
+
+def study_command(name: str, material: str | None = None, quick: bool = False, settings=None) -> str:
+    """The `softcrawl study` command line that makes a run of study `name` under results/: only
+    the options the study takes (its declaration's `options`), its material, or its default."""
+    study = registry.get(name)
+    settings = settings or {}
+    words = ["softcrawl study", name] + (["--quick"] if quick else [])
+    if "workers" in study.options:
+        words.append("--workers 2")
+    if "fibers" in study.options and settings.get("fibers") not in (None, "sheet"):
+        words.append(f"--fibers {settings['fibers']}")
+    if "mesh_size" in study.options and settings.get("mesh_size"):
+        words.append(f"--mesh-size {settings['mesh_size']:g}")
+    material = material or study.default_material
+    if material:
+        words.append(f'--material "{material}"')
+    return " ".join([*words, "--out results/"])
 
 
 def _num(v):
@@ -64,7 +80,7 @@ def _limits_row(results: Path, folder: Path) -> dict:
         "material": material_label(material),
         "no winding (N = 0): limit point (kPa)": _num(plain[0].get("limit_pressure_kpa")) if plain else None,
         "N = 20: highest pressure reached (kPa)": _num(top.get("pressure_kpa")),
-        "N = 20: limit point (kPa)": _num(top.get("limit_pressure_kpa")) or "none",
+        "N = 20: limit point (kPa)": _num(top.get("limit_pressure_kpa")),
         "extension there (mm)": (_num(top.get("length_mm")) or 0) - (_num(ref.get("length_mm")) or 100),
         "radius change (mm)": (_num(top.get("outer_radius_mm")) or 0)
         - (_num(ref.get("outer_radius_mm")) or 9),
@@ -89,7 +105,7 @@ def _plain_limit(row: dict) -> str:
 def _wound_limit(row: dict, stretch, margin: str) -> str:
     reached = row["N = 20: highest pressure reached (kPa)"]
     limit = row["N = 20: limit point (kPa)"]
-    where = "with no limit point" if limit == "none" else f"with a limit point at {_fmt(limit)} kPa"
+    where = "with no limit point" if limit is None else f"with a limit point at {_fmt(limit)} kPa"
     return (
         f"With 20 turns the ramp reaches {_fmt(reached)} kPa {where}; the silicone's largest principal "
         f"stretch there is {_fmt(stretch)}{margin}, the largest fiber force "
@@ -100,9 +116,7 @@ def _wound_limit(row: dict, stretch, margin: str) -> str:
 def answer(results: Path) -> str:
     folders = _materials(results, "fiber-turns")
     if not folders:
-        return missing(
-            "The fiber-turns study", STUDY_COMMAND.format(name="fiber-turns", material="ecoflex-00-50")
-        )
+        return missing("The fiber-turns study", study_command("fiber-turns"))
     rows = [_limits_row(results, f) for f in folders]
     broke = _failure_stretch()
     parts = [table(rows)]
@@ -190,7 +204,7 @@ def renders(results: Path) -> str:
     if not all(f.exists() for f in files):
         return missing("The 3D renders at 0, 50 and 100 kPa", RENDERS)
     figs = "".join(figure(f, f"P = {f.stem.split('-')[1]}") for f in files)
-    return f"<p>Command: <code>{esc(RENDERS)}</code></p><div class='figrow'>{figs}</div>"
+    return f"<p>Command: <code>{esc(RENDERS)}</code></p><div class='wide'>{figs}</div>"
 
 
 def _study_names() -> dict[str, str]:
@@ -207,9 +221,7 @@ def _study_block(folder: Path, name: str) -> str:
     material = spec["settings"].get("material")
     quick = bool(spec["settings"].get("quick")) or spec["settings"].get("mesh") == "quick"
     head = f"<h3>{esc(study_title(name, material, quick))}</h3>"
-    command = STUDY_COMMAND.format(name=_study_names().get(name, name), material=material)
-    if quick:
-        command = command.replace(" --workers", " --quick --workers")
+    command = study_command(_study_names().get(name, name), material, quick, spec["settings"])
     body = [f"<p>Material {esc(material_label(material))}. Command: <code>{esc(command)}</code></p>"]
     for png in sorted(folder.glob("*.png")):
         body.append(figure(png, f"{folder.relative_to(folder.parents[1])}/{png.name}"))
@@ -228,9 +240,7 @@ def studies(results: Path) -> str:
             continue
         folders = study.results_folders(results)
         if not folders:
-            material = study.default_material or "ecoflex-00-50"
-            command = STUDY_COMMAND.format(name=study.name, material=material)
-            out.append(missing(f"The {study.folder} study", command))
+            out.append(missing(f"The {study.folder} study", study_command(study.name)))
         block = resolve(study.report) if study.report else lambda f, s=study: _study_block(f, s.folder)
         out.extend(block(f) for f in folders)
     return "".join(out)
@@ -282,7 +292,30 @@ def verify(results: Path) -> str:
     if not path.exists():
         return missing("The verification table", VERIFY)
     data = json.loads(path.read_text())
-    return f"<p>Command: <code>{VERIFY}</code>.</p>" + table(data["cases"])
+    rows = [
+        {
+            "case": c["case"],
+            "error": format(c["error"], ".3g"),
+            "tolerance": format(c["tolerance"], ".3g"),
+            "result": "pass" if c["passed"] else "FAIL",
+            "time (s)": c.get("seconds"),
+            "details": Html(
+                "<br>".join(f"{esc(k)} = {esc(_detail(v))}" for k, v in (c.get("details") or {}).items())
+            ),
+        }
+        for c in data["cases"]
+    ]
+    passed = sum(c["passed"] for c in data["cases"])
+    return f"<p>Command: <code>{VERIFY}</code>. {passed} of {len(rows)} cases pass.</p>" + table(rows)
+
+
+def _detail(value) -> str:
+    """A verification detail as text: numbers to 4 significant digits, lists item by item."""
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_detail(v) for v in value)
+    if isinstance(value, dict):
+        return "; ".join(f"{k} {_detail(v)}" for k, v in value.items())
+    return number_text(value)
 
 
 def benchmarks(results: Path) -> str:
@@ -313,62 +346,3 @@ def benchmarks(results: Path) -> str:
     if probe.exists():
         out.append("<h3>Bending-over probe (results/epsa-default-mesh)</h3>" + markdown(probe.read_text()))
     return "".join(out)
-
-
-def provenance(results: Path) -> str:
-    rows = []
-    for spec_path in sorted(results.rglob("spec.json")):
-        spec = json.loads(spec_path.read_text())
-        settings = spec.get("settings", {})
-        name = re.sub(r"-ecoflex.*|-dragon.*", "", spec.get("name", ""))
-        name = _study_names().get(spec_path.parent.parent.name, name)
-        quick = bool(settings.get("quick")) or settings.get("mesh") == "quick"
-        command = STUDY_COMMAND.format(name=name, material=settings.get("material"))
-        rows.append(
-            {
-                "result": str(spec_path.parent.relative_to(results)),
-                "command": command.replace(" --workers", " --quick --workers") if quick else command,
-                "material": settings.get("material"),
-                "mesh": "quick" if quick else f"default (h = {settings.get('mesh_size') or 5} mm)",
-                "winding": settings.get("fibers", ""),
-            }
-        )
-    for readme in sorted(results.rglob("README.md")):
-        commands = [
-            ln.strip() for ln in readme.read_text().splitlines() if ln.strip().startswith("softcrawl ")
-        ]
-        for c in commands:
-            m = re.search(r'--material "?([^" ]+)', c)
-            rows.append(
-                {
-                    "result": str(readme.parent.relative_to(results)),
-                    "command": c,
-                    "material": m.group(1) if m else "ecoflex-00-50",
-                    "mesh": "quick" if "--quick" in c else "default",
-                    "winding": "lines" if "--fibers lines" in c else "sheet",
-                }
-            )
-    if (results / "calibration" / "calibration.json").exists():
-        rows.append(
-            {
-                "result": "calibration",
-                "command": CALIBRATE,
-                "material": "ecoflex-00-50",
-                "mesh": "default",
-                "winding": "sheet",
-            }
-        )
-    if (results / "table1.md").exists():
-        rows.append(
-            {
-                "result": "table1.md",
-                "command": "softcrawl table1 --out results/",
-                "material": "all",
-                "mesh": "-",
-                "winding": "-",
-            }
-        )
-    return (
-        table(rows)
-        + "<p>Redraw the study figures from their tables: <code>softcrawl replot results</code>.</p>"
-    )

@@ -52,15 +52,19 @@ def plot_robot_study(name: str, summary, curves, folder) -> Path:
 
 def plot_workspace(fe, cc_fe, cc_eq3, path, title: str) -> Path:
     """Three tip clouds (n, 3) side by side: FE, CC fed with FE single-actuator lengths, CC fed
-    with eq. 3's lengths, on common axes."""
+    with eq. 3's lengths, on common axes and one colour bar (the tip height)."""
     plt = pyplot()
     fig = plt.figure(figsize=(15, 5))
     clouds = [(fe, "FE robot"), (cc_fe, "CC, FE single-ePSA lengths"), (cc_eq3, "CC, eq. 3 lengths")]
     allp = np.vstack([c for c, _ in clouds])
     lo, hi = allp.min(axis=0), allp.max(axis=0)
+    axes = []
     for k, (cloud, label) in enumerate(clouds, start=1):
         ax = fig.add_subplot(1, 3, k, projection="3d")
-        ax.scatter(cloud[:, 0], cloud[:, 1], cloud[:, 2], c=cloud[:, 2], s=8, cmap="viridis")
+        axes.append(ax)
+        points = ax.scatter(
+            cloud[:, 0], cloud[:, 1], cloud[:, 2], c=cloud[:, 2], s=8, cmap="viridis", vmin=lo[2], vmax=hi[2]
+        )
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
         ax.set_zlim(lo[2], hi[2])
@@ -68,6 +72,8 @@ def plot_workspace(fe, cc_fe, cc_eq3, path, title: str) -> Path:
         ax.set_ylabel("y (mm)")
         ax.set_zlabel("z (mm)")
         ax.set_title(label)
+    # one colour scale for the three clouds, so that FE and CC compare by eye
+    fig.colorbar(points, ax=axes, shrink=0.7, pad=0.07, label="tip height z (mm), one scale for all three")
     fig.suptitle(title)
     return save(fig, path, tight=False)
 

@@ -14,7 +14,10 @@ import json
 from pathlib import Path
 
 from softcrawl.geometry.foot_revolved import N_THETA, THICKNESS_LAYERS
-from softcrawl.studies.html import csv_rows, esc, figure, markdown, missing, table
+from softcrawl.studies.html import csv_rows, esc, figure, figure_grid, markdown, missing, table
+
+#: Width of the crawl's figures in the page (pixels): three to a row.
+GRID_WIDTH = 640
 
 ROBOT_TABLE1 = "softcrawl robot --mesh quick --first 0,40,60 --pressures 100,40,60 --out results/robot-table1"
 WORKSPACE = 'softcrawl study workspace --quick --material "ecoflex-00-50@mu=0.0638" --out results/'
@@ -101,11 +104,19 @@ def crawl(results: Path) -> str:
     if (folder / "README.md").exists():
         out.append(markdown((folder / "README.md").read_text()))
     out.append(table([_crawl_row(run, summary) for run, summary in runs.items()]))
-    for run in runs:
-        if (run / "crawl.png").exists():
-            out.append(figure(run / "crawl.png", f"crawl/{run.name}/crawl.png"))
+    out.append(
+        figure_grid(
+            [
+                figure(run / "crawl.png", f"crawl/{run.name}/crawl.png", GRID_WIDTH)
+                for run in runs
+                if (run / "crawl.png").exists()
+            ]
+        )
+    )
     for study in sorted(folder.glob("*/summary.csv")):
         out.append(f"<h3>Crawl study: {esc(study.parent.name)}</h3>" + table(csv_rows(study)))
-        for png in sorted(study.parent.glob("*.png")):
-            out.append(figure(png, f"crawl/{study.parent.name}/{png.name}"))
+        pngs = sorted(study.parent.glob("*.png"))
+        out.append(
+            figure_grid([figure(png, f"crawl/{study.parent.name}/{png.name}", GRID_WIDTH) for png in pngs])
+        )
     return "".join(out)

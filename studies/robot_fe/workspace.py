@@ -32,10 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from softcrawl import jsonio
 from softcrawl.analytic import kinematics as kin
 from softcrawl.analytic.prototype import actuator_set
 from softcrawl.geometry.design import EPSADesign
+from softcrawl.provenance import write_summary
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.epsa.response import simulate_epsa
 from softcrawl.studies.outcome import StudyOutcome
@@ -214,7 +214,7 @@ def run_workspace(out, material: str, quick: bool, progress=None) -> StudyOutcom
         summary |= {"partial": partial}
         folder.mkdir(parents=True, exist_ok=True)
         written[:] = [write_csv(rows, folder / "workspace.csv"), folder / "summary.json"]
-        jsonio.write(folder / "summary.json", summary)
+        write_summary(folder / "summary.json", summary)
         arrays = [np.array(clouds[k]) for k in ("fe", "cc_fe", "cc_eq3")]
         written.append(plot_workspace(*arrays, folder / "workspace.png", _title(material, mesh)))
         return summary

@@ -95,6 +95,7 @@ def test_every_option_has_a_complete_help_text():
             if (
                 isinstance(action, (argparse._HelpAction, argparse._SubParsersAction))
                 or not action.option_strings
+                or action.help == argparse.SUPPRESS  # a deprecated spelling (options.add_alias)
             ):
                 continue
             text = action.help or ""

@@ -8,15 +8,15 @@ from softcrawl.studies.cli import main
 @pytest.mark.parametrize(
     "argv, parameter",
     [
-        (["mesh", "epsa", "--chamber_radius", "10"], "chamber_radius"),
+        (["mesh", "epsa", "--chamber-radius", "10"], "chamber_radius"),
         (["mesh", "epsa", "--fiber-turns", "-3"], "fiber_turns"),
-        (["mesh", "foot", "--groove_height", "5"], "groove_height"),
-        (["mesh", "ring", "--outer_radius", "10"], "outer_radius"),
+        (["mesh", "foot", "--groove-height", "5"], "groove_height"),
+        (["mesh", "ring", "--outer-radius", "10"], "outer_radius"),
         (["mesh", "robot", "--d", "9"], "d"),
-        (["mesh", "robot", "--epsa.chamber_radius", "9"], "epsa.chamber_radius"),
+        (["mesh", "robot", "--epsa.chamber-radius", "9"], "epsa.chamber_radius"),
         (["mesh", "robot", "--foot.angle", "190"], "foot.angle"),
-        (["mesh", "epsa", "--edge-length", "-1"], "edge-length"),
-        (["mesh", "foot", "--mesher", "revolved", "--edge-length", "3"], "edge-length"),
+        (["mesh", "epsa", "--mesh-size", "-1"], "mesh-size"),
+        (["mesh", "foot", "--mesher", "revolved", "--mesh-size", "3"], "mesh-size"),
     ],
 )
 def test_invalid_parameter(argv, parameter, tmp_path, capsys):

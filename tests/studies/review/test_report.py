@@ -95,6 +95,12 @@ def test_headless_chromium_renders_every_section_and_image(report, tmp_path):
     loaded = re.search(r'data-images-loaded="(\d+)/(\d+)"', dom)
     assert loaded, "the page's image check did not run"
     assert int(loaded.group(1)) == int(loaded.group(2)) >= 14  # every embedded image decoded
+    # the answer on the first screen, the page short with every section collapsed, no script or
+    # console error (the page's own script records them: studies.html.SCRIPT)
+    assert 'id="headline"' in dom and "Design basis" in dom
+    assert 0 < int(re.search(r'data-headline-bottom="(\d+)"', dom).group(1)) < 1500
+    assert int(re.search(r'data-page-height="(\d+)"', dom).group(1)) < 20_000
+    assert re.search(r'data-errors="(\d+)"', dom).group(1) == "0"
     shot = tmp_path / "report.png"
     subprocess.run(
         [_chromium(), *flags, "--window-size=1280,3000", f"--screenshot={shot}", url],
@@ -103,3 +109,39 @@ def test_headless_chromium_renders_every_section_and_image(report, tmp_path):
         env=env,
     )
     assert shot.exists() and shot.stat().st_size > 50_000
+
+
+def test_the_headline_states_the_basis_and_the_counts_from_the_files(report):
+    import json
+
+    text = report.read_text()
+    head = text.split('id="headline"')[1].split("</div>")[0]
+    cases = json.loads((RESULTS / "verify" / "verify.json").read_text())["cases"]
+    assert f"solver verification {sum(c['passed'] for c in cases)} of {len(cases)} cases pass" in head
+    assert "Design basis" in head and "mu = 0.0638 MPa" in head and "Robot:" in head and "Crawl:" in head
+    answer = text.split('<section id="answer">')[1].split("</section>")[0]
+    assert "none" not in re.findall(r"<td>([^<]*)</td>", answer)  # one spelling: "no limit point"
+    assert "no limit point" in answer
+    assert "<details" in text and text.count("<section id=") == len(SECTIONS)
+
+
+def test_every_provenance_command_parses():
+    """Each command of the provenance table parses with the CLI's own parser (parse only, no
+    work), and a `softcrawl study` command passes the study's option check."""
+    import shlex
+
+    from softcrawl.studies import registry
+    from softcrawl.studies.cli import build_parser
+    from softcrawl.studies.commands.study import _applies
+    from softcrawl.studies.review.provenance import provenance_rows
+
+    rows = provenance_rows(RESULTS)
+    assert len(rows) >= 30
+    for row in rows:
+        assert '"None"' not in row["command"], row
+        args = build_parser().parse_args(shlex.split(row["command"])[1:])
+        if args.command == "study":
+            _applies(args, registry.get(args.name))
+    materials = {row["result"].split("/")[0]: row["material"] for row in rows}
+    assert materials["groove"] == materials["foot"] == "rubber-70a"  # not the silicone
+    assert "@mu=" in materials["robot-rings"]  # the modulus it ran with
