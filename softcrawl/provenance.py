@@ -13,6 +13,8 @@ import subprocess
 from functools import lru_cache
 from pathlib import Path
 
+from softcrawl import __version__, jsonio
+
 #: The folder whose git checkout is asked (the source tree: softcrawl/ sits at its top).
 SOURCE = Path(__file__).resolve().parents[1]
 
@@ -40,14 +42,10 @@ def git_commit(folder: Path = SOURCE) -> str:
 
 def provenance() -> dict:
     """{"softcrawl": version, "commit": the git commit or "unknown"}."""
-    from softcrawl import __version__
-
     return {"softcrawl": __version__, "commit": git_commit()}
 
 
 def write_summary(path, summary: dict, **kwargs) -> Path:
     """Write `summary` (strict JSON, `softcrawl.jsonio.write`) with its ``provenance`` added."""
-    from softcrawl import jsonio
-
     jsonio.write(path, {**summary, "provenance": provenance()}, **kwargs)
     return Path(path)

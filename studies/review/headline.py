@@ -14,6 +14,8 @@ import json
 from pathlib import Path
 
 from softcrawl.studies.html import csv_rows, esc
+from softcrawl.studies.plots.labels import material_label
+from softcrawl.studies.review import report_sections as S
 
 #: The basis when no calibration is committed: the preset the studies run with.
 FALLBACK_BASIS = "ecoflex-00-50"
@@ -40,15 +42,11 @@ def design_basis(results: Path) -> tuple[str, str]:
 
 
 def _basis_row(results: Path, material: str) -> dict | None:
-    from softcrawl.studies.review import report_sections as S
-
     folder = results / "fiber-turns" / material
     return S._limits_row(results, folder) if (folder / "spec.json").exists() else None
 
 
 def _sure(results: Path, material: str) -> list[str]:
-    from softcrawl.studies.review import report_sections as S
-
     out = []
     conv = results / "epsa-convergence" / f"convergence-{material}.csv"
     default = (
@@ -117,8 +115,6 @@ def crawl_verdict(results: Path) -> str:
 
 def headline(results: Path) -> str:
     """The answer block (HTML) that opens the page."""
-    from softcrawl.studies.plots.labels import material_label
-
     material, why = design_basis(results)
     items = [f"<b>Design basis</b>: {esc(material_label(material))}, because {esc(why)}."]
     row = _basis_row(results, material)

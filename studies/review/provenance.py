@@ -9,6 +9,7 @@ import json
 import re
 from pathlib import Path
 
+from softcrawl import __version__
 from softcrawl.studies import registry
 from softcrawl.studies.html import esc, table
 from softcrawl.studies.review.report_sections import CALIBRATE, VERIFY, _study_names, study_command
@@ -79,8 +80,6 @@ def provenance_rows(results: Path) -> list[dict]:
 
 
 def provenance(results: Path) -> str:
-    from softcrawl import __version__
-
     return (
         f"<p>Every run written by softcrawl {esc(__version__)} and later records the softcrawl version "
         "and git commit in its <code>summary.json</code> (<code>provenance</code>); earlier results "

@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 from softcrawl import __version__
+from softcrawl.console import detail
 from softcrawl.studies.html import page
 from softcrawl.studies.review import headline as H
 from softcrawl.studies.review import provenance as P
@@ -74,8 +75,6 @@ def build_report(results, out, progress=print) -> Path:
     """Write OUT/index.html from the results folder `results`; returns its path."""
     results, out = Path(results), Path(out)
     sections = []
-    from softcrawl.console import detail
-
     for sid, heading, make in SECTIONS:
         progress(f"  {heading}")
         t0 = time.perf_counter()
