@@ -262,7 +262,9 @@ class ContactTerm:
         n_f, n_q = self.dA.shape
         dA = self.dA.reshape(-1)
         F = self.space.deformation_gradient(x, self._g_aqJ, self._elem_nodes)  # (3, 3, F, Q)
-        da = np.linalg.norm(np.einsum("iJfq,Jfq->ifq", cofactor3(F), self._normal0), axis=0).reshape(-1)
+        # Nanson: da = |cof(F) N| dA, with N the unit reference normal and dA the reference weight
+        stretch = np.linalg.norm(np.einsum("iJfq,Jfq->ifq", cofactor3(F), self._normal0), axis=0).reshape(-1)
+        da = stretch * dA
         act = st.pressure > 0.0
         # at the Coulomb limit (after a commit, slipping points sit exactly on it)
         slip = (

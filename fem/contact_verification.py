@@ -19,6 +19,16 @@ r"""Verification cases of the contact term (`fem.contact`) against closed forms 
   small inner hole. Hertz: for the force per length F' (from the solution), the half width
   a = sqrt(4 F' R / (pi E*)) and the peak pressure p0 = 2 F' / (pi a), E* = E / (1 - nu^2).
   Error: the FE peak pressure against p0 (a graded mesh of ~a/10 near the contact).
+- contact-area: the quarter block of contact-press (reference base A0 = 1.5 x 1 mm) stretched
+  laterally by lam = 1.2 in x and y (prescribed normal displacements of its outer faces) and
+  pressed by a dead force p A0 on a frictionless plane. The state is homogeneous, F = diag(lam,
+  lam, lam_z), so by Nanson's formula (da = |cof(F) N| dA) the current contact area is A0 lam^2
+  = 2.16 mm^2, the reference area A0, and the mean contact pressure N / a = p / lam^2 with
+  N = p A0. Error: the worst relative error of the three. Before 2026-11-25 `ContactTerm.report`
+  summed |cof(F) N| over the active quadrature points without their area weights dA: it gave
+  an area of 103.68 mm^2 here (lam^2 times the 72 points of the 12 base facets; 48x the exact
+  value, relative error 47.0) and a mean pressure of 0.00217 MPa against 0.1042 MPa (relative
+  error 0.979); the forces, and the reference area, were right.
 - contact-newton: the observed order of convergence of Newton's method in a sliding increment
   against a curved wall (a block pressed on the inside of a cylinder and dragged along the axis
   and around it): log(r_k+1 / r_k) / log(r_k / r_k-1) over the last three residuals above
@@ -63,6 +73,48 @@ def press_test(pressure=0.3, penalty=100.0, tolerance=5e-3, smoothing=0.0) -> Ca
             "pressure_error": p_err,
             "penetration_over_penalty": pen_ratio,
             "uzawa_solves": res.steps[-1].iterations,
+        },
+    )
+
+
+def area_test(pressure=0.15, stretch=1.2, penalty=100.0, tolerance=1e-8) -> CaseResult:
+    """Current contact area and mean contact pressure of a laterally stretched, pressed block
+    against Nanson's formula (module docstring)."""
+    size = (1.5, 1.0, 1.0)
+    area0 = size[0] * size[1]
+    mesh = box(size, (3, 2, 2))
+    spec = ContactSpec(("z0",), Plane(), penalty=penalty)
+    bcs = [
+        Dirichlet.symmetry("x0", 0),
+        Dirichlet.symmetry("y0", 1),
+        Dirichlet.prescribed("x1", 0, (stretch - 1.0) * size[0]),
+        Dirichlet.prescribed("y1", 1, (stretch - 1.0) * size[1]),
+    ]
+    model = SolidModel(
+        mesh, MATERIAL, dirichlet=bcs, dead_loads={"z1": (0, 0, -pressure * area0)}, contacts=[spec]
+    )
+    res = run_stages(model, [Stage("press", factor=1.0, steps=2)], penetration_tol=1e-12, max_augment=8)
+    if not res.converged:
+        return CaseResult("contact-area", np.inf, tolerance, {"message": res.message})
+    rep = model.contacts[0].report(res.x)
+    area, mean = area0 * stretch**2, pressure / stretch**2
+    errors = {
+        "area_current": abs(rep.area_current / area - 1.0),
+        "mean_pressure": abs(rep.mean_pressure / mean - 1.0),
+        "area_reference": abs(rep.area_reference / area0 - 1.0),
+    }
+    return CaseResult(
+        "contact-area",
+        max(errors.values()),
+        tolerance,
+        {
+            "area_current": rep.area_current,
+            "area_current_exact": area,
+            "mean_pressure": rep.mean_pressure,
+            "mean_pressure_exact": mean,
+            "area_reference": rep.area_reference,
+            "normal_force": rep.normal_force,
+            "errors": errors,
         },
     )
 
@@ -270,6 +322,7 @@ def newton_test(
 
 CASES = {
     "contact-press": press_test,
+    "contact-area": area_test,
     "contact-drag": drag_test,
     "contact-stick": stick_test,
     "contact-hertz": hertz_test,

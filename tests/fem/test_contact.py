@@ -134,7 +134,9 @@ def test_bad_setups_name_the_parameter():
         SolidModel(mesh, cv.MATERIAL, contacts=[ContactSpec(("nowhere",), Plane(), penalty=1.0)])
 
 
-@pytest.mark.parametrize("name", ["contact-press", "contact-drag", "contact-stick", "contact-newton"])
+@pytest.mark.parametrize(
+    "name", ["contact-press", "contact-area", "contact-drag", "contact-stick", "contact-newton"]
+)
 def test_contact_verification_cases(name):
     result = cv.CASES[name]()
     assert result.passed, (result.error, result.details)
@@ -212,3 +214,46 @@ def test_contact_blocks_reuse_the_body_pattern():
     ]
     with_contact = SolidModel(mesh, cv.MATERIAL, contacts=specs)
     assert with_contact.pattern.nnz == bare.pattern.nnz
+
+
+def _homogeneous_report(F, shift=(0.0, 0.0, 0.0), penetration=0.01, penalty=10.0):
+    """The contact report of a 1.5 x 1 x 1 block placed (not solved) in the homogeneous state
+    x = F X + shift with its base `penetration` into the plane z = 0."""
+    mesh = box((1.5, 1.0, 1.0), (3, 2, 1))
+    model = SolidModel(mesh, cv.MATERIAL, contacts=[ContactSpec(("z0",), Plane(), penalty=penalty)])
+    X = model.space.nodes
+    u = (np.asarray(F) - np.eye(3)) @ X + (np.asarray(shift) + (0.0, 0.0, -penetration))[:, None]
+    x = model.initial_state()
+    x[: model.n_u] = u.T.reshape(-1)
+    return model.contacts[0].report(x)
+
+
+def test_report_area_is_nansons_formula_for_a_homogeneous_state():
+    """Current area = |cof(F) N| A0 (Nanson) for a general F that keeps the base on the plane,
+    reference area A0, mean pressure N / a: before the fix the area was |cof(F) N| times the
+    number of active quadrature points (here 72), with no area weights."""
+    F = np.array([[1.1, 0.3, 0.2], [0.1, 0.9, -0.1], [0.0, 0.0, 0.8]])
+    rep = _homogeneous_report(F)
+    area0 = 1.5
+    exact = area0 * np.linalg.norm(np.linalg.det(F) * np.linalg.inv(F).T @ np.array([0.0, 0.0, -1.0]))
+    assert rep.area_reference == pytest.approx(area0, rel=1e-12)
+    assert rep.area_current == pytest.approx(exact, rel=1e-12)
+    assert rep.normal_force == pytest.approx(10.0 * 0.01 * area0, rel=1e-12)
+    assert rep.mean_pressure == pytest.approx(10.0 * 0.01 * area0 / exact, rel=1e-12)
+
+
+def test_report_area_is_unchanged_by_a_rigid_motion():
+    """A rigid rotation about the plane's normal and a shift leave the contact area at A0."""
+    c, s = np.cos(0.4), np.sin(0.4)
+    rep = _homogeneous_report([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]], shift=(0.7, -0.2, 0.0))
+    assert rep.area_current == pytest.approx(1.5, rel=1e-12)
+    assert rep.area_current == pytest.approx(rep.area_reference, rel=1e-12)
+    assert rep.mean_pressure == pytest.approx(10.0 * 0.01, rel=1e-12)
+
+
+def test_contact_area_verification_case():
+    """`softcrawl verify --case contact-area`: area A0 lam^2 and mean pressure p / lam^2 to round-off
+    (the unweighted sum gave 103.68 mm^2 against 2.16 mm^2)."""
+    result = cv.area_test()
+    assert result.passed, (result.error, result.details)
+    assert result.details["area_current"] == pytest.approx(2.16, rel=1e-10)
