@@ -5,13 +5,17 @@ ends with the stride, the states and the VTU series of an uninterrupted run.
 
 A kill is timed by the checkpoint files: the run is killed as soon as the state of a chosen index
 is on disk, i.e. while it solves the next sub-step; the phase it was in is read back from that
-state (the rows of `studies.crawl.resume`). Tolerance: two uninterrupted runs are compared first;
-they were bit-identical (docs/decisions/061-long-runs.md), so a resumed run must agree within the
-solver's tolerance: the Newton iteration stops at a relative residual of 1e-8 (1e-6 stalled,
-`studies.crawl.model.STALL_TOL`), and a resume that restarts the predictor's factorisation may end
-elsewhere within it. Stated as an absolute stride tolerance STRIDE_TOL_MM (1e-6 of the 5.35 mm
-stride) and, for every number of states.csv, RTOL of the column's largest magnitude; the measured
-differences are printed (pytest -s) and recorded in the decision.
+state (the rows of `studies.crawl.resume`).
+
+Tolerance. Two uninterrupted runs are not bit-identical on this machine: one state took 7 Newton
+iterations in one run and 6 in the other, and the states then differ at the level of the Newton
+tolerance (relative residual 1e-8, 1e-6 when stalled: `studies.crawl.model.STALL_TOL`). Their
+spread is measured here, printed (pytest -s) and recorded in docs/decisions/061-long-runs.md, and
+must itself be within the stated tolerance: the stride within STRIDE_TOL_MM = 1e-6 mm (2e-7 of
+the 5.35 mm stride), every number of states.csv within RTOL = 1e-6 of its column's largest
+magnitude, except the Newton iteration counts (which may differ by one, as between two
+uninterrupted runs) and the momentum balance, a residual (both runs below 1e-6 of the largest
+friction force instead). A resumed run is held to the same tolerance.
 """
 
 from __future__ import annotations
@@ -33,8 +37,10 @@ from tests.studies.sweeps.cli_runs import ROOT
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(7200)]
 
 ARGS = ["crawl", "--quick", "--cycles", "1"]
-STRIDE_TOL_MM = 5e-6
+STRIDE_TOL_MM = 1e-6
 RTOL = 1e-6
+#: Columns compared otherwise (module docstring): iteration counts, and the momentum residual.
+LOOSE = ("newton", "momentum_n")
 #: The state index after which each kill comes (save index = rows so far): 1: the first
 #: insertion sub-step is stored, the second is being solved; 7: extension t = 0.5 s stored;
 #: 11: retraction t = 1.5 s stored.
@@ -82,10 +88,10 @@ def _table(path: Path) -> list[dict]:
 
 def _compare(out: Path, ref: Path) -> dict:
     """The resumed run's tables against the reference's: the same rows (stage and time) and numbers
-    within the tolerance; returns the largest differences."""
+    within the tolerance (module docstring); returns the largest differences."""
     a, b = _table(out / "states.csv"), _table(ref / "states.csv")
     assert [(r["stage"], r["time_s"][:8]) for r in a] == [(r["stage"], r["time_s"][:8]) for r in b]
-    worst = 0.0
+    worst, column = 0.0, ""
     for key in a[0]:
         try:
             x = np.array([float(r[key]) for r in a])
@@ -93,10 +99,17 @@ def _compare(out: Path, ref: Path) -> dict:
         except ValueError:
             assert [r[key] for r in a] == [r[key] for r in b], key
             continue
+        if key in LOOSE:
+            continue
         scale = max(float(np.abs(y).max()), 1e-12)
         diff = float(np.abs(x - y).max())
         assert diff <= RTOL * scale, f"{key}: {diff:.3g} against {scale:.3g}"
-        worst = max(worst, diff / scale)
+        if diff / scale > worst:
+            worst, column = diff / scale, key
+    friction = max(abs(float(r[f"{f}_friction_n"])) for r in b for f in ("rear", "front"))
+    assert max(abs(float(r["momentum_n"])) for r in a + b) < 1e-6 * friction
+    newton = int(np.abs([int(r["newton"]) - int(q["newton"]) for r, q in zip(a, b)]).max())
+    assert newton <= 1
     (ca,), (cb,) = _table(out / "cycles.csv"), _table(ref / "cycles.csv")
     stride = abs(float(ca["stride_mm"]) - float(cb["stride_mm"]))
     assert stride <= STRIDE_TOL_MM, stride
@@ -104,7 +117,12 @@ def _compare(out: Path, ref: Path) -> dict:
     assert vtu == [f"crawl_{i:04d}.vtu" for i in range(len(a))]  # one per row, none left over
     assert (out / "vtu" / "crawl.pvd").read_text().count("crawl_") == len(a)
     assert not (out / "checkpoints").exists()  # removed once the files are written
-    return {"stride_mm": float(ca["stride_mm"]), "stride_diff_mm": stride, "states_rel_diff": worst}
+    return {
+        "stride_mm": float(ca["stride_mm"]),
+        "stride_diff_mm": stride,
+        "worst_rel_diff": f"{worst:.3g} ({column})",
+        "newton_diff": newton,
+    }
 
 
 @pytest.fixture(scope="module")
