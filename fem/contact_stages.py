@@ -23,6 +23,16 @@ history never changes inside a Newton iteration. Within a stage, each sub-step s
 secant prediction of the last two converged states (linear in the pseudo-time), which puts a
 drag increment near its slip solution.
 
+Resuming. After each converged sub-step `on_cursor` (if given) receives a `Cursor`: where the
+run stands (stage index, pseudo-time t, the next sub-step h, the secant predictor's previous
+(t, x), the stage's start load and the current load) and the solver's effort so far. A caller
+that stores it with the model's history (each contact term's multipliers, stick points, surface
+and friction coefficient, and its own terms' loads; `studies.crawl.resume`) continues with
+``run_stages(..., start=cursor)``: the stages before ``cursor.stage`` are skipped, the stage
+``cursor.stage`` goes on from t with h and the predictor's history, and its friction
+coefficients are not set again (`ContactTerm.set_friction` resets the stick points). A cursor
+at the end of a stage (t = 1) resumes at the next stage, whose friction is set as usual.
+
 Nothing raises on divergence: the result says `converged = False` and names the last converged
 stage and pseudo-time. Two guards end a stage that grinds in ever smaller sub-steps (a limit
 point or a jammed contact: cut-backs alternate with tiny converged sub-steps, so `max_cutbacks`
@@ -74,6 +84,25 @@ class StagedStep:
 
 
 @dataclass(frozen=True)
+class Cursor:
+    """Where `run_stages` stands after a converged sub-step (module docstring, "Resuming")."""
+
+    stage: int  # index in the stages
+    t: float  # pseudo-time reached in that stage
+    h: float  # the next sub-step
+    x: np.ndarray = field(repr=False)
+    prev_t: float | None  # the secant predictor's previous converged state in this stage
+    prev_x: np.ndarray | None = field(repr=False)
+    P0: np.ndarray  # the stage's start pressure and factor
+    f0: float
+    P: np.ndarray  # the current pressure and factor
+    f: float
+    newton_iterations: int  # this call's so far
+    assembly_s: float
+    solve_s: float
+
+
+@dataclass(frozen=True)
 class StagedResult:
     steps: tuple[StagedStep, ...]
     converged: bool
@@ -82,10 +111,12 @@ class StagedResult:
     newton_iterations: int
     assembly_s: float
     solve_s: float
+    end_x: np.ndarray | None = field(default=None, repr=False)  # the last state (a resumed call
+    # at the end of its stages has no step)
 
     @property
     def x(self) -> np.ndarray:
-        return self.steps[-1].x
+        return self.steps[-1].x if self.steps else self.end_x
 
 
 def _snapshot(model):
@@ -154,10 +185,13 @@ def run_stages(
     on_step: Callable[[StagedStep], None] | None = None,
     max_wall_s: float | None = None,
     min_step_fraction: float | None = None,
+    start: Cursor | None = None,
+    on_cursor: Callable[[Cursor], None] | None = None,
 ) -> StagedResult:
-    """Follow `stages` from x0 (default: undeformed) at zero pressure and factor 0; give up (not
-    converged) once `max_wall_s` seconds have passed or a sub-step would be smaller than
-    `min_step_fraction` / `stage.steps` (None: no limit)."""
+    """Follow `stages` from x0 (default: undeformed) at zero pressure and factor 0, or from
+    `start` (module docstring, "Resuming"; x0 is then ignored); give up (not converged) once
+    `max_wall_s` seconds have passed or a sub-step would be smaller than `min_step_fraction` /
+    `stage.steps` (None: no limit)."""
     if penetration_tol <= 0:
         raise SolverInputError("penetration_tol", "must be positive (mm)")
     if max_wall_s is not None and not max_wall_s > 0:
@@ -170,6 +204,10 @@ def run_stages(
     x = model.initial_state() if x0 is None else x0.copy()
     P = np.zeros(max(len(model.chambers), 1))
     f = 0.0
+    if start is not None:
+        if not 0 <= start.stage < len(stages):
+            raise SolverInputError("start", f"stage {start.stage} of a run of {len(stages)} stages")
+        x, P, f = start.x.copy(), np.array(start.P, dtype=float), float(start.f)
     out: list[StagedStep] = []
 
     def result(ok, message):
@@ -181,21 +219,29 @@ def run_stages(
             solver.iterations,
             solver.assembly_s,
             solver.linear.seconds,
+            x,
         )
 
-    last = "the start"
-    for stage in stages:
-        P0, f0 = P.copy(), f
+    last = "the start" if start is None else f"stage {stages[start.stage].name!r} at s = {start.t:.4g}"
+    for index, stage in enumerate(stages):
+        if start is not None and index < start.stage:
+            continue
+        resumed = start is not None and index == start.stage
+        P0, f0 = (np.array(start.P0, dtype=float), float(start.f0)) if resumed else (P.copy(), f)
         P1 = (
             P0
             if stage.pressure is None
             else np.broadcast_to(np.asarray(stage.pressure, float), P0.shape).copy()
         )
         f1 = f0 if stage.factor is None else float(stage.factor)
-        for i, mu in stage.friction.items():
-            model.contacts[i].set_friction(mu, x)
-        t, h, cuts = 0.0, 1.0 / stage.steps, 0
-        prev = None  # (t, x) of the converged state before the last one in this stage
+        if resumed:  # friction was set when the stage began: set_friction would reset the stick points
+            t, h, cuts = float(start.t), float(start.h), 0
+            prev = None if start.prev_x is None else (float(start.prev_t), start.prev_x.copy())
+        else:
+            for i, mu in stage.friction.items():
+                model.contacts[i].set_friction(mu, x)
+            t, h, cuts = 0.0, 1.0 / stage.steps, 0
+            prev = None  # (t, x) of the converged state before the last one in this stage
         while t < 1.0 - 1e-12:
             h = min(h, 1.0 - t)
             s = t + h
@@ -238,4 +284,7 @@ def run_stages(
                 on_step(step)
             if its[0] <= 6:
                 h = min(2.0 * h, 1.0 / stage.steps)  # never past the stage's own step (curves)
+            if on_cursor is not None:
+                work = (solver.iterations, solver.assembly_s, solver.linear.seconds)
+                on_cursor(Cursor(index, t, h, x, prev[0], prev[1], P0, f0, P.copy(), f, *work))
     return result(True, "all stages reached")

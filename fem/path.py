@@ -33,11 +33,16 @@ either, the path ends with `converged = False` and a message that names the last
 Nothing here raises on divergence.
 
 Terms with a history (contact) are told every accepted state (`SolidModel.commit`), never a trial.
+
+Resuming. `on_cursor` (if given) receives a `fem.path_cursor.PathCursor` after every converged
+pressure-controlled sub-step; ``load_path(..., start=cursor)`` continues from it (the solver's
+effort and wall time carried over), after a kill (`studies.robot_fe.response`).
 """
 
 from __future__ import annotations
 
 import time
+from dataclasses import astuple
 
 import numpy as np
 
@@ -45,6 +50,7 @@ from softcrawl.fem.continuation import parabola_peak, volume_continuation
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.model import SolidModel
 from softcrawl.fem.newton import PREDICTORS, Diverged, NewtonOptions, NewtonRecord, NewtonSolver, SolveStats
+from softcrawl.fem.path_cursor import PathCursor
 from softcrawl.fem.steps import (
     History,
     LoadShape,
@@ -77,12 +83,14 @@ def load_path(
     options: NewtonOptions | None = None,
     control: str = "pressure",
     on_step=None,
+    start=None,
+    on_cursor=None,
 ) -> PathResult:
     """Follow the load through `targets`, a sequence of (pressure MPa, load factor) pairs (the
     pressure a float, or one per chamber). Starts from the undeformed state at zero load. See
     the module docstring for cut-back and limit points. `control` only labels the steps
     ("pressure" or "displacement"). `on_step`, if given, is called with every converged `Step`
-    as it is found (progress reports)."""
+    as it is found (progress reports). `start`, `on_cursor`: module docstring, "Resuming"."""
     opt = options or NewtonOptions()
     if opt.predictor not in PREDICTORS:
         raise SolverInputError("predictor", f"{opt.predictor!r} is not one of {PREDICTORS}")
@@ -100,9 +108,42 @@ def load_path(
     events: list[str] = []
     memory = StepMemory()
     rigid = StiffParts.of(model, opt.rigid_ratio) if opt.rigid_ratio else None
+    if start is not None:
+        _resume(model, solver, start, len(loads), history, steps, events, memory)
+    report = None
+    if on_cursor is not None:
+
+        def report(i, seg_start, t, h, n_sub, trials):
+            on_cursor(
+                PathCursor(
+                    i,
+                    seg_start,
+                    t,
+                    h,
+                    n_sub,
+                    trials,
+                    history.x,
+                    history.load,
+                    history.x_prev,
+                    history.load_prev,
+                    (memory.length, memory.direction),
+                    tuple(steps),
+                    tuple(events),
+                    _carried(solver, t0, start),
+                )  # fmt: skip
+            )
+
     for i, target in enumerate(loads):
+        if start is not None and i < start.target:
+            continue
+        resume = (
+            (start.start, start.t, start.h, start.n_sub, start.trials)
+            if start is not None and i == start.target
+            else None
+        )
+        on_sub = None if report is None else (lambda *a, i=i: report(i, *a))
         try:
-            record, n_sub = _advance(solver, history, target, opt, memory, rigid)
+            record, n_sub = _advance(solver, history, target, opt, memory, rigid, resume, on_sub)
         except Diverged as exc:
             rising = bool(np.any(target[:-1] > history.load[:-1]))
             if not model.chambers or not rising:
@@ -115,7 +156,34 @@ def load_path(
             )
             return volume_continuation(solver, shape, history, loads[i:], steps, events, opt, t0)
         steps.append(make_step(model, shape, target, history.x, control, record, n_sub))
-    return PathResult(tuple(steps), True, "all load targets reached", None, tuple(events), solver.stats(t0))
+        if report is not None and i + 1 < len(loads):
+            report(i + 1, history.load, 0.0, None, 0, 0)
+    stats = _carried(solver, t0, start)
+    return PathResult(tuple(steps), True, "all load targets reached", None, tuple(events), stats)
+
+
+def _resume(model, solver, start, n_targets, history, steps, events, memory) -> None:
+    """Put the path's state back to the cursor `start` (module docstring, "Resuming")."""
+    if model.contacts:
+        raise SolverInputError(
+            "start", "a path cursor holds no contact history: resume with fem.contact_stages"
+        )
+    if not 0 <= start.target < n_targets:
+        raise SolverInputError("start", f"target {start.target} of a path of {n_targets} targets")
+    history.x, history.load = start.x.copy(), np.array(start.load, dtype=float)
+    if start.x_prev is not None:
+        history.x_prev, history.load_prev = start.x_prev.copy(), np.array(start.load_prev, dtype=float)
+    memory.length, memory.direction = start.memory
+    list.extend(steps, start.steps)  # reported already, by the run that found them
+    events.extend(start.events)
+
+
+def _carried(solver, t0, start) -> SolveStats:
+    """The solver's statistics of this call, plus those of the run it resumes."""
+    now = solver.stats(t0)
+    if start is None:
+        return now
+    return SolveStats(*(a + b for a, b in zip(astuple(now), astuple(start.stats))))
 
 
 class StepMemory:
@@ -167,17 +235,25 @@ def _extrapolate(solver: NewtonSolver, history: History, load, direction, opt) -
     return history.hermite(load, direction, history.tangent[1])
 
 
-def _advance(solver: NewtonSolver, history: History, end, opt, memory: StepMemory, rigid=None):
+def _advance(
+    solver: NewtonSolver, history: History, end, opt, memory: StepMemory, rigid=None, resume=None, on_sub=None
+):
     """From the last converged load to `end` in adaptive sub-steps (grown after easy ones, halved
     after a divergence), each started from the predictor; returns (last Newton record, number of
     sub-steps). Raises Diverged after `max_cutbacks` halvings in a row, below
-    `min_step_fraction`, or after `max_substeps` sub-steps, with a message that says which."""
-    start = history.load
+    `min_step_fraction`, or after `max_substeps` sub-steps, with a message that says which.
+    `resume`: (segment start load, t, h, sub-steps, attempts) of a cursor in this segment (h None:
+    the segment's first); `on_sub(start, t, h, n_sub, trials)` after each converged sub-step but
+    the segment's last."""
+    start = history.load if resume is None else np.array(resume[0], dtype=float)
     span = end - start
     length = float(np.linalg.norm(span))
     direction = span / length if length > 0 else None
     t, h = 0.0, memory.first_fraction(direction, length)
     n_sub, cuts, trials = 0, 0, 0
+    if resume is not None:
+        t, n_sub, trials = float(resume[1]), int(resume[3]), int(resume[4])
+        h = h if resume[2] is None else float(resume[2])
     record = None
     while t < 1.0 - 1e-14:
         trials += 1
@@ -206,6 +282,8 @@ def _advance(solver: NewtonSolver, history: History, end, opt, memory: StepMemor
                 f" after {n_sub} sub-steps of {record.iterations}+ Newton iterations"
             )
         memory.length, memory.direction = h * length, direction
+        if on_sub is not None and t < 1.0 - 1e-14:
+            on_sub(start, t, h, n_sub, trials)
     if record is None:  # zero-length segment
         x_new, record = solver.load_step(history.x, end[:-1], end[-1])
         history.accept(x_new, end)

@@ -6,7 +6,7 @@ The model: docs/decisions/051-crawl-model.md.
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
                     [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric]
                     [--mesher revolved|tetwild] [--sectors N] [--layers N] [--edge-length MM]
-                    [--gif | --animation PATH.gif] --out DIR
+                    [--gif | --animation PATH.gif] [--resume] --out DIR
 
 Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
 friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
@@ -26,6 +26,15 @@ states.csv, cycles.csv, summary.json, vtu/ (crawl.pvd with the pipe in pipe.vtu)
 with --gif also crawl.gif (--animation: at PATH), the deformed feet in the pipe, one frame per
 state, drawn from vtu/ off screen (`studies.crawl.animation`; GIF only: MP4 needs ffmpeg).
 Exit code 1 when a stage diverges (the outputs then end at the last converged state).
+
+Every converged state is written to OUT/checkpoints (the newest 3 kept; `studies.crawl.resume`),
+removed once the outputs are written. After a kill -9, a SIGTERM, Ctrl-C or a full disk, the same
+command with --resume continues from the newest state; the outputs are those of an uninterrupted
+run (states.csv and cycles.csv from the state's rows, vtu/ kept up to it). Another option or
+softcrawl version than the checkpoint's is refused in one line naming it (exit 2); --resume
+without a checkpoint starts from the beginning (and says so), so that a job script can always
+pass it; without --resume, a folder holding an unfinished run's checkpoint is refused (exit 2)
+rather than overwritten.
 """
 
 from __future__ import annotations
@@ -94,6 +103,9 @@ def register(subparsers) -> None:
     movie.add_argument("--animation", default=None, metavar="PATH", help="write that GIF at PATH (.gif)")
     add_vtu_precision(p)
     p.add_argument("--out", required=True, help="output folder")
+    p.add_argument(
+        "--resume", action="store_true", help="continue from the last state in OUT/checkpoints (same options)"
+    )
     p.set_defaults(func=run)
 
 
@@ -101,8 +113,9 @@ def run(args) -> int:
     from pathlib import Path
 
     from softcrawl.studies.commands.options import output_folder
-    from softcrawl.studies.crawl.files import run_and_write
+    from softcrawl.studies.crawl.files import MATERIAL, run_and_write
     from softcrawl.studies.crawl.model import CrawlSetup
+    from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
     from softcrawl.studies.crawl.schedule import preset, read_csv
 
     mesh = mesh_settings(args)  # before any folder is made
@@ -121,14 +134,46 @@ def run(args) -> int:
         steps=steps,
         cycles=args.cycles,
     )
+    store = CrawlStore(Path(out) / FOLDER, crawl_options(setup, schedule, MATERIAL))
+    resumed = checkpoint(store, args.resume)
     print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
     result, summary = run_and_write(
-        setup, schedule, Path(out), quick=args.quick, progress=progress, precision=args.vtu_precision
+        setup,
+        schedule,
+        Path(out),
+        quick=args.quick,
+        progress=progress,
+        precision=args.vtu_precision,
+        store=store,
+        resumed=resumed,
     )
     print(summary["text"])
     if animation is not None:
         write_animation(Path(out), animation)
     return 0 if result.converged else 1
+
+
+def checkpoint(store, resume: bool):
+    """The state to continue from (`--resume`), or None for a fresh start; one line either way
+    when there is something to say, and a `CommandLineError` (exit 2) for a checkpoint that is
+    not this run's or an unfinished run without --resume."""
+    from softcrawl.studies.commands.options import CommandLineError
+
+    if not resume:
+        if store.unfinished():
+            raise CommandLineError(
+                "resume",
+                f"{store.folder} holds the checkpoint of an unfinished run; add --resume to continue it, "
+                "or remove the folder to start again",
+            )
+        store.clear()  # a manifest without states: nothing to keep
+        return None
+    resumed = store.load()
+    if resumed is None:
+        print(f"crawl: no checkpoint in {store.folder}; starting from the beginning")
+    else:
+        print(f"crawl: resuming from {resumed.describe()} in {store.folder}")
+    return resumed
 
 
 def mesh_settings(args) -> dict:

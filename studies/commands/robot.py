@@ -1,7 +1,7 @@
 """`softcrawl robot`: the whole robot in FE under three chamber pressures.
 
     softcrawl robot --pressures P1,P2,P3 [--first P1,P2,P3] [--steps N] [--mesh quick|default|fine]
-                    [--material M] [--rings N] [--d MM] [--gravity] [--out DIR]
+                    [--material M] [--rings N] [--d MM] [--gravity] [--out DIR [--resume]]
 
 The tied assembly of `studies.robot_fe.model` (rear foot hub clamped) follows the pressures
 (kPa) from zero: in --steps proportional steps to --pressures, or first to --first and then to
@@ -10,12 +10,20 @@ load case). --gravity adds the weight, acting along -y (the robot lying in a hor
 Prints each converged state (tip, theta, phi, FE lengths, arc-fit RMS, d_eff, splay, and phi of
 eq. 6 fed with the FE lengths); with --out writes states.csv, a VTU series (vtu/robot.pvd) and a
 render of the last state (robot.png).
+
+With --out, every converged sub-step is written to OUT/checkpoints (the newest 3 kept; removed once
+the outputs are written); after a kill -9, a SIGTERM or a full disk the same command with --resume
+continues from the newest (`fem.path_cursor`). The rules of `softcrawl crawl --resume`: another
+option or softcrawl version is refused in one line naming it (exit 2); --resume without a
+checkpoint starts from the beginning and says so; an unfinished run's checkpoint is not
+overwritten without --resume (exit 2).
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import shutil
 from pathlib import Path
 
 from softcrawl.console import progress
@@ -60,6 +68,9 @@ def register(subparsers) -> None:
         "--out", default=None, help="folder for states.csv, vtu/ and robot.png (default: print only)"
     )
     add_vtu_precision(p)
+    p.add_argument(
+        "--resume", action="store_true", help="continue from the last state in OUT/checkpoints (same options)"
+    )
     p.set_defaults(func=run)
 
 
@@ -100,11 +111,18 @@ def run(args) -> int:
     body_material(args.material)
     if args.out is not None:  # an empty name too: it is an error, not "no output"
         output_folder(args.out)
+    checkpoints = robot_checkpoints(args)
     robot = build_robot_model(
         design, args.material, args.mesh, gravity=(0.0, -1.0, 0.0) if args.gravity else None
     )
     progress(f"robot: {robot.n_dofs} DOFs, materials {robot.materials}, {args.mesh} mesh")
-    run_ = simulate_robot(robot, [tuple(kpa_to_mpa(p) for p in P) for P in targets], gravity=args.gravity)
+    run_ = simulate_robot(
+        robot,
+        [tuple(kpa_to_mpa(p) for p in P) for P in targets],
+        gravity=args.gravity,
+        checkpoints=checkpoints,
+        resume=args.resume,
+    )
     for s in run_.states:
         print(
             f"P = ({', '.join(f'{p:.4g}' for p in s.pressures_kpa)}) kPa: theta {s.theta_deg:.2f} deg, "
@@ -116,7 +134,38 @@ def run(args) -> int:
     print(f"{run_.message}; {run_.newton_iterations} Newton iterations, {run_.seconds:.1f} s")
     if args.out:
         write_outputs(robot, run_, Path(args.out), args.vtu_precision)
+        shutil.rmtree(checkpoints.folder, ignore_errors=True)  # the run ended and its files are written
     return 0 if run_.converged else 1
+
+
+def robot_checkpoints(args):
+    """The run's `fem.checkpoint.Checkpoints` in OUT/checkpoints (None without --out), checked
+    before any work: a folder of other options or another version with --resume, or an unfinished
+    run's without it, is refused (exit 2)."""
+    from softcrawl.fem.checkpoint import Checkpoints
+    from softcrawl.studies.commands.options import CommandLineError
+
+    if args.out is None:
+        if args.resume:
+            raise CommandLineError("resume", "needs --out (the checkpoints are in OUT/checkpoints)")
+        return None
+    options = {k: getattr(args, k) for k in ("pressures", "first", "steps", "mesh", "material", "rings", "d")}
+    checkpoints = Checkpoints(Path(args.out) / "checkpoints", options | {"gravity": bool(args.gravity)})
+    if args.resume:
+        checkpoints.check()
+        if not checkpoints.states():
+            print(f"robot: no checkpoint in {checkpoints.folder}; starting from the beginning")
+        else:
+            print(f"robot: resuming from {checkpoints.states()[-1]}")
+    elif checkpoints.states():
+        raise CommandLineError(
+            "resume",
+            f"{checkpoints.folder} holds the checkpoint of an unfinished run; add --resume to continue it, "
+            "or remove the folder to start again",
+        )
+    else:
+        shutil.rmtree(checkpoints.folder, ignore_errors=True)  # a manifest without states
+    return checkpoints
 
 
 def write_outputs(robot, run_, folder: Path, precision: int = 32) -> None:

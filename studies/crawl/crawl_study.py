@@ -12,7 +12,11 @@ as a
 recorded failure, not as a point that never returns. Each point runs
 `studies.crawl.files` into OUT/points/D..-mu../ (states.csv, cycles.csv, summary.json,
 crawl.png; no VTU) and its summary is kept in points/crawl-D..-mu...json, so a stopped study
-resumes and a diverged point is recorded with the last converged state in its reason.
+resumes and a diverged point is recorded with the last converged state in its reason. Each
+converged state of a point is written to points/D..-mu../checkpoints (`studies.crawl.resume`):
+a point handed back (Ctrl-C, SIGTERM, a dead worker) restarts from its last converged state
+when it is evaluated again, and a point stopped by the memory watchdog (`--max-memory`) names
+that state in its failure (``last_state``).
 
 Figures per point: the stride of each cycle and the steady stride (cycles after the first), the
 speed, and the anchoring slip ratio of the extension phase, |anchoring foot's motion| / (|rear| +
@@ -26,14 +30,16 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.paper import PIPE_DIAMETERS_MM
-from softcrawl.studies.crawl.files import run_and_write
+from softcrawl.studies.crawl.files import MATERIAL, run_and_write
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS
 from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.outputs import steady_stride
 from softcrawl.studies.crawl.plot import plot_crawl_study
+from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
 from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.memory import OutOfMemory
 from softcrawl.studies.sweeps.spec import Evaluation, StudyError, SweepSpec, sweep_spec_from_file
 from softcrawl.studies.sweeps.sweep import run_sweep
 from softcrawl.studies.sweeps.tables import write_csv
@@ -72,7 +78,16 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
         sectors=QUICK_SECTORS if quick else None,
     )
     folder = Path(settings["out_dir"]) / "points" / point_stem(params)
-    result, summary = run_and_write(setup, preset("inflate", 100.0, 2.0), folder, quick=quick, vtu=False)
+    schedule = preset("inflate", 100.0, 2.0)
+    store = CrawlStore(folder / FOLDER, crawl_options(setup, schedule, MATERIAL))
+    resumed = store.load()  # another version's checkpoint: a failed point naming it (CheckpointError)
+    try:
+        result, summary = run_and_write(
+            setup, schedule, folder, quick=quick, vtu=False, store=store, resumed=resumed
+        )
+    except OutOfMemory as exc:
+        exc.last_state = store.latest_summary()
+        raise
     ratios = [anchoring_slip_ratio(c) for c in result.cycles]
     attrs = {
         "converged": result.converged,
@@ -90,6 +105,7 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
         "n_dofs": result.n_dofs,
         "newton_iterations": result.newton_iterations,
         "wall_s": result.wall_s,
+        "resumed_from": resumed.describe() if resumed is not None else "",
     }
     jsonio.write(
         Path(settings["out_dir"]) / "points" / f"crawl-{point_stem(params)}.json", {"params": params} | attrs

@@ -65,9 +65,15 @@ ROW_FIELDS = {
 
 
 class _VtuSeries:
-    def __init__(self, folder: Path, precision: int = 32) -> None:
-        self.folder, self.entries, self.precision = folder, [], precision
+    def __init__(self, folder: Path, rows=(), precision: int = 32) -> None:
+        """The series in `folder`; `rows`: the states of a resumed run, whose VTU files are kept
+        (a later one, written after the last checkpoint, is written again or removed)."""
+        self.folder, self.precision = folder, precision
+        self.entries = [(vtu_time(r), f"crawl_{r['index']:04d}.vtu") for r in rows]
         folder.mkdir(parents=True, exist_ok=True)
+        for path in folder.glob("crawl_*.vtu"):
+            if path.name not in {name for _, name in self.entries}:
+                path.unlink(missing_ok=True)
 
     def __call__(self, index, model, x, time_s, row=None) -> None:
         fields = {}
@@ -84,6 +90,12 @@ class _VtuSeries:
         )
         self.entries.append((time_s, path.name))
         write_pvd(self.folder, self.entries)
+
+
+def vtu_time(row: dict) -> float:
+    """The time of a state in the series: the schedule's; the setup states (insertion, friction
+    on) at small negative times, in order."""
+    return row["time_s"] if row["cycle"] > 0 else (row["index"] - 1000) * 1e-3
 
 
 def write_pvd(folder: Path, entries) -> Path:
@@ -178,27 +190,36 @@ def progress_line(row: dict) -> str:
 
 
 def run_and_write(
-    setup, schedule, folder: Path, quick: bool = False, vtu: bool = True, progress=None, precision: int = 32
+    setup,
+    schedule,
+    folder: Path,
+    quick: bool = False,
+    vtu: bool = True,
+    progress=None,
+    store=None,
+    resumed=None,
+    precision: int = 32,
 ):
     """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
-    `progress(line)` is called with one line per converged state; `precision`: the VTU floats."""
+    `progress(line)` is called with one line per converged state. `store` (`resume.CrawlStore`):
+    each converged state is written to it, and it is cleared once the files are written;
+    `resumed` (its `load()`): the run continues from that state; `precision`: the VTU floats."""
     folder.mkdir(parents=True, exist_ok=True)
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     cm = build(mesh, solid_law(get_material(MATERIAL), hyperelastic_only=True), design, setup)
     series = None
     if vtu:
-        series = _VtuSeries(folder / "vtu", precision)
+        series = _VtuSeries(folder / "vtu", resumed.rows if resumed is not None else (), precision)
         z = mesh.p[2]
         write_pipe(series.folder / "pipe.vtu", setup.pipe, float(z.min()) - 20, float(z.max()) + 80)
 
     def on_state(row, model, x):
         if series is not None:  # setup states (insertion, friction on) at negative times, in order
-            t = row["time_s"] if row["cycle"] > 0 else (row["index"] - 1000) * 1e-3
-            series(row["index"], model, x, t, row)
+            series(row["index"], model, x, vtu_time(row), row)
         if progress is not None:
             progress(progress_line(row))
 
-    result = run_crawl(cm, schedule, on_state=on_state)
+    result = run_crawl(cm, schedule, on_state=on_state, store=store, resumed=resumed)
     pressure = float(np.max(schedule.pressures_kpa))
     cmp = compare(result, setup, schedule, pressure)
     text = summary_text(result, setup, schedule, cmp)
@@ -219,4 +240,6 @@ def run_and_write(
     write_summary(folder / "summary.json", summary, indent=1)
     if result.states:
         plot_crawl(list(result.states), folder / "crawl.png", text.splitlines()[0])
+    if store is not None:
+        store.clear()
     return result, summary

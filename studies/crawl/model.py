@@ -38,6 +38,7 @@ from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
+from softcrawl.studies.crawl.resume import Totals
 from softcrawl.studies.crawl.schedule import AxialLaw, Schedule
 from softcrawl.studies.foot.model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING, insertion_wall
 
@@ -170,9 +171,9 @@ def _cycle_stages(
     return stages, spans
 
 
-def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf):
+def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf, start=None, on_cursor=None):
     """run_stages with the recorder on every converged sub-step, stopped (not converged) at the
-    wall-clock `deadline` (time.perf_counter() seconds)."""
+    wall-clock `deadline` (time.perf_counter() seconds); from the cursor `start` when resumed."""
     names = [s.name for s in stages]
 
     def on_step(step):
@@ -190,64 +191,89 @@ def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf):
         max_cutbacks=MAX_CUTBACKS,
         on_step=on_step,
         max_wall_s=budget,
+        start=start,
+        on_cursor=on_cursor,
         **AUGMENT,
     )
 
 
-def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
-    """Insert, switch friction on, follow `schedule` for `setup.cycles` cycles (module docstring)."""
+def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None, store=None, resumed=None) -> CrawlResult:
+    """Insert, switch friction on, follow `schedule` for `setup.cycles` cycles (module docstring).
+
+    `store` (a `studies.crawl.resume.CrawlStore`): every converged state is written to it;
+    `resumed` (its `load()`): the run continues from that state (the phases before it are
+    skipped, their effects being in the state; the recorder's rows are the state's)."""
     setup, model = cm.setup, cm.model
     t0 = time.perf_counter()
-    deadline = t0 + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
     recorder = StateRecorder(cm, on_state)
-    wall_at = insertion_wall(setup.pipe, cm.tip_radius + 0.5)
-    insert = Stage(
-        "insert", surfaces={i: wall_at for i in range(len(model.contacts))}, steps=setup.insert_steps
-    )
-    res = _run(cm, [insert], [(0.0, 0.0, np.zeros(3), np.zeros(3))], None, recorder, -1, deadline)
-    stats = [res]
-    if not res.converged:
-        return recorder.result(False, res.message, stats, time.perf_counter() - t0)
-    x = res.x
-    for name in ("ground_rear", "ground_front"):
-        g = cm.terms[name]
-        g.set_load(GROUND_SOFT, 0.0, g.extension(x))
-    mu = {
-        i: (setup.mu_smooth if c.spec.name.endswith("smooth") else setup.mu_grooved)
-        for i, c in enumerate(model.contacts)
-    }
-    res = _run(
-        cm,
-        [Stage("friction", friction=mu)],
-        [(0.0, 0.0, np.zeros(3), np.zeros(3))],
-        x,
-        recorder,
-        -1,
-        deadline,
-    )
-    stats.append(res)
-    if not res.converged:
-        return recorder.result(False, res.message, stats, time.perf_counter() - t0)
-    x = res.x
-    recorder.mark_start(x)
+    carried = Totals() if resumed is None else resumed.totals
+    if resumed is not None:
+        store.restore(cm, recorder, resumed)
+    deadline = t0 - carried.wall_s + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
+    stats: list = [carried]
+
+    def elapsed() -> float:
+        return carried.wall_s + time.perf_counter() - t0
+
     start = schedule.pressures_kpa[0]
-    if np.any(start > 0):
-        actuator = cm.terms["actuator"]
-        ramp = Stage(
-            "start",
-            drive=lambda s: actuator.set_load(*cm.law.stiffness_preload(s * start)),
-            steps=setup.steps,
-        )
-        res = _run(cm, [ramp], [(0.0, 0.0, np.zeros(3), start)], x, recorder, -1, deadline)
-        stats.append(res)
-        if not res.converged:
-            return recorder.result(False, res.message, stats, time.perf_counter() - t0)
-        x = res.x
-    for cycle in range(setup.cycles):
-        recorder.begin_cycle(cycle, x)
-        stages, spans = _cycle_stages(cm, schedule, cycle, setup.steps, deadline)
+    ramp = bool(np.any(start > 0))
+    plan = ["insert", "friction"] + (["start"] if ramp else []) + [f"cycle{k}" for k in range(setup.cycles)]
+    first = 0 if resumed is None else resumed.phase
+    x = None if resumed is None else resumed.cursor.x
+    setup_span = [(0.0, 0.0, np.zeros(3), np.zeros(3))]
+    for k, name in enumerate(plan):
+        if k < first:
+            continue
+        cursor = resumed.cursor if resumed is not None and k == first else None
+        cycle = int(name[5:]) if name.startswith("cycle") else -1
+        if cursor is None:  # the actions between the phases (in a resumed phase: in the state)
+            if name == "friction":
+                for g in (cm.terms["ground_rear"], cm.terms["ground_front"]):
+                    g.set_load(GROUND_SOFT, 0.0, g.extension(x))
+            if k > 0 and plan[k - 1] == "friction":
+                recorder.mark_start(x)
+            if cycle >= 0:
+                recorder.begin_cycle(cycle, x)
+        if name == "insert":
+            wall_at = insertion_wall(setup.pipe, cm.tip_radius + 0.5)
+            surfaces = {i: wall_at for i in range(len(model.contacts))}
+            stages, spans = [Stage("insert", surfaces=surfaces, steps=setup.insert_steps)], setup_span
+        elif name == "friction":
+            mu = {
+                i: (setup.mu_smooth if c.spec.name.endswith("smooth") else setup.mu_grooved)
+                for i, c in enumerate(model.contacts)
+            }
+            stages, spans = [Stage("friction", friction=mu)], setup_span
+        elif name == "start":
+
+            def drive(s, actuator=cm.terms["actuator"]):
+                actuator.set_load(*cm.law.stiffness_preload(s * start))
+
+            stages = [Stage("start", drive=drive, steps=setup.steps)]
+            spans = [(0.0, 0.0, np.zeros(3), start)]
+        else:
+            stages, spans = _cycle_stages(cm, schedule, cycle, setup.steps, deadline)
+        on_cursor = None
+        if store is not None:
+            done = Totals(
+                int(sum(r.newton_iterations for r in stats)),
+                float(sum(r.assembly_s for r in stats)),
+                float(sum(r.solve_s for r in stats)),
+            )
+
+            def on_cursor(c, k=k, name=name, done=done):
+                totals = Totals(
+                    done.newton_iterations + c.newton_iterations,
+                    done.assembly_s + c.assembly_s,
+                    done.solve_s + c.solve_s,
+                    elapsed(),
+                )
+                store.save(cm, recorder, k, name, c, totals)
+
         try:
-            res = _run(cm, stages, spans, x, recorder, cycle)
+            res = _run(
+                cm, stages, spans, x, recorder, cycle, deadline if cycle < 0 else np.inf, cursor, on_cursor
+            )
         except WallBudgetExceeded:
             last = recorder.states[-1]
             message = (
@@ -256,12 +282,12 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None) -> CrawlResult:
                 f"t = {last['time_s']:.4g} s, P = {last['p1_kpa']:.4g} kPa (the Newton iterations of "
                 "this cycle are not counted)"
             )
-            return recorder.result(False, message, stats, time.perf_counter() - t0)
+            return recorder.result(False, message, stats, elapsed())
         stats.append(res)
         if not res.converged:
-            return recorder.result(
-                False, f"cycle {cycle + 1}: {res.message}", stats, time.perf_counter() - t0
-            )
+            message = res.message if cycle < 0 else f"cycle {cycle + 1}: {res.message}"
+            return recorder.result(False, message, stats, elapsed())
         x = res.x
-        recorder.end_cycle(cycle, x, schedule.cycle_s)
-    return recorder.result(True, f"{setup.cycles} cycle(s) reached", stats, time.perf_counter() - t0)
+        if cycle >= 0:
+            recorder.end_cycle(cycle, x, schedule.cycle_s)
+    return recorder.result(True, f"{setup.cycles} cycle(s) reached", stats, elapsed())

@@ -33,6 +33,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from softcrawl.analytic import kinematics as kin
+from softcrawl.fem import path_cursor
+from softcrawl.fem.checkpoint import CheckpointError
 from softcrawl.fem.path import NewtonOptions, load_path
 from softcrawl.studies.robot_fe.model import RobotModel
 from softcrawl.units import mpa_to_kpa
@@ -167,13 +169,34 @@ def robot_state(robot: RobotModel, probes: Probes, x: np.ndarray, pressures_mpa)
     )
 
 
-def simulate_robot(robot: RobotModel, targets_mpa, *, options=None, gravity: bool = False) -> RobotRun:
+def simulate_robot(
+    robot: RobotModel,
+    targets_mpa,
+    *,
+    options=None,
+    gravity: bool = False,
+    checkpoints=None,
+    resume: bool = False,
+) -> RobotRun:
     """Follow the pressure triples `targets_mpa` (MPa) from zero; the outputs of every converged
-    state. A path that stops early is a result whose message names the last converged load."""
+    state. A path that stops early is a result whose message names the last converged load.
+    `checkpoints` (a `fem.checkpoint.Checkpoints`): every converged pressure-controlled sub-step is
+    written to it (`fem.path_cursor`); with `resume`, the path continues from its newest state
+    (none: from the start)."""
     f = 1.0 if gravity else 0.0
     targets = [((0.0, 0.0, 0.0), 1.0)] if gravity else []
     targets += [(tuple(float(v) for v in P), f) for P in targets_mpa]
-    res = load_path(robot.model, targets, options=options or ROBOT_NEWTON)
+    start, on_cursor = None, None
+    if checkpoints is not None:
+        start, index = _latest(checkpoints) if resume else (None, 0)
+
+        def on_cursor(cursor):
+            nonlocal index
+            index += 1
+            arrays, meta = path_cursor.to_arrays(cursor)
+            checkpoints.save(index, arrays, meta | {"index": index})
+
+    res = load_path(robot.model, targets, options=options or ROBOT_NEWTON, start=start, on_cursor=on_cursor)
     probes = Probes(robot)
     states = tuple(robot_state(robot, probes, s.x, _triple(s.pressure)) for s in res.steps)
     return RobotRun(
@@ -187,6 +210,21 @@ def simulate_robot(robot: RobotModel, targets_mpa, *, options=None, gravity: boo
         res.stats,
         res,
     )
+
+
+def _latest(checkpoints):
+    """(cursor, index) of the newest state in `checkpoints`, or (None, 0); `CheckpointError` for a
+    folder of other options or another version, or a state that is not a path's."""
+    found = checkpoints.load_latest()
+    if found is None:
+        return None, 0
+    meta, arrays = found
+    try:
+        return path_cursor.from_arrays(meta, arrays), int(meta["index"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CheckpointError(
+            "resume", f"the checkpoint in {checkpoints.folder} cannot be read ({type(exc).__name__}: {exc})"
+        ) from None
 
 
 def _triple(p) -> tuple[float, float, float]:

@@ -19,7 +19,7 @@ import json
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from softcrawl.studies.sweeps import queue
+from softcrawl.studies.sweeps import memory, queue
 from softcrawl.studies.sweeps.faults import SignalGuard, SweepStopped, WorkerReport
 from softcrawl.studies.sweeps.pool import run_pool
 from softcrawl.studies.sweeps.spec import Evaluation, SearchSpec, StudyError, load_callable, point_key
@@ -146,10 +146,12 @@ def run_search(spec: SearchSpec, *, workers: int = 1, progress: bool = True) -> 
     study, _ = open_search(spec)
     bar = _SearchProgress(study, spec) if progress else None
     try:
-        if workers == 1:
+        if workers == 1 and memory.limit_gb() is None:  # a memory stop must not end this process
             report = search_worker(spec, on_step=bar.update if bar else None)
         else:
-            report, _ = run_pool(_search_main, spec.to_dict(), workers, 1.0, bar.update if bar else None)
+            report, died = run_pool(_search_main, spec.to_dict(), workers, 1.0, bar.update if bar else None)
+            if len(died) == workers and not report.signum and not report.stop:  # none finished the budget
+                report.stop = f"{len(died)} of {workers} workers died (exit codes {died})"
     finally:
         if bar is not None:
             bar.close()

@@ -1,8 +1,10 @@
 """Run or resume a sweep with one or several worker processes, and report how it ended.
 
 `run_sweep` queues the grid (under the study lock), runs ``workers`` workers (in this process
-for one, spawned processes for several; workers on other machines may join through a shared
-``--storage``), and returns the table of `studies.sweeps.tables.collect`. It raises
+for one, spawned processes for several, and for one under a memory limit: the watchdog's hard
+stop ends its process, which must not be the command's; workers on other machines may join
+through a shared ``--storage``), and returns the table of `studies.sweeps.tables.collect`. It
+raises
 
 * `SweepStopped` when the run stopped early: a signal (the workers hand their points back at
   once; exit code 128 + signal), a fault of the machine such as a full disk, a database that
@@ -15,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from softcrawl.studies.sweeps import queue
+from softcrawl.studies.sweeps import memory, queue
 from softcrawl.studies.sweeps.faults import SweepStopped, WorkerReport
 from softcrawl.studies.sweeps.pool import run_pool
 from softcrawl.studies.sweeps.spec import StudyError, SweepSpec, TableLayout
@@ -51,7 +53,7 @@ def run_sweep(
         raise SweepStopped(WorkerReport(stop=str(exc))) from exc
     bar = _Progress(study, spec, workers) if progress else None
     try:
-        if workers == 1:
+        if workers == 1 and memory.limit_gb() is None:
             report = run_worker(spec, poll_s=poll_s, on_step=bar.update if bar else None)
         else:
             report = _run_pool(spec, workers, poll_s, bar)
@@ -80,7 +82,8 @@ def _run_pool(spec: SweepSpec, workers: int, poll_s: float, bar: _Progress | Non
         except StorageFault:
             pass  # the next run does it
     if died and not total.signum and not total.stop and _unfinished(spec):
-        total.stop = f"{len(died)} of {workers} workers died (exit codes {died})"
+        why = " (137: the memory watchdog's stop or the kernel's out-of-memory kill)" if 137 in died else ""
+        total.stop = f"{len(died)} of {workers} workers died (exit codes {died}){why}"
     return total
 
 

@@ -61,12 +61,19 @@ def _write_output(design):
 
 def _hog_memory(design):
     """While SOFTCRAWL_FAKE_HOG is "RADIUS:MB", the design of that chamber radius allocates MB
-    megabytes gradually (25 MB a step, touched, every 0.05 s), as a growing FE model would."""
+    megabytes gradually (25 MB a step, touched, every 0.05 s), as a growing FE model would;
+    "RADIUS:MB:block": all at once in one C call, then holds them 30 s (no handler can interrupt
+    the call: the memory watchdog's hard stop)."""
     hog = os.environ.get("SOFTCRAWL_FAKE_HOG")
     if not hog or float(hog.split(":")[0]) != design.chamber_radius:
         return
     import numpy as np
 
+    if hog.endswith(":block"):
+        held = np.ones(int(float(hog.split(":")[1]) * 2**20 // 8))
+        time.sleep(30)
+        del held
+        return
     held = []
     for _ in range(int(float(hog.split(":")[1]) / 25)):
         held.append(np.ones(25 * 2**20 // 8))

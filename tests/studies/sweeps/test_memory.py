@@ -4,6 +4,7 @@ peak is in the table (``peak_rss_gb``)."""
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import textwrap
@@ -33,8 +34,10 @@ def test_a_point_above_the_limit_fails_naming_the_memory_and_the_sweep_goes_on(t
     assert rows[4.0]["trial_status"] == "failed"
     peak = float(rows[4.0]["peak_rss_gb"])
     assert LIMIT_GB < peak < HOG_MB / 1024 and rows[4.0]["reason"] == memory.reason(peak, LIMIT_GB)
-    assert rows[4.0]["reason"].startswith("out of memory at 0.3 GB (limit 0.3 GB)")
-    assert "out of memory at 0.3 GB" in done.stdout
+    # the reading that stops the point lands between the limit and the allocation's next 25 MB step,
+    # or later on a loaded machine (it once printed 0.4 GB): the reason names the reading it saw
+    assert re.match(r"out of memory at 0\.[3-5] GB \(limit 0\.3 GB\)", rows[4.0]["reason"])
+    assert rows[4.0]["reason"].split(" (")[0] in done.stdout
     for r in (2.0, 3.0, 5.0, 6.0):
         assert rows[r]["trial_status"] == "completed" and 0 < float(rows[r]["peak_rss_gb"]) < LIMIT_GB
 
@@ -70,3 +73,26 @@ def test_an_evaluation_that_cannot_be_interrupted_ends_its_process_after_recordi
     done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=60)
     assert done.returncode == memory.EXIT_OUT_OF_MEMORY
     assert done.stdout.startswith("out of memory at ") and done.stdout.strip().endswith("(limit 0.05 GB)")
+
+
+def test_a_hard_stop_of_a_single_worker_ends_its_child_process_not_the_command(tmp_path):
+    """An evaluation stuck in one C call (1.5 GB allocated at once) cannot be interrupted: the
+    watchdog ends its process with 137. With --workers 1 and --max-memory the point runs in a
+    child worker (the pool's path), so the command itself lives on: one line naming the dead
+    worker, exit 1 (it was 137 and no line when the point ran in the command's own process); the
+    failure is recorded with its reason, and the same command finishes the other points."""
+    argv = study_argv(tmp_path, "--workers", "1", "--max-memory", str(LIMIT_GB))
+    done = run(argv, env={"SOFTCRAWL_FAKE_HOG": "4:1500:block"})
+    assert done.returncode == 1, done.stderr
+    assert done.stderr.splitlines() == [
+        "softcrawl study chamber-radius: error: 1 of 1 workers died (exit codes [137]) (137: the memory "
+        "watchdog's stop or the kernel's out-of-memory kill); run the same command to resume"
+    ]
+    again = run(argv)
+    assert again.returncode == 0, again.stderr
+    rows = {float(r["chamber_radius"]): r for r in read_csv(f"{spec_of(tmp_path).out_dir}/curves.csv")}
+    assert rows[4.0]["trial_status"] == "failed"
+    assert rows[4.0]["reason"].startswith("out of memory at ") and rows[4.0]["reason"].endswith(
+        "(limit 0.3 GB)"
+    )
+    assert {rows[r]["trial_status"] for r in (2.0, 3.0, 5.0, 6.0)} == {"completed"}
