@@ -170,7 +170,7 @@ def _no_solve(*args, **kwargs):
 def test_resume_without_a_checkpoint_starts_from_the_beginning_and_says_so(tmp_path, capsys, monkeypatch):
     seen = {}
 
-    def fake_run(setup, schedule, folder, *, quick, progress, store, resumed):
+    def fake_run(setup, schedule, folder, *, quick, progress, store, resumed, precision=32):
         seen.update(setup=setup, store=store, resumed=resumed)
         return SimpleNamespace(converged=True), {"text": "done"}
 
@@ -196,7 +196,7 @@ def test_a_study_point_resumes_from_its_checkpoint_and_a_memory_stop_names_its_l
         store.save(cm, recorder, 3, "cycle0", _cursor(2), _totals())
         raise OutOfMemory(1.2, 1.0)
 
-    monkeypatch.setattr(files, "run_and_write", stopped)
+    monkeypatch.setattr(crawl_study, "run_and_write", stopped)  # the study's own reference
     settings = {"quick": True, "out_dir": str(tmp_path), "cycles": 1}
     params = {"pipe_diameter": 70.0, "mu": 0.5}
     for _ in range(2):
