@@ -20,6 +20,7 @@ from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
+from softcrawl.studies.sweeps.faults import machine_fault
 from softcrawl.studies.sweeps.locks import AdvisoryLock, FileLock, NoLock, WorkerPresence
 from softcrawl.studies.sweeps.spec import SearchSpec, StudyError, SweepSpec, jsonable
 
@@ -257,7 +258,8 @@ def storage_faults(url: str) -> Iterator[None]:
         cause = database_error(exc)
         if cause is None:
             raise
-        raise StorageFault(f"storage {safe_url(url)}: {one_line(cause)}") from exc
+        fault = machine_fault(exc)  # a full disk or an unwritable file is said as such
+        raise StorageFault(fault or f"storage {safe_url(url)}: {one_line(cause)}") from exc
 
 
 class StorageFault(RuntimeError):

@@ -36,14 +36,14 @@ def _can_mount(tmp_path) -> str | None:
 def test_real_full_disk_then_resume(tmp_path, keep, full):
     """``keep`` bytes are left free: with 0.4 MB the database's write-ahead log meets the full
     disk first (the point cannot be handed back: nothing can be written; the resume fails it at
-    once, as no worker holds the study), with 0.7 MB an output file does (the point is handed
-    back)."""
+    once, as no worker holds the study), with 0.7 MB and the study database on another disk an
+    output file does (the point is handed back)."""
     disk = tmp_path / "disk"
     disk.mkdir()
     reason = _can_mount(disk)
     if reason:
         pytest.skip(reason)
-    driver = f"{sys.executable} -m tests.studies.sweeps.full_disk_driver {disk} {keep}"
+    driver = f"{sys.executable} -m tests.studies.sweeps.full_disk_driver {disk} {keep} {full}"
     script = f"mount -t tmpfs -o size=4m tmpfs {disk} && exec {driver}"
     env = os.environ | {"PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
     done = subprocess.run(
