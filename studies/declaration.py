@@ -80,7 +80,6 @@ class Study:
     folder: str = ""
     default_material: str | None = "ecoflex-00-50"
     options: frozenset[str] = frozenset()
-    search: str = "grid"
     evaluators: Mapping[str, str] = field(default_factory=dict)
     figure: str = ""
     tables: tuple[str, ...] = ()
@@ -99,8 +98,6 @@ class Study:
         unknown = set(self.options) - OPTIONS
         if unknown:
             raise ValueError(f"study {self.name}: unknown options {sorted(unknown)}")
-        if self.search not in ("grid", "search", "none"):
-            raise ValueError(f"study {self.name}: search must be grid, search or none")
         for ref in (self.run, self.replot, self.report, self.check, self.table1, *self.evaluators.values()):
             if ref is not None and ":" not in ref:
                 raise ValueError(f"study {self.name}: {ref!r} is not 'module:function'")

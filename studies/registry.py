@@ -13,6 +13,7 @@ and any other import path is refused with one line.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 from collections.abc import Callable
 
@@ -117,7 +118,7 @@ def run_study(name: str, out: str, **options: object) -> object:
     study = get(name)
     request = StudyRequest(study=name, out=str(out), **options)  # type: ignore[arg-type]
     if request.material is None and study.default_material is not None:
-        request = StudyRequest(**{**request.__dict__, "material": study.default_material})
+        request = dataclasses.replace(request, material=study.default_material)
     if study.check is not None:
         resolve(study.check)(request)
     return resolve(study.run)(request)

@@ -72,7 +72,6 @@ STUDIES = (
                 "seed",
             }
         ),
-        search="search",
         evaluators={"epsa-constrained": "softcrawl.studies.epsa.constrained_objective:evaluate_constrained"},
         figure="pareto.png",
         tables=("trials.csv", "optimum.json"),
@@ -87,11 +86,11 @@ STUDIES = (
         name="kp-mismatch",
         summary="the identify studies under DIR against the confined and unconfined tube stiffness",
         run="softcrawl.studies.epsa.kp_mismatch:run_request",
-        folder="identify",
+        folder=".",  # DIR/identify/kp-mismatch.md, beside the identify runs it reads
         default_material=None,
-        search="none",
         tables=("kp-mismatch.md", "kp-mismatch.json"),
         in_review=False,
+        marker="kp-mismatch.md",
         help="kp-mismatch: the identify studies under DIR against the confined and unconfined tube "
         "stiffness (studies/epsa/kp_mismatch.py), DIR/identify/kp-mismatch.md.",
     ),

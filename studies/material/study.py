@@ -9,7 +9,6 @@ STUDIES = (
         summary="the shear-modulus window in which the paper's Fig. 8 observations hold (no FE)",
         run="softcrawl.studies.material.paper_material:run_request",
         default_material=None,
-        search="none",
         tables=("windows.csv", "paper-material.json"),
         in_review=False,
         help="paper-material: which material (Neo-Hookean, Yeoh, Gent; every shape and shear modulus) "

@@ -55,7 +55,6 @@ STUDIES = (
         run="softcrawl.studies.robot_fe.workspace:run_request",
         folder="robot-workspace",
         default_material=ROBOT_MATERIAL,
-        search="none",
         figure="workspace.png",
         tables=("workspace.csv", "summary.json"),
         replot="softcrawl.studies.robot_fe.workspace:replot_folder",

@@ -102,6 +102,14 @@ def test_replot_covers_every_study_with_a_figure_in_the_committed_results():
     assert with_runs == figures  # every study that draws a figure has committed runs to redraw
 
 
+def test_every_committed_run_holds_the_tables_and_figure_its_study_declares():
+    for study in registry.studies():
+        for folder in study.results_folders(RESULTS):
+            named = (*study.tables, *([study.figure] if study.figure else []))
+            missing = [name for name in named if not (folder / name).exists()]
+            assert not missing, f"{study.name}: {folder} lacks {missing}"
+
+
 def test_a_declared_name_cannot_be_replaced_and_an_unknown_one_is_an_input_error():
     with pytest.raises(ValueError, match="already declared"):
         registry.register(Study(name="crawl", summary="x", run="m:f"))
