@@ -54,6 +54,8 @@ def contact_spec(name: str, folder: Path, material: str, quick: bool, storage=No
     if quick and name == FOOT:
         settings |= {"drag_mm": 5.0, "drag_steps": 5}
     grid = (QUICK_GRIDS if quick else GRIDS)[name]
+    if name == GROOVE:  # the rule's "at every mu": each trial checks the grid's other mus
+        settings["rule_mus"] = list(grid["mu"])
     tag = material + ("-quick" if quick else "")
     metric, direction = OBJECTIVES[name]
     return SweepSpec(

@@ -106,17 +106,41 @@ def rule_constraints(name: str, params, attrs) -> dict:
 
     row = summary_row(params, attrs)
     flat = {k: row[k] for k in ("theta_asym_deg", "extension_equal_mm", "splay_max_mm", "arc_rms_max_mm")}
-    if name == "rings":
-        names = ["splay_within_bound", "one_arc"]
-        values = [
-            row["splay_max_mm"] - rules.SPLAY_MAX_FRACTION_OF_D * 14.0,
-            row["arc_rms_max_mm"] - rules.ARC_RMS_MAX_FRACTION_OF_L * 100.0,
-        ]
-        values = [v if math.isfinite(v) else 1.0 for v in values]
-    else:
-        names = ["camera_fits"]
-        values = [0.0 if rules.channel_admits_camera(float(params["d"]), 9.0) else 1.0]
+    names, values = design_tests(name, row)
     return flat | {"constraints": values, "constraint_names": names}
+
+
+def design_tests(name: str, row) -> tuple[list[str], list[float]]:
+    """The rule's per-design tests on one summary row, as optuna constraints (<= 0 passes)."""
+    if name == "rings":
+        values = [
+            float(row["splay_max_mm"]) - rules.SPLAY_MAX_FRACTION_OF_D * 14.0,
+            float(row["arc_rms_max_mm"]) - rules.ARC_RMS_MAX_FRACTION_OF_L * 100.0,
+        ]
+        return ["splay_within_bound", "one_arc"], [v if math.isfinite(v) else 1.0 for v in values]
+    return ["camera_fits"], [0.0 if rules.channel_admits_camera(float(row["d"]), 9.0) else 1.0]
+
+
+def best_trial_note(name: str, summary, value) -> str | None:
+    """A line when optuna's best_trial (the largest theta among the designs that pass the
+    per-design tests) is not the rule's pick, which its tie-break can make: optuna compares one
+    design at a time, the tie-break compares designs (decision 063). None when they agree."""
+    key = "n_rings" if name == "rings" else "d"
+    passing = [
+        r
+        for r in summary
+        if math.isfinite(float(r["theta_asym_deg"])) and max(design_tests(name, r)[1]) <= 0.0
+    ]
+    if value is None or not passing:
+        return None
+    best = max(passing, key=lambda r: float(r["theta_asym_deg"]))
+    if float(best[key]) == float(value):
+        return None
+    return (
+        f"note: optuna's best_trial is {key} = {float(best[key]):g} (the largest bending that "
+        f"passes the per-design tests); the rule's tie-break prefers {key} = {float(value):g} "
+        f"(decision 063)"
+    )
 
 
 def summary_row(params, data) -> dict:
@@ -192,6 +216,8 @@ def write_tables(name: str, spec: SweepSpec, material: str) -> StudyOutcome:
     missing = [point_name(p) for p, s in zip(spec.points(), summary) if not s["converged"]]
     lines = [f"{name} ({material}, {spec.settings['mesh']} mesh): {decision.parameter} = {decision.value}",
              decision.reason]  # fmt: skip
+    note = best_trial_note(name, summary, decision.value)
+    lines += [note] if note else []
     problems = tuple(f"not converged or missing: {m}" for m in missing)
     return StudyOutcome(tuple(lines), tuple(written), ok=decision.value is not None, problems=problems)
 
