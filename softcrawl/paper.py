@@ -88,8 +88,8 @@ TABLE2_MM_S = {
     70.0: (18.3, 16.7),
     75.0: (17.6, 16.2),
 }
-#: Sliding friction of the whole robot in the 70 mm pipe, from the extensions outside and inside
-#: the pipe (eq. 26, Section VII-D), N.
+#: Sliding friction in the 70 mm pipe, from the extensions outside and inside the pipe (eq. 26,
+#: Section VII-D), N: the resistance of the one foot that slides (docs/decisions/062-crawl-reconciliation.md).
 FRICTION_N = {"forward": 15.3, "backward": 16.9}
 
 

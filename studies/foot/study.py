@@ -39,4 +39,16 @@ STUDIES = (
         help="foot (Fig. 10(b)): the whole foot inserted into 55-75 mm pipes and dragged 8 mm forward "
         "and backward (F_bwd / F_fwd, skirt flip); see studies/foot/contact_studies.py.",
     ),
+    Study(
+        name="identify-feet",
+        summary="mu_smooth and mu_grooved fitted to one foot's share of eq. 26 at 70 mm (Table 2 held out)",
+        run="softcrawl.studies.foot.identify_run:run_request",
+        folder="identify",
+        default_material=None,
+        tables=("feet.json", "feet.md"),
+        in_review=False,
+        marker="feet.json",
+        help="identify-feet: the feet's friction coefficients fitted to one sliding foot's share of "
+        "eq. 26 (/ 3, record 062) at 70 mm (studies/foot/identify.py), DIR/identify/feet[-quick]/feet.json.",
+    ),
 )
