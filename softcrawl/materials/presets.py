@@ -66,13 +66,14 @@ def _dragon_skin_30() -> Material:
     )
 
 
-def _rubber_70a() -> Material:
-    youngs = shore_a_to_youngs(70.0)
+def _printed_rubber(shore_a: float) -> Material:
+    """The feet's 3D-printed rubber of hardness `shore_a` (paper Fig. 21 tests 50A-70A)."""
+    youngs = shore_a_to_youngs(shore_a)
     return Material(
-        name="rubber-70a",
+        name=f"rubber-{shore_a:g}a",
         law=NeoHookean.nearly_incompressible(shear_modulus_nearly_incompressible(youngs)),
         density=1.15 * _G_PER_CM3,
-        source=f"3D-printed rubber foot, Shore 70A: E = {youngs:.3f} MPa by Gent's relation "
+        source=f"3D-printed rubber foot, Shore {shore_a:g}A: E = {youngs:.3f} MPa by Gent's relation "
         "(docs/decisions/001-materials.md), mu from E with K = 1000 mu; density 1.15 g/cm^3 assumed "
         "(typical of rubber-like PolyJet photopolymers, not measured)",
     )
@@ -147,7 +148,9 @@ PRESETS: dict[str, Callable[[], Material]] = {
     "ecoflex-00-30-fit": functools.partial(_fitted, "ecoflex-00-30"),
     "dragon-skin-30": _dragon_skin_30,
     "dragon-skin-30-fit": functools.partial(_fitted, "dragon-skin-30"),
-    "rubber-70a": _rubber_70a,
+    "rubber-70a": functools.partial(_printed_rubber, 70.0),
+    "rubber-60a": functools.partial(_printed_rubber, 60.0),
+    "rubber-50a": functools.partial(_printed_rubber, 50.0),
     "abs": _abs,
     "kevlar": _kevlar,
 }

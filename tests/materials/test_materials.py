@@ -287,3 +287,12 @@ def test_material_spec_with_a_calibrated_modulus():
         with pytest.raises(MaterialError) as err:
             get_material(bad)
         assert err.value.parameter == "material"
+
+
+@pytest.mark.parametrize("shore, youngs", [(50.0, 2.456), (60.0, 3.605), (70.0, 5.521)])
+def test_printed_rubbers_follow_gents_relation(shore, youngs):
+    """Fig. 21's hardnesses: E from Gent's relation (closed form), mu = E / 3 (nearly incompressible)."""
+    m = materials.get_material(f"rubber-{shore:g}a")
+    gent = 0.0981 * (56.0 + 7.62336 * shore) / (0.137505 * (254.0 - 2.54 * shore))
+    assert m.youngs_modulus == pytest.approx(gent, rel=1e-9) and gent == pytest.approx(youngs, abs=5e-4)
+    assert m.mu == pytest.approx(youngs / 3.0, rel=2e-3)
