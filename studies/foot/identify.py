@@ -29,9 +29,11 @@ fails if the identification touches Table 2 or Fig. 21).
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 from softcrawl.materials import get_material, shore_a_to_youngs
 from softcrawl.paper import FRICTION_N
@@ -86,6 +88,19 @@ class FeetIdentification:
 
     def mu(self, face: str) -> float | None:
         return next((f.mu for f in self.fits if f.face == face), None)
+
+    def prediction_mu(self, face: str) -> tuple[float, str]:
+        """The mu a prediction uses for `face`, and what it is: the identified value, or, where
+        the measurement lies outside the sourced range, the range's end nearer to it (the input
+        is never moved beyond its source to get closer to a measurement)."""
+        fit = next((f for f in self.fits if f.face == face), None)
+        if fit is None:
+            raise ValueError(f"mu_{face} was not identified (run softcrawl study identify-feet)")
+        if fit.mu is not None:
+            return fit.mu, "identified"
+        lo, hi = self.mu_range
+        end = lo if fit.residual_n > 0 else hi  # above the target at every mu in range: the lower end
+        return end, f"outside the sourced range: its nearer end ({fit.note})"
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -160,3 +175,10 @@ def identify(
         fits=tuple(fits),
         settings=dict(settings or {}),
     )
+
+
+def load(path) -> FeetIdentification:
+    """The identification a prediction reads (`softcrawl study identify-feet` wrote it)."""
+    data = json.loads(Path(path).read_text())
+    fits = tuple(MuFit(**(f | {"solves": tuple(map(tuple, f["solves"]))})) for f in data.pop("fits"))
+    return FeetIdentification(**(data | {"fits": fits, "mu_range": tuple(data["mu_range"])}))

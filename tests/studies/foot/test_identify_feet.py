@@ -67,3 +67,18 @@ def test_identification_reads_no_table_2_or_fig_21(monkeypatch, tmp_path):
         names |= {n.attr for n in nodes if isinstance(n, ast.Attribute)}
         names |= {a.name for n in nodes if isinstance(n, ast.ImportFrom) for a in n.names}
         assert not names & set(held_out), module.__name__
+
+
+def test_predictions_read_the_file_and_never_move_an_input_beyond_its_source(tmp_path):
+    result = identify.identify(lambda mu: 40.0 * mu, lambda mu: 15.0 * mu + 1.0)
+    identify_run.write(result, tmp_path)
+    loaded = identify.load(tmp_path / "feet.json")
+    assert loaded == result
+    assert loaded.prediction_mu("smooth") == (0.3, loaded.prediction_mu("smooth")[1])  # 12 N > 5.1 N
+    assert "outside the sourced range" in loaded.prediction_mu("smooth")[1]
+    mu, what = loaded.prediction_mu("grooved")
+    assert what == "identified" and mu == pytest.approx((16.9 / 3 - 1.0) / 15.0, abs=0.1 / 15.0)
+    high = identify.identify(lambda mu: 2.0 * mu, None)  # F(0.9) = 1.8 N < 5.1 N: the upper end
+    assert high.prediction_mu("smooth")[0] == 0.9
+    with pytest.raises(ValueError, match="mu_grooved was not identified"):
+        high.prediction_mu("grooved")
