@@ -65,7 +65,8 @@ def simulate_crawl(
 ) -> CrawlResult:
     """The robot's two grooved feet crawling in a rigid pipe of `pipe_diameter` mm for `cycles`
     cycles of the pressure schedule (kPa) -> `CrawlResult` (`strides`, per-cycle speed, states).
-    `feet`: "paper" (skirts lean back), "backward" (both mirrored), "symmetric" (front mirrored);
+    `feet`: "paper" (skirts lean back), "backward" (both flipped: grooved faces on the wall,
+    `studies.crawl.flipped`), "symmetric" (front mirrored);
     `material`: the feet's rubber, a preset name or a `Material`."""
     number(pipe_diameter, "pipe_diameter", minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True,
            max_open=True, unit="mm", error=ScheduleError)  # fmt: skip
