@@ -299,10 +299,11 @@ def run_foot(
     on_state=None,
     max_wall_s: float | None = FOOT_MAX_WALL_S,
     flipped: bool = False,
+    directions: tuple[str, ...] = ("forward", "backward"),
 ) -> FootResult:
-    """Insert the foot into the pipe and drag it both ways (module docstring); stop, not
-    converged, once `max_wall_s` seconds have passed (None: no limit). `flipped`: the skirt
-    starts everted, grooved face out (`_flipped_stages`)."""
+    """Insert the foot into the pipe and drag it both ways (module docstring; `directions`: the
+    drags to run, in order); stop, not converged, once `max_wall_s` seconds have passed (None: no
+    limit). `flipped`: the skirt starts everted, grooved face out (`_flipped_stages`)."""
     started = time.perf_counter()
 
     def budget():
@@ -344,7 +345,7 @@ def run_foot(
     tip = model.boundary_nodes("rim")
     hub = model.boundary_nodes("hub_top")
     curves, wall = {}, res.wall_s
-    for direction in ("forward", "backward"):
+    for direction in directions:
         curve, r = _drag(model, x0, snapshot, direction, drag, drag_steps, tip, hub, on_state, budget())
         curves[direction] = curve
         its[direction] = [s.iterations[0] for s in r.steps]
@@ -363,8 +364,8 @@ def run_foot(
         max_pressure=max(r.max_pressure for r in reps),
         face_forces={r.name: r.normal_force for r in reps},
         metrics=metrics,
-        forward=curves["forward"],
-        backward=curves["backward"],
+        forward=curves.get("forward"),
+        backward=curves.get("backward"),
         wall_s=wall,
         n_dofs=int(model.n_dofs),
         iterations=its,

@@ -6,7 +6,8 @@ insertion in 4 steps, mu = 0.5 on both faces (FOOT_FRICTION), the paper's protot
   z -> -z about the centre, same mu on both faces) do not advance over a whole inflate cycle:
   |stride| below 1 % of the actuator's swing;
 - extension (0 -> 100 kPa): with the paper's feet the rear foot anchors and the front foot slides
-  forward; with mirrored feet (--backward) the front anchors and the rear slides backward;
+  forward; with the flipped feet of --backward (docs/decisions/067-flipped-foot.md) the front
+  anchors and the rear slides backward;
 - at every converged state after insertion the wall's axial friction forces and the ground
   springs' forces sum to zero within 1e-6 of the largest friction force (Newton tolerance), and
   the ground springs carry less than 1e-3 of it;
