@@ -113,13 +113,18 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from softcrawl.studies.commands.options import output_folder
+    from softcrawl.studies.commands.options import CommandLineError, output_folder
     from softcrawl.studies.crawl.files import MATERIAL, run_and_write
     from softcrawl.studies.crawl.model import CrawlSetup
     from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
     from softcrawl.studies.crawl.schedule import preset, read_csv
 
     mesh = mesh_settings(args)  # before any folder is made
+    if args.backward:
+        from softcrawl.geometry.design import RobotDesign  # lazy: the command's help stays light
+        from softcrawl.studies.crawl.flipped import check_pipe  # lazy: loads the solver
+
+        check_pipe(args.pipe_diameter, RobotDesign().foot, CommandLineError, "pipe-diameter")
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
     out = output_folder(args.out)
     animation = animation_path(args, Path(out))

@@ -22,10 +22,28 @@ from softcrawl.fem.model import SolidModel
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.studies.crawl.mesh import FEET
-from softcrawl.studies.foot.flip import RimSprings, fold, fold_angle_into
-from softcrawl.studies.foot.model import FOLD_CLEARANCE, FOLD_HOLD, FOOT_NEWTON
+from softcrawl.studies.foot.flip import (
+    FOLD_CLEARANCE,
+    RimSprings,
+    flipped_min_diameter,
+    fold,
+    fold_angle_into,
+)
+from softcrawl.studies.foot.model import FOLD_HOLD, FOOT_NEWTON
 
-__all__ = ["FOLD_HOLD", "folded_feet", "rim_springs"]
+__all__ = ["FOLD_HOLD", "check_pipe", "folded_feet", "rim_springs"]
+
+
+def check_pipe(pipe_diameter: float, foot_design, error, parameter: str = "pipe_diameter") -> None:
+    """An `error` (an InputError class) naming `parameter` when the flipped feet cannot be folded
+    into that pipe (`flip.flipped_min_diameter`)."""
+    smallest = flipped_min_diameter(foot_design)
+    if not pipe_diameter > smallest:
+        raise error(
+            parameter,
+            f"the flipped feet of --backward fold into pipes above {smallest:.4g} mm, "
+            f"not {pipe_diameter:g} mm",
+        )
 
 
 def rim_springs() -> RimSprings:

@@ -47,6 +47,7 @@ import scipy.sparse as sp
 
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.newton import Diverged, NewtonOptions, NewtonSolver
+from softcrawl.geometry.foot import foot_profile
 
 #: Sub-steps of the rim's rotation (5 deg each for the 120 deg foot), and halvings of one before the
 #: eversion is given up.
@@ -56,6 +57,8 @@ MAX_HALVINGS = 6
 #: (far below), then none.
 RELEASE_STIFFNESS = 1.0e3
 RELEASE_FLOOR = 1.0e-3
+#: In a pipe, the rim is folded to this clearance (mm) inside the wall before the wall closes.
+FOLD_CLEARANCE = 0.5
 
 
 @dataclass(frozen=True)
@@ -199,6 +202,18 @@ def fold_angle_into(design, points: np.ndarray, radius: float) -> float:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if outer(mid) > radius else (lo, mid)
     return hi
+
+
+def flipped_min_diameter(design) -> float:
+    """The smallest pipe (mm) a flipped foot can be folded into: twice the rim's largest radius
+    with the skirt along the axis (phi = pi - alpha, the most `fold_angle_into` turns it), plus the
+    clearance on both sides."""
+    prof, tags = foot_profile(design)
+    i = tags.index("rim")
+    rim = np.array([prof[i], prof[(i + 1) % len(prof)]])  # a straight edge: its ends bound its radii
+    pts = np.vstack([rim[:, 0], np.zeros(2), rim[:, 1]])
+    moved = pts + rotated(pts, design, math.pi - math.radians(design.angle / 2))
+    return 2.0 * (float(np.hypot(moved[0], moved[1]).max()) + FOLD_CLEARANCE)
 
 
 def evert(mesh, material, design, *, steps: int = EVERT_STEPS, options: NewtonOptions | None = None,

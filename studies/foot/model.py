@@ -39,7 +39,7 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.rigid_surfaces import CylinderWall
-from softcrawl.studies.foot.flip import RimSprings, fold, fold_angle_into
+from softcrawl.studies.foot.flip import FOLD_CLEARANCE, RimSprings, fold, fold_angle_into
 from softcrawl.studies.foot.outputs import face_metrics
 
 #: Newton settings of the foot: a failing sub-step is cut back after at most 25 iterations (each
@@ -58,10 +58,9 @@ MIN_STEP_FRACTION = 1e-3
 #: has passed a limit point (docs/decisions/041-revolved-foot.md); its largest resistance is a lower bound.
 LIMIT_DROP = 1e-3
 
-#: The flipped foot (`flipped=True`, `studies.foot.flip`): its rim is folded to this clearance (mm)
+#: The flipped foot (`flipped=True`, `studies.foot.flip`): its rim is folded to FOLD_CLEARANCE
 #: inside the pipe wall, held there by rim springs of FOLD_HOLD N/mm per dof (far stiffer than the
 #: skirt, ~10 N/mm in all) while the wall is set, then released in the pipe.
-FOLD_CLEARANCE = 0.5
 FOLD_HOLD = 1.0e3
 
 FACES = {"smooth": ("front", "rim"), "grooved": ("back",)}

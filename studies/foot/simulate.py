@@ -19,6 +19,7 @@ from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.materials import Material, get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.foot.contact_studies import DEFAULT_MATERIAL, DRAG_MM, FOOT, FOOT_FRICTION, FOOT_MESHER
+from softcrawl.studies.foot.flip import flipped_min_diameter
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S, FootResult, run_foot
 
 #: The foot study's settings and the quick ones of the module docstring (drag in mm).
@@ -55,6 +56,10 @@ def simulate_foot(
     between_hub_and_tip = {"minimum": 2 * design.hub_radius, "maximum": 2 * design.tip_radius}
     number(pipe_diameter, "pipe_diameter", **between_hub_and_tip, min_open=True, max_open=True, unit="mm",
            error=DesignError)  # fmt: skip
+    smallest = flipped_min_diameter(design)
+    if flipped and not pipe_diameter > smallest:
+        message = f"the flipped foot folds into pipes above {smallest:.4g} mm, not {pipe_diameter:g} mm"
+        raise DesignError("pipe_diameter", message)
     for name, value in (("mu_smooth", mu_smooth), ("mu_grooved", mu_grooved)):
         number(value, name, minimum=0.0, maximum=5.0, error=DesignError)
     given = {"drag": drag, "drag_steps": drag_steps, "insert_steps": insert_steps}

@@ -85,11 +85,25 @@ def test_the_fold_into_a_pipe_brings_the_rim_inside_the_wall():
         fold_angle_into(design, pts, 20.0)
 
 
+@pytest.mark.parametrize("angle", [120.0, 150.0])
+def test_the_smallest_pipe_of_a_flipped_foot(angle):
+    """Folded as far as it goes, the skirt points along the axis and its rim is a flat ring from
+    r_hub - t/2 to r_hub + t/2: the pipe must be wider than 2 (r_hub + t/2 + clearance)."""
+    from softcrawl.studies.foot.flip import FOLD_CLEARANCE, flipped_min_diameter
+
+    d = FootDesign(angle=angle)
+    assert flipped_min_diameter(d) == pytest.approx(
+        2 * (d.hub_radius + d.skirt_thickness / 2 + FOLD_CLEARANCE)
+    )
+
+
 def test_a_bad_flipped_option_names_it():
     from softcrawl.studies.foot.simulate import simulate_foot
 
     with pytest.raises(DesignError, match="flipped"):
         simulate_foot(flipped="yes")
+    with pytest.raises(DesignError, match="pipe_diameter.*52 mm"):
+        simulate_foot(FootDesign(), 51.0, flipped=True)
 
 
 @pytest.mark.slow
