@@ -23,8 +23,14 @@ root, which the FE resolves.
 Path. The hub top is held (the actuators), and the rim (the skirt's end face) is rotated about H in
 its meridian plane by phi = s Delta, s in [0, 1] (`EVERT_STEPS` sub-steps, halved on divergence).
 The rim passes the flat position, where its radius is largest (the snap-through barrier: hoop
-stretch of the tip), and arrives at the everted placement. Then the rim is released: Newton with
-only the hub top held, from the held state, finds the free flipped equilibrium.
+stretch of the tip), and arrives at the everted placement (`fold`; in a pipe, `fold_angle_into`
+turns it further, until the rim is inside the wall). `release` then lets the rim go through
+springs between the rim's dofs and their held placement (`RimSprings`), softened by sqrt(10) per
+step down to `RELEASE_FLOOR` and then removed: a free flipped equilibrium is followed to the end, a
+snap back shows as the step where no equilibrium is found. For the Table 1 foot there is none: the
+skirt unfolds as the springs soften and snaps back below about 0.005 N/mm per dof (record 067);
+a pipe holds the flip, so the foot study and the crawl fold the skirt inside the wall and release
+it there (`studies.foot.model._flipped_stages`, `studies.crawl.flipped`).
 
 Checks (`Eversion`): the free state's relative residual (the Newton test), its stability (the
 negative eigenvalues of the tangent on the free dofs minus those of the pressure block, counted
