@@ -262,6 +262,11 @@ class RimSprings:
 
         return drive
 
+    def axial_force(self, x) -> float:
+        """The springs' total force on the body along z (N): -k sum (u_z - target_z)."""
+        z = self.rim_dofs % 3 == 2
+        return float(-self.stiffness * np.sum(x[self.rim_dofs[z]] - self.target[z]))
+
     def arrays(self, x, pressures=None, with_tangent=True):
         r = self.stiffness * (x[self.dofs] - self.target[None, :])
         K = np.full((self.dofs.shape[1], 1, 1), self.stiffness) if with_tangent else None
