@@ -11,12 +11,13 @@ The model: docs/decisions/051-crawl-model.md.
 Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
 friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
 ePSAs act between the hubs through their axial law (the paper's prototype statics, eqs. 19-24;
-bending is not modelled). --backward: both feet mirrored (skirts lean forward, the paper's
-backward motion by the initial contact faces); --symmetric: only the front foot mirrored (the
-pair is symmetric under z -> -z: a check, it should not advance). The feet's mesh: the revolved
-foot (48 sectors, 3 cells through the skirt; --sectors and --layers refine it) or, with --mesher
-tetwild, pytetwild's (--edge-length; the mesh of the crawl results computed before the revolved
-one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh, 24 sectors unless
+bending is not modelled). --backward: both feet flipped, as the paper changes the direction
+(skirts everted by FE, grooved faces on the wall, held folded inside the pipe and released there;
+the robot crawls towards -z; docs/decisions/067-flipped-foot.md); --symmetric: only the front
+foot mirrored (the pair is symmetric under z -> -z: a check, it should not advance). The feet's
+mesh: the revolved foot (48 sectors, 3 cells through the skirt; --sectors and --layers refine
+it) or, with --mesher tetwild, pytetwild's (--edge-length; the mesh of the crawl results computed
+before the revolved one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh, 24 sectors unless
 --sectors is given (2 sub-steps per schedule segment stalled where the actuator force changes
 sign, 4 pass, so --steps keeps 4).
 
@@ -96,7 +97,7 @@ def register(subparsers) -> None:
     add_alias(p, edge, "--edge-length")
     p.add_argument("--quick", action="store_true", help=f"4 insertion steps, {QUICK_SECTORS} sectors")
     feet = p.add_mutually_exclusive_group()
-    feet.add_argument("--backward", action="store_true", help="both feet mirrored: skirts lean forward")
+    feet.add_argument("--backward", action="store_true", help="both feet flipped: grooved faces on the wall")
     feet.add_argument("--symmetric", action="store_true", help="front foot mirrored: a symmetric pair")
     movie = p.add_mutually_exclusive_group()
     movie.add_argument("--gif", action="store_true", help="also write OUT/crawl.gif of the deformed feet")
@@ -112,13 +113,18 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from softcrawl.studies.commands.options import output_folder
+    from softcrawl.studies.commands.options import CommandLineError, output_folder
     from softcrawl.studies.crawl.files import MATERIAL, run_and_write
     from softcrawl.studies.crawl.model import CrawlSetup
     from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
     from softcrawl.studies.crawl.schedule import preset, read_csv
 
     mesh = mesh_settings(args)  # before any folder is made
+    if args.backward:
+        from softcrawl.geometry.design import RobotDesign  # lazy: the command's help stays light
+        from softcrawl.studies.crawl.flipped import check_pipe  # lazy: loads the solver
+
+        check_pipe(args.pipe_diameter, RobotDesign().foot, CommandLineError, "pipe-diameter")
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
     out = output_folder(args.out)
     animation = animation_path(args, Path(out))

@@ -36,6 +36,7 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.equal_displacement import EqualDisplacement
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.studies.crawl.flipped import FOLD_HOLD, folded_feet, rim_springs
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
 from softcrawl.studies.crawl.resume import Totals
@@ -65,7 +66,7 @@ class CrawlSetup:
     pipe_diameter: float = 70.0
     mu_smooth: float = 0.5
     mu_grooved: float = 0.5
-    feet: str = "paper"  # "paper" (both lean back), "backward" (both lean forward), "symmetric"
+    feet: str = "paper"  # "paper" (both lean back), "backward" (both flipped), "symmetric"
     insert_steps: int = 8
     steps: int = 4  # sub-steps per schedule segment
     cycles: int = 1
@@ -91,7 +92,12 @@ class CrawlSetup:
 
     @property
     def mirrored(self) -> tuple[bool, bool]:
-        return {"paper": (False, False), "backward": (True, True), "symmetric": (False, True)}[self.feet]
+        return {"paper": (False, False), "backward": (False, False), "symmetric": (False, True)}[self.feet]
+
+    @property
+    def flipped(self) -> bool:
+        """Both skirts start everted, grooved faces on the wall (`studies.crawl.flipped`)."""
+        return self.feet == "backward"
 
 
 @dataclass
@@ -101,6 +107,9 @@ class CrawlModel:
     setup: CrawlSetup
     tip_radius: float
     terms: dict = field(default_factory=dict)  # "actuator", "ground_rear", "ground_front" -> term
+    springs: object = None  # the flipped feet's rim springs (`studies.crawl.flipped`), else None
+    folded: np.ndarray | None = field(default=None, repr=False)  # the flipped feet's start state
+    fold_message: str = ""
 
     def contacts_of(self, foot: str) -> list:
         return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
@@ -135,13 +144,26 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
         EqualDisplacement(front, 2, 1e3 * youngs * size),
     ]
     bcs = [Dirichlet(tag, (0, 1), (0.0, 0.0)) for tag in (rear, front)]
+    springs = rim_springs() if setup.flipped else None
+    terms += [springs] if springs is not None else []
     model = SolidModel(mesh, material, dirichlet=bcs, contacts=contacts, extra_terms=terms)
     links = {
         t.name: t
         for t in model.terms
         if getattr(t, "name", None) in ("actuator", "ground_rear", "ground_front")
     }
-    return CrawlModel(model, law, setup, foot_design.tip_radius, links)
+    cm = CrawlModel(model, law, setup, foot_design.tip_radius, links, springs)
+    if springs is not None:
+        cm.folded, cm.fold_message = folded_feet(model, material, foot_design, setup, springs)
+    return cm
+
+
+def _clear_radius(cm: CrawlModel) -> float:
+    """The insertion wall's start: clear of the skirt tips, or of the folded feet (never inside the pipe)."""
+    if cm.folded is None:
+        return cm.tip_radius + 0.5
+    deformed = cm.model.nodes + cm.model.displacement(cm.folded)
+    return max(float(np.hypot(deformed[0], deformed[1]).max()) + 0.5, cm.setup.pipe.radius)
 
 
 class WallBudgetExceeded(Exception):
@@ -217,9 +239,18 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None, store=None, res
 
     start = schedule.pressures_kpa[0]
     ramp = bool(np.any(start > 0))
-    plan = ["insert", "friction"] + (["start"] if ramp else []) + [f"cycle{k}" for k in range(setup.cycles)]
+    release = ["release"] if cm.springs is not None else []
+    plan = (
+        ["insert", *release, "friction"]
+        + (["start"] if ramp else [])
+        + [f"cycle{k}" for k in range(setup.cycles)]
+    )
     first = 0 if resumed is None else resumed.phase
-    x = None if resumed is None else resumed.cursor.x
+    x = cm.folded if resumed is None else resumed.cursor.x
+    if cm.springs is not None:
+        if cm.folded is None:
+            return recorder.result(False, f"the flipped feet: {cm.fold_message}", stats, elapsed())
+        cm.springs.stiffness = FOLD_HOLD if plan[first] == "insert" else 0.0  # "release" drives it
     setup_span = [(0.0, 0.0, np.zeros(3), np.zeros(3))]
     for k, name in enumerate(plan):
         if k < first:
@@ -235,9 +266,14 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None, store=None, res
             if cycle >= 0:
                 recorder.begin_cycle(cycle, x)
         if name == "insert":
-            wall_at = insertion_wall(setup.pipe, cm.tip_radius + 0.5)
+            wall_at = insertion_wall(setup.pipe, _clear_radius(cm))
             surfaces = {i: wall_at for i in range(len(model.contacts))}
             stages, spans = [Stage("insert", surfaces=surfaces, steps=setup.insert_steps)], setup_span
+        elif name == "release":
+            at_pipe = {i: (lambda s: CylinderWall(setup.pipe.radius)) for i in range(len(model.contacts))}
+            drive = cm.springs.ramp(FOLD_HOLD)
+            stages = [Stage("release", surfaces=at_pipe, drive=drive, steps=setup.insert_steps)]
+            spans = setup_span
         elif name == "friction":
             mu = {
                 i: (setup.mu_smooth if c.spec.name.endswith("smooth") else setup.mu_grooved)

@@ -7,8 +7,9 @@ foot: the axial displacement of its hub plate from the reference (mm), the wall'
 axial friction force on it (N), the slipping share of its contact area, the skirt tip's lead over
 the hub top along the skirt's opening direction (mm; > 0: the skirt has flipped, as in
 `studies.foot.model`), the ground spring's force; and the axial momentum balance: the sum of
-the wall's axial friction forces and the ground springs' forces on both feet (0 at equilibrium,
-within the Newton tolerance).
+the wall's axial friction forces and the ground springs' forces on both feet, and with flipped
+feet the rim springs' (`rim_springs_n`, 0 once released) (0 at equilibrium, within the Newton
+tolerance).
 
 Per cycle: each foot's advance and the stride (advance of the centre, the mean of the two hub
 plates), speed = stride / cycle time; for each phase (extend: pressures rising, retract: falling)
@@ -102,6 +103,10 @@ class StateRecorder:
                 f"{f}_ground_n": ground,
             }
         row["centre_u_mm"] = 0.5 * (row["rear_u_mm"] + row["front_u_mm"])
+        springs = getattr(cm, "springs", None)
+        if springs is not None:  # the flipped feet's rim springs act on the body until released
+            row["rim_springs_n"] = springs.axial_force(x)
+            balance += row["rim_springs_n"]
         row["momentum_n"] = balance
         self.states.append(row)
         if self.on_state is not None:

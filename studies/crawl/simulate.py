@@ -16,9 +16,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcrawl.checks import number
+from softcrawl.geometry.design import RobotDesign
 from softcrawl.materials import Material, get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.crawl.files import MATERIAL, progress_line
+from softcrawl.studies.crawl.flipped import check_pipe
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
 from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
 from softcrawl.studies.crawl.outputs import CrawlResult
@@ -65,10 +67,13 @@ def simulate_crawl(
 ) -> CrawlResult:
     """The robot's two grooved feet crawling in a rigid pipe of `pipe_diameter` mm for `cycles`
     cycles of the pressure schedule (kPa) -> `CrawlResult` (`strides`, per-cycle speed, states).
-    `feet`: "paper" (skirts lean back), "backward" (both mirrored), "symmetric" (front mirrored);
+    `feet`: "paper" (skirts lean back), "backward" (both flipped: grooved faces on the wall,
+    `studies.crawl.flipped`), "symmetric" (front mirrored);
     `material`: the feet's rubber, a preset name or a `Material`."""
     number(pipe_diameter, "pipe_diameter", minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True,
            max_open=True, unit="mm", error=ScheduleError)  # fmt: skip
+    if feet == "backward":
+        check_pipe(float(pipe_diameter), RobotDesign().foot, ScheduleError)
     for name, value in (("mu_smooth", mu_smooth), ("mu_grooved", mu_grooved)):
         number(value, name, minimum=0.0, maximum=5.0, error=ScheduleError)
     number(cycles, "cycles", minimum=1, maximum=100, integer=True, error=ScheduleError)

@@ -218,26 +218,11 @@ def _foot_mesh(settings):
     return design, mesh.to_skfem(2)
 
 
-def evaluate_foot(params: dict, fixed: dict, settings: dict):
-    D = float(params["pipe_diameter"])
-    mu_s = float(settings.get("mu_smooth", FOOT_FRICTION["mu_smooth"]))
-    mu_g = float(settings.get("mu_grooved", FOOT_FRICTION["mu_grooved"]))
-    design, mesh = _foot_mesh(settings)
-    r = run_foot(
-        mesh,
-        _material(settings),
-        design,
-        Pipe(diameter=D),
-        mu_smooth=mu_s,
-        mu_grooved=mu_g,
-        drag=float(settings.get("drag_mm", DRAG_MM[FOOT])),
-        drag_steps=int(settings.get("drag_steps", 8)),
-        on_state=_vtu_writer(settings, f"foot-D{D:g}"),
-    )
+def _curves(r, prefix: str = "") -> dict:
     curves = {}
     for c in (r.forward, r.backward):
         if c is not None:
-            curves[c.direction] = {
+            curves[prefix + c.direction] = {
                 "drag_mm": c.drag,
                 "resistance_n": c.resistance,
                 "tip_ahead_mm": c.tip_ahead,
@@ -248,6 +233,54 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
                 "limit_point_mm": c.limit_point[0] if c.limit_point else None,
                 "limit_point_n": c.limit_point[1] if c.limit_point else None,
             }
+    return curves
+
+
+def _limit_at(curve):
+    return curve.limit_point[0] if curve is not None and curve.limit_point else None
+
+
+def _flipped_summary(r) -> dict:
+    """The flipped foot's columns (`studies.foot.flip`): the backward crawl's foot, grooved face on
+    the wall; f_bwd is its sliding resistance (the backward crawl's), f_fwd its anchoring."""
+    normal = r.face_forces
+    return {
+        "flipped_converged": r.converged,
+        "flipped_message": r.message,
+        "flipped_normal_force_n": r.normal_force,
+        "flipped_normal_smooth_n": normal.get("smooth", float("nan")),
+        "flipped_normal_grooved_n": normal.get("grooved", float("nan")),
+        "flipped_f_fwd_n": r.forward.peak if r.forward else float("nan"),
+        "flipped_f_bwd_n": r.backward.peak if r.backward else float("nan"),
+        "flipped_limit_fwd_at_mm": _limit_at(r.forward),
+        "flipped_limit_bwd_at_mm": _limit_at(r.backward),
+        "flipped_wall_s": r.wall_s,
+    }
+
+
+def evaluate_foot(params: dict, fixed: dict, settings: dict):
+    """The paper's foot (skirt leaning back, smooth face on the wall) and, unless the setting
+    `flipped` is False, the flipped foot of the backward crawl, in the pipe of `pipe_diameter`."""
+    D = float(params["pipe_diameter"])
+    mu_s = float(settings.get("mu_smooth", FOOT_FRICTION["mu_smooth"]))
+    mu_g = float(settings.get("mu_grooved", FOOT_FRICTION["mu_grooved"]))
+    design, mesh = _foot_mesh(settings)
+    runs = {}
+    for flipped in (False, True) if settings.get("flipped", True) else (False,):
+        runs[flipped] = run_foot(
+            mesh,
+            _material(settings),
+            design,
+            Pipe(diameter=D),
+            mu_smooth=mu_s,
+            mu_grooved=mu_g,
+            drag=float(settings.get("drag_mm", DRAG_MM[FOOT])),
+            drag_steps=int(settings.get("drag_steps", 8)),
+            on_state=_vtu_writer(settings, f"foot-D{D:g}" + ("-flipped" if flipped else "")),
+            flipped=flipped,
+        )
+    r = runs[False]
+    curves = _curves(r) | (_curves(runs[True], "flipped_") if True in runs else {})
     summary = (
         {
             "converged": r.converged,
@@ -270,9 +303,13 @@ def evaluate_foot(params: dict, fixed: dict, settings: dict):
         }
         | {f"normal_{k}_n": v for k, v in r.face_forces.items()}
         | r.metrics
+        | (_flipped_summary(runs[True]) if True in runs else {})
     )
     data = {"params": params, "summary": summary, "curves": curves, "iterations": r.iterations}
     _write_json(point_file(settings["out_dir"], FOOT, params), data)
-    if not r.converged:
-        return Evaluation(ok=False, attrs=summary, message=r.message)
+    failed = [
+        run.message if not f else f"flipped: {run.message}" for f, run in runs.items() if not run.converged
+    ]
+    if failed:
+        return Evaluation(ok=False, attrs=summary, message="; ".join(failed))
     return Evaluation(ok=True, values=(r.ratio,), attrs=summary)

@@ -123,14 +123,20 @@ def fit_mu(
         solves.append((mu, value))
         return value
 
-    f_lo, f_hi = f(lo), f(hi)
+    f_lo = f(lo)
+    if math.isfinite(f_lo) and f_lo > target + tol:  # F rises with mu: every mu in range is too large
+        note = f"{target:g} N is below F({lo:g}) = {f_lo:.2f} N, the least resistance in the range"
+        if target > 0.0:  # F(0) = 0: a cylindrical wall's normal force has no axial part
+            note += f"; F proportional to mu below {lo:g} would need mu = {lo * target / f_lo:.3f}"
+        return MuFit(
+            face, target, None, f_lo, f_lo - target, False, tuple(solves), note + f" (nearer end mu = {lo:g})"
+        )
+    f_hi = f(hi) if math.isfinite(f_lo) else math.nan
     if not (math.isfinite(f_lo) and math.isfinite(f_hi)):
         return MuFit(face, target, None, math.nan, math.nan, False, tuple(solves), "a drag did not converge")
     if not min(f_lo, f_hi) <= target <= max(f_lo, f_hi):
         mu_end, f_end = (lo, f_lo) if abs(f_lo - target) <= abs(f_hi - target) else (hi, f_hi)
         note = f"{target:g} N is outside F({lo:g}) = {f_lo:.2f} N .. F({hi:g}) = {f_hi:.2f} N"
-        if 0.0 < target < f_lo:  # F(0) = 0: a cylindrical wall's normal force has no axial part
-            note += f"; F proportional to mu below {lo:g} would need mu = {lo * target / f_lo:.3f}"
         note += f" (nearer end mu = {mu_end:g})"
         return MuFit(face, target, None, f_end, f_end - target, False, tuple(solves), note)
     a, fa, b, fb = lo, f_lo - target, hi, f_hi - target

@@ -7,8 +7,9 @@ every solve and the residuals).
 One solve is the foot of the foot study (revolved mesh, Shore 70A, angle 120 deg; `--quick`: 24
 sectors, 5 mm of drag) inserted into the 70 mm pipe without friction and dragged with friction mu
 on both faces: forward for mu_smooth (the smooth front face is the only one on the wall, record
-062), and for mu_grooved the flipped foot's sliding drag, once the flipped foot exists
-(`BACKWARD_CONFIG`); until then mu_grooved is reported as not identified, with the reason.
+062); for mu_grooved the flipped foot of the backward crawl (`run_foot(flipped=True)`, record 067:
+the grooved face carries the whole normal force) dragged backward, the way it slides in a
+backward crawl.
 """
 
 from __future__ import annotations
@@ -32,13 +33,11 @@ FOLDER = "identify"
 #: The foot study's drag (8 mm, 8 steps) and the quick one (5 mm, 5 steps, 24 sectors).
 SETTINGS = {"drag_mm": 8.0, "drag_steps": 8, "sectors": None, "angle": 120.0}
 QUICK_SETTINGS = {"drag_mm": 5.0, "drag_steps": 5, "sectors": 24, "angle": 120.0}
-#: The flipped foot of issue 29 step 4; None while it is not built.
-BACKWARD_CONFIG = None
 
 
-def drag_resistance(settings: dict, direction: str = "forward"):
-    """mu -> the largest resistance (N) of a drag of the foot in the 70 mm pipe (NaN: the drag
-    did not converge)."""
+def drag_resistance(settings: dict, direction: str = "forward", flipped: bool = False):
+    """mu -> the largest resistance (N) of a drag of the foot (`flipped`: the flipped foot) in the
+    70 mm pipe (NaN: the drag did not converge)."""
     design = FootDesign(angle=float(settings["angle"]))
     mesh = mesh_foot_with(design, "revolved", sectors=settings["sectors"]).to_skfem(2)
     material = solid_law(get_material(identify.MATERIAL), hyperelastic_only=True)
@@ -55,6 +54,8 @@ def drag_resistance(settings: dict, direction: str = "forward"):
             drag=float(settings["drag_mm"]),
             drag_steps=int(settings["drag_steps"]),
             directions=(direction,),
+            flipped=flipped,
+            max_wall_s=None,
         )
         curve = r.forward if direction == "forward" else r.backward
         ok = curve is not None and curve.converged and curve.resistance.size
@@ -89,8 +90,6 @@ def write(result: identify.FeetIdentification, folder: Path) -> list[Path]:
             f"| {f.face} | {f.target_n:g} | {mu} | {f.resistance_n:.3f} | {f.residual_n:+.3f} | "
             f"{'yes' if f.in_range else 'no'} | {solves} | {f.note} |"
         )
-    if len(result.fits) < 2:
-        lines += ["", "mu_grooved: not identified: the flipped foot (issue 29 step 4) is not built."]
     lines += ["", "Settings: " + ", ".join(f"{k} = {v}" for k, v in result.settings.items()), ""]
     md_path = write_text_atomic(folder / "feet.md", "\n".join(lines))
     return [json_path, Path(md_path)]
@@ -98,7 +97,7 @@ def write(result: identify.FeetIdentification, folder: Path) -> list[Path]:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     settings = dict(QUICK_SETTINGS if request.quick else SETTINGS)
-    backward = None if BACKWARD_CONFIG is None else drag_resistance(settings, BACKWARD_CONFIG)
+    backward = drag_resistance(settings, "backward", flipped=True)
     forward = drag_resistance(settings, "forward")
     result = identify.identify(forward, backward, settings | {"quick": request.quick})
     folder = Path(request.out) / FOLDER / ("feet-quick" if request.quick else "feet")

@@ -39,6 +39,7 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.studies.foot.flip import FOLD_CLEARANCE, RimSprings, fold, fold_angle_into
 from softcrawl.studies.foot.outputs import face_metrics
 
 #: Newton settings of the foot: a failing sub-step is cut back after at most 25 iterations (each
@@ -56,6 +57,11 @@ MIN_STEP_FRACTION = 1e-3
 #: A drag that stopped after its resistance fell more than this share below its largest value
 #: has passed a limit point (docs/decisions/041-revolved-foot.md); its largest resistance is a lower bound.
 LIMIT_DROP = 1e-3
+
+#: The flipped foot (`flipped=True`, `studies.foot.flip`): its rim is folded to FOLD_CLEARANCE
+#: inside the pipe wall, held there by rim springs of FOLD_HOLD N/mm per dof (far stiffer than the
+#: skirt, ~10 N/mm in all) while the wall is set, then released in the pipe.
+FOLD_HOLD = 1.0e3
 
 FACES = {"smooth": ("front", "rim"), "grooved": ("back",)}
 #: Uzawa loop of the foot runs: 10 um of penetration (1/300 of the skirt) is far below the
@@ -84,9 +90,11 @@ def foot_model(
     drag: float,
     penalty: float | None = None,
     tangential_ratio: float = TANGENTIAL_RATIO,
+    extra_terms=(),
 ):
     """The foot on `mesh` (skfem MeshTet2 with the foot's tags), wall clear of the tip; the
-    tangential penalty is `tangential_ratio` x the normal one."""
+    tangential penalty is `tangential_ratio` x the normal one; `extra_terms` go to the model (the
+    flipped foot's rim springs)."""
     youngs = 9.0 * material.bulk * material.mu / (3.0 * material.bulk + material.mu)
     size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
     eps = penalty if penalty is not None else 10.0 * youngs / size
@@ -104,7 +112,7 @@ def foot_model(
         for name, tags in FACES.items()
     ]
     bcs = [Dirichlet("hub_top", (0, 1, 2), (0.0, 0.0, drag))]
-    return SolidModel(mesh, material, dirichlet=bcs, contacts=specs)
+    return SolidModel(mesh, material, dirichlet=bcs, contacts=specs, extra_terms=extra_terms)
 
 
 @dataclass(frozen=True)
@@ -155,6 +163,7 @@ class FootResult:
     wall_s: float
     n_dofs: int
     iterations: dict = field(default_factory=dict)  # Newton iterations per increment, per stage
+    flipped: bool = False  # the skirt started everted (the backward crawl's foot, `studies.foot.flip`)
 
     @property
     def ratio(self) -> float:
@@ -183,6 +192,36 @@ def _insert_stages(model, design, pipe: Pipe, mu_smooth, mu_grooved, steps):
         Stage("insert", surfaces=surfaces, steps=steps),
         Stage("friction", friction={0: mu_smooth, 1: mu_grooved}),
     ]
+
+
+def _flipped_stages(mesh, material, design, pipe: Pipe, mu_smooth, mu_grooved, steps, drag):
+    """(model, folded state, message, stages) of the flipped foot: the rim folded by the flip and
+    as much more as brings it `FOLD_CLEARANCE` inside the wall (`flip.fold`), the wall shrunk from
+    clear of the folded foot to the pipe (rim springs on), the springs released in `steps`, friction
+    on. The folded state is None (and the message says why) when the fold did not converge."""
+    insertion_wall(pipe, design.tip_radius + 0.5)  # refuses an elbow before the fold
+    springs = RimSprings(np.zeros(0))
+    model = foot_model(mesh, material, design, pipe.radius, drag, extra_terms=[springs])
+    phi = fold_angle_into(design, model.nodes[:, model.boundary_nodes("rim")], pipe.radius - FOLD_CLEARANCE)
+    folded = fold(mesh, material, design, phi, options=FOOT_NEWTON)
+    if not folded.converged:
+        return model, None, folded.message, []
+    springs.target, springs.stiffness = folded.rim_target, FOLD_HOLD
+    deformed = model.nodes + model.displacement(folded.x)
+    clear = max(float(np.hypot(deformed[0], deformed[1]).max()) + 0.5, pipe.radius)
+    wall_at = insertion_wall(pipe, clear)
+    surfaces = {i: wall_at for i in range(len(model.contacts))}
+    at_pipe = {i: (lambda s: wall_at(1.0)) for i in range(len(model.contacts))}
+    return (
+        model,
+        folded.x,
+        folded.message,
+        [
+            Stage("insert", surfaces=surfaces, steps=steps),
+            Stage("release", surfaces=at_pipe, steps=steps, drive=springs.ramp(FOLD_HOLD)),
+            Stage("friction", friction={0: mu_smooth, 1: mu_grooved}),
+        ],
+    )
 
 
 def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes, on_state=None, budget=None):
@@ -258,20 +297,33 @@ def run_foot(
     drag_steps: int = 10,
     on_state=None,
     max_wall_s: float | None = FOOT_MAX_WALL_S,
+    flipped: bool = False,
     directions: tuple[str, ...] = ("forward", "backward"),
 ) -> FootResult:
-    """Insert the foot into the pipe and drag it both ways, or the `directions` asked (module
-    docstring); stop, not converged, once `max_wall_s` seconds have passed (None: no limit)."""
+    """Insert the foot into the pipe and drag it both ways (module docstring; `directions`: the
+    drags to run, in order); stop, not converged, once `max_wall_s` seconds have passed (None: no
+    limit). `flipped`: the skirt starts everted, grooved face out (`_flipped_stages`)."""
     started = time.perf_counter()
 
     def budget():
         return None if max_wall_s is None else max(max_wall_s - (time.perf_counter() - started), 1e-6)
 
-    model = foot_model(mesh, material, design, pipe.radius, drag)
-    stages = _insert_stages(model, design, pipe, mu_smooth, mu_grooved, insert_steps)
+    x0 = None
+    if flipped:
+        model, x0, message, stages = _flipped_stages(
+            mesh, material, design, pipe, mu_smooth, mu_grooved, insert_steps, drag
+        )
+        if x0 is None:
+            nan = float("nan")
+            return FootResult(pipe.diameter, False, message, nan, nan, nan, nan, {}, {}, None, None,
+                              time.perf_counter() - started, 0, flipped=True)  # fmt: skip
+    else:
+        model = foot_model(mesh, material, design, pipe.radius, drag)
+        stages = _insert_stages(model, design, pipe, mu_smooth, mu_grooved, insert_steps)
     res = run_stages(
         model,
         stages,
+        x0=x0,
         options=FOOT_NEWTON,
         max_cutbacks=MAX_CUTBACKS,
         max_wall_s=budget(),
@@ -279,7 +331,9 @@ def run_foot(
         **AUGMENT,
     )
     its = {"insert": [s.iterations[0] for s in res.steps]}
-    empty = FootResult(pipe.diameter, False, res.message, *([float("nan")] * 4), {}, {}, None, None, 0.0, 0)
+    empty = FootResult(
+        pipe.diameter, False, res.message, *([float("nan")] * 4), {}, {}, None, None, 0.0, 0, flipped=flipped
+    )
     if not res.converged:
         return empty
     x0 = res.x
@@ -314,4 +368,5 @@ def run_foot(
         wall_s=wall,
         n_dofs=int(model.n_dofs),
         iterations=its,
+        flipped=flipped,
     )

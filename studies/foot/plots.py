@@ -51,7 +51,7 @@ def plot_foot(points, path, settings):
     for p in points:
         D = p["params"]["pipe_diameter"]
         for direction, c in (p.get("curves") or {}).items():
-            ls = "-" if direction == "forward" else "--"
+            ls = {"forward": "-", "backward": "--"}.get(direction, ":")  # ":": the flipped foot
             (line,) = axes[0].plot(c["drag_mm"], c["resistance_n"], ls, label=f"D = {D:g} mm, {direction}")
             if c.get("limit_point_mm") is not None:  # the drag stopped past this peak (a snap)
                 axes[0].plot(c["limit_point_mm"], c["limit_point_n"], "x", color=line.get_color(), ms=8)

@@ -112,7 +112,8 @@ def load_points(spec, rows) -> list[dict]:
         path = point_file(spec.out_dir, spec.name.split("-")[0], params)
         data = json.loads(path.read_text()) if path.exists() else {}
         if status == "missing" and data:  # a stored result the sweep has not reported (yet)
-            done = data.get("summary", {}).get("converged")
+            stored = data.get("summary", {})
+            done = stored.get("converged") and stored.get("flipped_converged", True)
             status, reason = (
                 ("completed", "") if done else ("failed", data.get("summary", {}).get("message", ""))
             )
@@ -182,6 +183,13 @@ def _report_lines(name: str, summary) -> list[str]:
                     f", limit point ({d}) at {s[k]:.3g} mm: a lower bound"
                     for d, k in (("forward", "limit_fwd_at_mm"), ("backward", "limit_bwd_at_mm"))
                     if s.get(k) is not None
+                )
+                + (
+                    f"; flipped foot (backward crawl): N = {_fmt(s, 'flipped_normal_force_n')} N, "
+                    f"of which the grooved face {_fmt(s, 'flipped_normal_grooved_n')} N, F_bwd (sliding) = "
+                    f"{_fmt(s, 'flipped_f_bwd_n')} N, F_fwd (anchoring) = {_fmt(s, 'flipped_f_fwd_n')} N"
+                    if "flipped_normal_force_n" in s
+                    else ""
                 )
             )
     return lines

@@ -12,12 +12,14 @@ faces' quadrature points are placed, `studies.crawl.mesh.QUICK_SECTORS`), 4 inse
 
 from __future__ import annotations
 
+from softcrawl.analytic.pipe import Pipe
 from softcrawl.checks import number
 from softcrawl.geometry.design import DesignError, FootDesign
 from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.materials import Material, get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.foot.contact_studies import DEFAULT_MATERIAL, DRAG_MM, FOOT, FOOT_FRICTION, FOOT_MESHER
+from softcrawl.studies.foot.flip import flipped_min_diameter
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S, FootResult, run_foot
 
 #: The foot study's settings and the quick ones of the module docstring (drag in mm).
@@ -39,17 +41,25 @@ def simulate_foot(
     mesher: str = FOOT_MESHER,
     sectors: int | None = None,
     max_wall_s: float | None = FOOT_MAX_WALL_S,
+    flipped: bool = False,
 ) -> FootResult:
     """The foot (Table 1 by default) inserted into a pipe of `pipe_diameter` mm and dragged `drag`
     mm forward and backward -> `FootResult` (normal force, resistances F_fwd, F_bwd and their
     `ratio`). `material`: a preset name (`material_names()`) or a `Material`; unset numbers take
-    the foot study's values, or the quick ones with `quick=True`."""
+    the foot study's values, or the quick ones with `quick=True`. `flipped`: the skirt starts
+    everted, its grooved face on the wall (the backward crawl's foot, `studies.foot.flip`)."""
     design = design or FootDesign()
+    if not isinstance(flipped, bool):
+        raise DesignError("flipped", f"must be True or False, got {flipped!r}")
     if not isinstance(design, FootDesign):
         raise DesignError("design", "the foot simulation needs a FootDesign")
     between_hub_and_tip = {"minimum": 2 * design.hub_radius, "maximum": 2 * design.tip_radius}
     number(pipe_diameter, "pipe_diameter", **between_hub_and_tip, min_open=True, max_open=True, unit="mm",
            error=DesignError)  # fmt: skip
+    smallest = flipped_min_diameter(design)
+    if flipped and not pipe_diameter > smallest:
+        message = f"the flipped foot folds into pipes above {smallest:.4g} mm, not {pipe_diameter:g} mm"
+        raise DesignError("pipe_diameter", message)
     for name, value in (("mu_smooth", mu_smooth), ("mu_grooved", mu_grooved)):
         number(value, name, minimum=0.0, maximum=5.0, error=DesignError)
     given = {"drag": drag, "drag_steps": drag_steps, "insert_steps": insert_steps}
@@ -66,10 +76,11 @@ def simulate_foot(
         mesh,
         solid_law(mat, hyperelastic_only=True),
         design,
-        float(pipe_diameter),
+        Pipe(diameter=float(pipe_diameter)),
         mu_smooth=float(mu_smooth),
         mu_grooved=float(mu_grooved),
         drag=drag,
         max_wall_s=max_wall_s,
+        flipped=flipped,
         **steps,
     )

@@ -60,6 +60,7 @@ CASES: list[tuple[str, str]] = [
     ("crawl --schedule MISSING --out OUT", "schedule"),
     ("crawl --schedule TEXT --out OUT", "schedule"),
     ("crawl --backward --symmetric --out OUT", "symmetric"),
+    ("crawl --backward --pipe-diameter 51 --out OUT", "pipe-diameter"),  # the flipped feet need > 52 mm
     ("crawl --out FILE", "out"),
     ("study crawl --material ecoflex-00-50 --out OUT", "material"),
     ("study crawl --workers 0 --out OUT", "workers"),

@@ -1,0 +1,95 @@
+r"""The backward crawl's feet: both skirts flipped (everted), grooved faces on the wall.
+
+The paper changes the crawl's direction "by changing the initial contact surfaces of each foot":
+both feet start flipped. Each foot is the paper's mesh (not mirrored), folded by FE as in the foot
+study (`studies.foot.flip.fold`, `studies.foot.model._flipped_stages`): its rim is rotated about
+the skirt's hinge by the flip and as much more as brings it `FOLD_CLEARANCE` inside the pipe
+wall, with its hub top held. That state of one foot is copied onto both feet of the crawl's mesh
+(the nodes matched by position: the rear foot where the single foot is, the front one
+`separation` ahead; the P1 pressures by their vertices), and rim springs (`flip.RimSprings` on
+"rear:rim" and "front:rim", `FOLD_HOLD` N/mm per dof) hold both rims there while the wall shrinks
+from clear of the folded feet to the pipe; then a "release" stage takes the springs to 0
+(`RimSprings.ramp`), and the crawl goes on as for the paper's feet (friction on, the cycles). The
+robot then crawls towards -z: the flipped skirts lean forward (+z), so they slide easily backward.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from softcrawl.fem.model import SolidModel
+from softcrawl.geometry.design import RobotDesign
+from softcrawl.geometry.foot_meshers import mesh_foot_with
+from softcrawl.studies.crawl.mesh import FEET
+from softcrawl.studies.foot.flip import (
+    FOLD_CLEARANCE,
+    RimSprings,
+    flipped_min_diameter,
+    fold,
+    fold_angle_into,
+)
+from softcrawl.studies.foot.model import FOLD_HOLD, FOOT_NEWTON
+
+__all__ = ["FOLD_HOLD", "check_pipe", "folded_feet", "rim_springs"]
+
+
+def check_pipe(pipe_diameter: float, foot_design, error, parameter: str = "pipe_diameter") -> None:
+    """An `error` (an InputError class) naming `parameter` when the flipped feet cannot be folded
+    into that pipe (`flip.flipped_min_diameter`)."""
+    smallest = flipped_min_diameter(foot_design)
+    if not pipe_diameter > smallest:
+        raise error(
+            parameter,
+            f"the flipped feet of --backward fold into pipes above {smallest:.4g} mm, "
+            f"not {pipe_diameter:g} mm",
+        )
+
+
+def rim_springs() -> RimSprings:
+    """The springs on both feet's rims (target set by `folded_feet`)."""
+    return RimSprings(np.zeros(0), tags=tuple(f"{foot}:rim" for foot in FEET))
+
+
+def _match(points: np.ndarray, reference: np.ndarray, shifts) -> np.ndarray:
+    """For each of `points` (n, 3), the index of the `reference` point (m, 3) it coincides with
+    after one of the axial `shifts` (mm); every point must find one."""
+    tree = cKDTree(reference)
+    best = np.full(len(points), -1)
+    for dz in shifts:
+        dist, idx = tree.query(points - np.array([0.0, 0.0, dz]))
+        hit = dist < 1e-6 * max(np.ptp(reference, axis=0).max(), 1.0)
+        best[hit] = idx[hit]
+    if np.any(best < 0):
+        raise RuntimeError(
+            f"flipped feet: {int(np.sum(best < 0))} nodes of the crawl mesh match no foot node"
+        )
+    return best
+
+
+def folded_feet(
+    model: SolidModel, material, foot_design, setup, springs: RimSprings
+) -> tuple[np.ndarray, str]:
+    """(x0, message): the crawl model's state with both feet folded (module docstring), and the
+    springs' target set to it; x0 is None (the message says why) when the fold did not converge."""
+    robot = RobotDesign()
+    separation = robot.epsa.length + robot.epsa.seal_head_thickness + robot.foot.hub_thickness
+    mesh = mesh_foot_with(foot_design, **setup.mesh_options()).to_skfem(2)
+    single = SolidModel(mesh, material)
+    rim = single.boundary_nodes("rim")
+    phi = fold_angle_into(foot_design, single.nodes[:, rim], setup.pipe.radius - FOLD_CLEARANCE)
+    folded = fold(mesh, material, foot_design, phi, options=FOOT_NEWTON)
+    if not folded.converged:
+        return None, folded.message
+    u1 = single.displacement(folded.x)
+    nodes = _match(model.nodes.T, single.nodes.T, (0.0, separation))
+    x0 = np.zeros(model.n_dofs)
+    x0[: model.n_u] = u1[:, nodes].T.ravel()
+    if model.mixed and single.mixed:
+        p1 = np.full(mesh.p.shape[1], np.nan)
+        p1[single.space.pressure_vertex] = folded.x[single.n_u :]
+        vertices = _match(model.mesh.p.T, mesh.p.T, (0.0, separation))
+        x0[model.n_u :] = p1[vertices[model.space.pressure_vertex]]
+    springs.target = x0[springs.rim_dofs].copy()
+    springs.stiffness = FOLD_HOLD
+    return x0, folded.message
