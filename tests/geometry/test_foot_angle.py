@@ -12,6 +12,10 @@ from softcrawl.geometry.foot import foot_profile, foot_segments, foot_volume
 from softcrawl.geometry.foot_meshers import mesh_foot_with, quick_sectors
 from softcrawl.geometry.foot_revolved import mesh_foot_revolved
 from softcrawl.geometry.tagging import boundary_facets
+from softcrawl.materials import get_material
+from softcrawl.materials.fem_law import solid_law
+from softcrawl.studies.foot.model import foot_model
+from softcrawl.studies.foot.simulate import simulate_foot
 
 ANGLES = (30.0, 45.0, 60.0, 90.0, 120.0)
 
@@ -73,11 +77,16 @@ def test_quick_sectors_keep_24_at_120_deg_and_grow_towards_the_axis():
 def test_the_narrowest_foot_places_its_contact_quadrature_on_the_quick_mesh():
     """24 sectors do not place the 30 deg skirt's facet quadrature in its curved P2 elements (the
     quick runs of record 066 failed so); `quick_sectors` does."""
-    from softcrawl.materials import get_material  # lazy: the FE model only for this check
-    from softcrawl.materials.fem_law import solid_law  # lazy: idem
-    from softcrawl.studies.foot.model import foot_model  # lazy: idem
-
     design = FootDesign(angle=30)
     mesh = mesh_foot_with(design, "revolved", sectors=quick_sectors(design)).to_skfem(2)
     model = foot_model(mesh, solid_law(get_material("rubber-70a"), hyperelastic_only=True), design, 35.0, 0.0)
     assert len(model.contacts) == 2
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("angle", ANGLES)
+def test_every_angle_inserts_into_the_70_mm_pipe(angle):
+    """The quick insertion and drags of record 066 converge at every angle of Fig. 21."""
+    r = simulate_foot(FootDesign(angle=angle), 70.0, quick=True)
+    assert r.converged, r.message
+    assert r.normal_force > 1.0 and r.forward.peak > 0.0 and r.backward.peak > 0.0
