@@ -159,8 +159,8 @@ class RingDesign(DesignBase):
     """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
 
     kind: ClassVar[str] = "ring"
-    d: float = spec(14.0, "radius of the actuator hole centres")
-    hole_radius: float = spec(9.0, "actuator holes (= ePSA radius, tied to it)")
+    d: float = spec(BODY.d, "radius of the actuator hole centres")
+    hole_radius: float = spec(BODY.epsa_radius, "actuator holes (= ePSA radius, tied to it)")
     outer_radius: float = spec(BODY.part_radius, "ring outer radius: the body's part radius d + R0 + rim")
     bore_radius: float = spec(3.5, "central bore (endoscope passage; 0 = none)")
     thickness: float = spec(5.0, "axial thickness")
@@ -203,7 +203,7 @@ class RobotDesign(DesignBase):
 
     kind: ClassVar[str] = "robot"
     epsa: EPSADesign = field(default_factory=EPSADesign)
-    d: float = spec(14.0, "distance robot axis -> actuator centres")
+    d: float = spec(BODY.d, "distance robot axis -> actuator centres")
     n_rings: int = spec(3, "number of connecting rings", "")
     foot: FootDesign | None = None
     ring: RingDesign | None = None

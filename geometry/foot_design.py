@@ -42,7 +42,7 @@ class FootDesign(DesignBase):
     """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
 
     kind: ClassVar[str] = "foot"
-    d: float = spec(14.0, "distance foot centre -> actuator centres (the sub circle)")
+    d: float = spec(BODY.d, "distance foot centre -> actuator centres (the sub circle)")
     hub_radius: float = spec(BODY.part_radius, "hub disk radius: the body's part radius d + R0 + rim")
     hub_thickness: float | None = spec(
         None, f"axial hub thickness; unset: max({HUB_THICKNESS:g}, skirt_thickness / sin(angle / 2))"
