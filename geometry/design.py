@@ -12,8 +12,14 @@ gives or implies (Sections II, V, VI):
 * Seal head: a separate ABS disk of the ePSA radius, ``seal_head_thickness`` = 3 mm (not given).
 * Prototype diameters (Section VI.B): maximum 78 mm = foot tip diameter (``FootDesign.tip_radius`` =
   39 mm), minimum 46 mm = 2 (d + R0), the envelope of the actuator bundle. Feet of 78 mm touch the
-  wall of every pipe of the 55-75 mm range the prototype was built for.
-* Foot angle 120 deg (the included angle of the foot's conical skirt, see ``geometry.foot``).
+  wall of every pipe of the 55-75 mm range the prototype was built for. The foot hub and the rings
+  share one outer radius, the body's part radius d + R0 + rim = 24 mm (`softcrawl.body`,
+  docs/decisions/066-body-geometry.md); a robot of another d or R0 sizes its parts from its own
+  `Body`.
+* Foot angle 120 deg: the included angle of the foot's conical skirt, whose front face leaves the
+  hub's top rim and whose tip stays at ``tip_radius`` for every angle (see ``geometry.foot``). The
+  hub is by default as thick as the skirt's root needs, max(4 mm, t / sin(angle / 2)), so that
+  every angle of Fig. 21 (30-120 deg) builds; 4 mm for 97.2-180 deg (record 066).
 
 Every invalid value raises :class:`DesignError`, an ``InputError`` whose ``parameter`` attribute is
 the field name (dotted for nested designs, e.g. ``foot.hub_radius``).
@@ -30,6 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
 
+from softcrawl.body import BODY, Body
 from softcrawl.checks import brief
 from softcrawl.geometry.design_base import (
     ACTUATOR_ANGLES_DEG,
@@ -44,6 +51,7 @@ from softcrawl.geometry.design_base import (
 )
 from softcrawl.geometry.design_files import read_design_file
 from softcrawl.geometry.errors import DesignError
+from softcrawl.geometry.foot_design import HUB_THICKNESS, MIN_SKIRT_ANGLE, FootDesign
 
 __all__ = [
     "ACTUATOR_ANGLES_DEG",
@@ -52,6 +60,7 @@ __all__ = [
     "MIN_FEATURE",
     "MIN_LIGAMENT",
     "MIN_SKIRT_ANGLE",
+    "HUB_THICKNESS",
     "DesignError",
     "EPSADesign",
     "FootDesign",
@@ -59,11 +68,6 @@ __all__ = [
     "RobotDesign",
     "load_design",
 ]
-
-#: Smallest included angle of the foot's conical skirt (deg). Below it the "cone" is a tube along
-#: the axis, not a foot, and the skirt geometry divides by sin(angle / 2) (a 5e-324 deg skirt
-#: was a ZeroDivisionError). The paper's foot has 120 deg.
-MIN_SKIRT_ANGLE = 10.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -151,84 +155,13 @@ class EPSADesign(DesignBase):
 
 
 @dataclass(frozen=True, kw_only=True)
-class FootDesign(DesignBase):
-    """Grooved flexible foot (paper Fig. 3): a hub disk with a conical skirt, see ``geometry.foot``."""
-
-    kind: ClassVar[str] = "foot"
-    d: float = spec(14.0, "distance foot centre -> actuator centres (the sub circle)")
-    hub_radius: float = spec(24.0, "hub disk radius (>= d + R0 to carry the actuators)")
-    hub_thickness: float = spec(4.0, "axial hub thickness")
-    bore_radius: float = spec(4.0, "central bore for the endoscope (<= d - R0)")
-    tip_radius: float = spec(39.0, "skirt tip radius: 78 mm prototype maximum diameter")
-    angle: float = spec(120.0, "included angle of the conical skirt, 180 = flat disk", "deg")
-    skirt_thickness: float = spec(3.0, "skirt wall thickness")
-    groove_height: float = spec(1.0, "h, groove depth on the back face")
-    groove_width: float = spec(1.0, "width of a groove along the skirt")
-    n_grooves: int = spec(5, "number of grooves on the back face", "")
-
-    def __post_init__(self) -> None:
-        for name in (
-            "d",
-            "hub_radius",
-            "hub_thickness",
-            "tip_radius",
-            "skirt_thickness",
-            "groove_height",
-            "groove_width",
-        ):
-            check_number(self, name)
-        check_number(self, "angle", minimum=MIN_SKIRT_ANGLE, maximum=180.0, unit="deg")
-        check_number(self, "bore_radius", minimum=0.0)
-        check_number(self, "n_grooves", integer=True, minimum=0)
-        p = ""
-        if self.bore_radius + MIN_LIGAMENT > self.hub_radius:
-            raise DesignError(p + "bore_radius", "leaves no hub material (must be < hub_radius)")
-        if self.tip_radius <= self.hub_radius + self.skirt_thickness:
-            raise DesignError(p + "tip_radius", f"{self.tip_radius} must exceed hub_radius + skirt_thickness")
-        if self.hub_thickness < self.skirt_thickness / self.sin_half_angle - 1e-9:
-            raise DesignError(
-                p + "hub_thickness",
-                f"{self.hub_thickness} must be >= skirt_thickness / "
-                f"sin(angle / 2) = {self.skirt_thickness / self.sin_half_angle:.3f} so the "
-                f"skirt root lies on the hub",
-            )
-        if self.groove_height > self.skirt_thickness - MIN_LIGAMENT:
-            raise DesignError(
-                p + "groove_height",
-                f"{self.groove_height} must leave {MIN_LIGAMENT} mm of the {self.skirt_thickness} mm skirt",
-            )
-        land = self.back_face_length / (self.n_grooves + 1) - self.groove_width
-        if self.n_grooves and land < MIN_LIGAMENT:
-            raise DesignError(
-                p + "n_grooves",
-                f"{self.n_grooves} grooves of width {self.groove_width} mm "
-                f"do not fit on the {self.back_face_length:.2f} mm back face",
-            )
-
-    @property
-    def sin_half_angle(self) -> float:
-        return math.sin(math.radians(self.angle / 2))
-
-    @property
-    def front_face_length(self) -> float:
-        """Slant length of the smooth front face, hub rim to tip."""
-        return (self.tip_radius - self.hub_radius) / self.sin_half_angle
-
-    @property
-    def back_face_length(self) -> float:
-        """Slant length of the back face (before grooves), from where it leaves the hub to the tip."""
-        a = math.radians(self.angle / 2)
-        return self.front_face_length - self.skirt_thickness * math.cos(a) / math.sin(a)
-
-
-@dataclass(frozen=True, kw_only=True)
 class RingDesign(DesignBase):
     """Connecting ring (ABS): a plate with three actuator holes at radius d and a central bore."""
 
     kind: ClassVar[str] = "ring"
-    d: float = spec(14.0, "radius of the actuator hole centres")
-    hole_radius: float = spec(9.0, "actuator holes (= ePSA radius, tied to it)")
-    outer_radius: float = spec(25.0, "ring outer radius")
+    d: float = spec(BODY.d, "radius of the actuator hole centres")
+    hole_radius: float = spec(BODY.epsa_radius, "actuator holes (= ePSA radius, tied to it)")
+    outer_radius: float = spec(BODY.part_radius, "ring outer radius: the body's part radius d + R0 + rim")
     bore_radius: float = spec(3.5, "central bore (endoscope passage; 0 = none)")
     thickness: float = spec(5.0, "axial thickness")
 
@@ -270,7 +203,7 @@ class RobotDesign(DesignBase):
 
     kind: ClassVar[str] = "robot"
     epsa: EPSADesign = field(default_factory=EPSADesign)
-    d: float = spec(14.0, "distance robot axis -> actuator centres")
+    d: float = spec(BODY.d, "distance robot axis -> actuator centres")
     n_rings: int = spec(3, "number of connecting rings", "")
     foot: FootDesign | None = None
     ring: RingDesign | None = None
@@ -339,18 +272,23 @@ class RobotDesign(DesignBase):
 
     _nested: ClassVar[dict[str, type]] = {"epsa": EPSADesign, "foot": FootDesign, "ring": RingDesign}
 
+    @property
+    def body(self) -> Body:
+        """The body's cross-section (`softcrawl.body`): this robot's d and R0, the default rim."""
+        return Body(d=self.d, epsa_radius=self.epsa.outer_radius)
+
     def _foot_sizes(self) -> dict[str, float]:
-        """The default foot: d, a hub 1 mm beyond the actuator bundle, a bore of up to 4 mm."""
+        """The default foot: d, a hub of the body's part radius, a bore of up to 4 mm."""
         R0 = self.epsa.outer_radius
-        return dict(d=self.d, hub_radius=self.d + R0 + 1.0, bore_radius=min(4.0, self.d - R0))
+        return dict(d=self.d, hub_radius=self.body.part_radius, bore_radius=min(4.0, self.d - R0))
 
     def _ring_sizes(self) -> dict[str, float]:
-        """The default ring: holes of the ePSA radius, 2 mm of rim, a bore of up to 3.5 mm."""
+        """The default ring: holes of the ePSA radius, the body's part radius, a bore of up to 3.5 mm."""
         R0 = self.epsa.outer_radius
         return dict(
             d=self.d,
             hole_radius=R0,
-            outer_radius=self.d + R0 + 2.0,
+            outer_radius=self.body.part_radius,
             bore_radius=max(0.0, min(3.5, self.d - R0 - 1.5)),
         )
 
@@ -377,7 +315,7 @@ class RobotDesign(DesignBase):
     @property
     def bundle_diameter(self) -> float:
         """Envelope of the actuator bundle, 2 (d + R0) (46 mm for Table 1: the prototype minimum)."""
-        return 2 * (self.d + self.epsa.outer_radius)
+        return self.body.envelope_diameter
 
 
 DESIGN_TYPES: dict[str, type] = {

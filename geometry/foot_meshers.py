@@ -7,10 +7,19 @@
   cached in `cache_dir`.
 
 A setting that belongs to the other mesher is a `DesignError` naming it, not silently ignored.
+
+Quick revolved meshes (`quick_sectors`): the least sector count at which the contact faces' facet
+quadrature points can be placed in their curved P2 elements grows as the skirt turns towards the
+axis: its chordal bow, r_tip (1 - cos(pi / n)), then lies across the skirt's thin cells rather than
+along them. Measured on Table 1's foot (`geometry.foot_revolved`, 3 cells through the skirt), the
+least working counts are 24 at 120 deg, 30-32 at 90 and 60 deg, 33-40 at 45 deg and 35-40 at
+30 deg; the rule n = max(24, ceil(48 cos(angle / 2))) keeps 24 at 120 deg (every committed quick
+run) and gives 34 / 42 / 45 / 47 at 90 / 60 / 45 / 30 deg (docs/decisions/066-body-geometry.md).
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from softcrawl.geometry import foot_revolved as fr
@@ -20,6 +29,13 @@ from softcrawl.geometry.tagged_mesh import TaggedMesh
 from softcrawl.geometry.tetwild import mesh_foot
 
 FOOT_MESHERS = ("revolved", "tetwild")
+#: Sectors of the quick revolved foot mesh at 120 deg and above (module docstring).
+QUICK_SECTORS = 24
+
+
+def quick_sectors(design: FootDesign) -> int:
+    """Sectors of a quick revolved mesh of `design`: max(24, ceil(48 cos(angle / 2)))."""
+    return max(QUICK_SECTORS, math.ceil(2 * QUICK_SECTORS * math.cos(math.radians(design.angle / 2)) - 1e-9))
 
 
 def mesh_foot_with(

@@ -98,12 +98,12 @@ def _axis_radii(design: RobotDesign) -> tuple[float, ...]:
 
 
 def stiff_outline(design: RobotDesign) -> tuple[float, float]:
-    """(bore radius, outer radius) of the rings and foot hubs in this mesh. The two parts differ
-    by 0.5-1 mm (Table 1 defaults: ring bore 3.5 / outer 25 mm, hub bore 4 / outer 24 mm); one
-    outline for both keeps the section's circles apart, so the web needs no sub-millimetre
-    cells (which made the web, not the actuators, hold most of the unknowns). The parts are
-    ABS and Shore 70A rubber, 3-4 orders stiffer than the silicone: 1 mm on their outline does
-    not change how the actuators bend."""
+    """(bore radius, outer radius) of the rings and foot hubs in this mesh. By default both have
+    the body's part radius (`softcrawl.body`, 24 mm) and their bores differ by 0.5 mm (ring 3.5,
+    hub 4 mm); parts given explicitly may differ more. One outline for both keeps the section's
+    circles apart, so the web needs no sub-millimetre cells (which made the web, not the
+    actuators, hold most of the unknowns). The parts are ABS and Shore 70A rubber, 3-4 orders
+    stiffer than the silicone: 1 mm on their outline does not change how the actuators bend."""
     f, r = design.foot, design.ring
     bores = [b for b in (f.bore_radius, r.bore_radius if design.n_rings else None) if b is not None]
     outers = [f.hub_radius] + ([r.outer_radius] if design.n_rings else [])

@@ -43,10 +43,9 @@ from collections.abc import Sequence
 
 from softcrawl.analytic.errors import ModelInputError
 from softcrawl.analytic.statics import EPSAParams, Line, PiecewiseLinear
+from softcrawl.body import BODY
 from softcrawl.paper import (
     BREAKPOINT_KPA,
-    D_MM,
-    EPSA_RADIUS_MM,
     L0_MM,
     PRINTED_F_N,
     PRINTED_K_N_PER_M,
@@ -55,8 +54,9 @@ from softcrawl.paper import (
 
 #: ePSA mass, tonne (see module docstring).
 EPSA_MASS_T = ROBOT_MASS_T / 3.0
-#: Body radius for pipe clearance: d + R0 = 23 mm = half the prototype's 46 mm minimum diameter.
-BODY_RADIUS_MM = D_MM + EPSA_RADIUS_MM
+#: Body radius for pipe clearance: the prototype's actuator envelope d + R0 = 23 mm, half its 46 mm
+#: minimum diameter (`softcrawl.body`: the body geometry the FE foot and robot share).
+BODY_RADIUS_MM = BODY.clearance_radius
 #: Damping, N s/mm (assumed, see module docstring).
 B_P_N_S_PER_MM = 0.05
 

@@ -35,6 +35,8 @@ def _scalar_fields(cls) -> list[tuple[str, type]]:
     out = []
     for f in dataclasses.fields(cls):
         t = hints[f.name]
+        if t == float | None:  # a derived default (FootDesign.hub_thickness): set it as a float
+            t = float
         if t in (int, float):
             out.append((f.name, t))
     return out

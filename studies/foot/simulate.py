@@ -6,7 +6,8 @@
 
 What one point of `softcrawl study foot` does (`contact_studies.evaluate_foot`), without the
 files. `quick=True`: 24 sectors around the axis instead of 48 (the least at which the contact
-faces' quadrature points are placed, `studies.crawl.mesh.QUICK_SECTORS`), 4 insertion steps and
+faces' quadrature points are placed, `studies.crawl.mesh.QUICK_SECTORS`; more for a skirt of less
+than 120 deg, `geometry.foot_meshers.quick_sectors`), 4 insertion steps and
 2 mm of drag in 2 steps each way.
 """
 
@@ -15,7 +16,7 @@ from __future__ import annotations
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.checks import number
 from softcrawl.geometry.design import DesignError, FootDesign
-from softcrawl.geometry.foot_meshers import mesh_foot_with
+from softcrawl.geometry.foot_meshers import mesh_foot_with, quick_sectors
 from softcrawl.materials import Material, get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.foot.contact_studies import DEFAULT_MATERIAL, DRAG_MM, FOOT, FOOT_FRICTION, FOOT_MESHER
@@ -69,7 +70,7 @@ def simulate_foot(
     count = {"minimum": 1, "maximum": 200, "integer": True, "error": DesignError}
     steps = {k: number(v, k, **count) for k, v in chosen.items()}
     if sectors is None and quick and mesher == "revolved":
-        sectors = QUICK["sectors"]
+        sectors = max(QUICK["sectors"], quick_sectors(design))  # more for a skirt nearer the axis
     mat = material if isinstance(material, Material) else get_material(material)
     mesh = mesh_foot_with(design, mesher, sectors=sectors).to_skfem(2)
     return run_foot(

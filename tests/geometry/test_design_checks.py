@@ -103,7 +103,7 @@ CHECKS = [
     (RobotDesign, "foot", dict(foot=RingDesign()), dict(foot=FootDesign())),
     (RobotDesign, "ring", dict(ring=FootDesign()), dict(ring=RingDesign())),
     (RobotDesign, "foot.d", dict(foot=FootDesign(d=15.0)), dict(foot=FootDesign(d=14.0))),
-    (RobotDesign, "ring.d", dict(ring=RingDesign(d=15.0)), dict(ring=RingDesign(d=14.0))),
+    (RobotDesign, "ring.d", dict(ring=RingDesign(d=15.0, outer_radius=25.0)), dict(ring=RingDesign(d=14.0))),
     (RobotDesign, "ring.hole_radius", dict(ring=RingDesign(hole_radius=8.0)), dict(ring=RingDesign())),
     # the foot hub carries the actuators: hub >= d + R0 = 23
     (
@@ -122,11 +122,11 @@ CHECKS = [
     # rings fit along the actuators: L / (n + 1) > thickness + MIN_LIGAMENT = 5.5 -> n <= 17
     (RobotDesign, "n_rings", dict(n_rings=18), dict(n_rings=17)),
     (RobotDesign, "pipe_diameter_min", dict(pipe_diameter_min=75.01), dict(pipe_diameter_min=75.0)),
-    # the rings (50 mm) fit the smallest pipe
-    (RobotDesign, "ring.outer_radius", dict(pipe_diameter_min=50.0), dict(pipe_diameter_min=50.01)),
+    # the rings (48 mm: the body's part radius, softcrawl.body) fit the smallest pipe
+    (RobotDesign, "ring.outer_radius", dict(pipe_diameter_min=48.0), dict(pipe_diameter_min=48.01)),
     # the feet (78 mm) touch the wall of the largest pipe
     (RobotDesign, "foot.tip_radius", dict(pipe_diameter_max=78.0), dict(pipe_diameter_max=77.99)),
-    # parts sized from d are checked and named as parts of the robot: the derived hub d + R0 + 1
+    # parts sized from d are checked and named as parts of the robot: the derived hub d + R0 + rim
     # plus the 3 mm skirt reaches the 39 mm tip at d = 26 (just below, its grooves no longer fit)
     (RobotDesign, "foot.tip_radius", dict(d=26.0), dict(d=25.99)),
     # and 5 grooves fit the derived foot's back face while d <= 19.70 mm
