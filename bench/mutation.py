@@ -56,8 +56,9 @@ ALSO = ("tests", "results", "docs", "examples", "README.md", "pyproject.toml")
 GROUPS = {
     "units": (["softcrawl/units.py"], ["tests/test_units.py", "tests/test_identities.py"]),
     "post": (
-        ["studies/crawl/outputs.py", "studies/foot/outputs.py", "studies/sweeps/tables.py"],
+        ["studies/crawl/outputs.py", "studies/foot/outputs.py", "studies/sweeps/tables.py", "fem/post.py"],
         [
+            "tests/fem/test_post.py",
             "tests/studies/crawl/test_crawl_outputs.py",
             "tests/studies/sweeps/test_sweep_records.py",
             "tests/studies/foot/test_contact_runs.py",
@@ -76,7 +77,10 @@ GROUPS = {
         ["fem/axial_link.py", "fem/chamber.py"],
         ["tests/fem/test_axial_link.py", "tests/fem/test_chambers.py"],
     ),
-    "contact": (["fem/contact.py"], ["tests/fem/test_contact_report.py", "tests/fem/test_contact.py"]),
+    "contact": (
+        ["fem/contact.py", "fem/contact_law.py"],
+        ["tests/fem/test_contact_report.py", "tests/fem/test_contact_law.py", "tests/fem/test_contact.py"],
+    ),
 }
 
 
