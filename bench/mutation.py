@@ -59,6 +59,8 @@ GROUPS = {
         ["studies/crawl/outputs.py", "studies/foot/outputs.py", "studies/sweeps/tables.py", "fem/post.py"],
         [
             "tests/fem/test_post.py",
+            "tests/fem/test_post_state.py",
+            "tests/studies/foot/test_foot_outputs.py",
             "tests/studies/crawl/test_crawl_outputs.py",
             "tests/studies/sweeps/test_sweep_records.py",
             "tests/studies/foot/test_contact_runs.py",
@@ -75,7 +77,14 @@ GROUPS = {
     ),
     "fem": (
         ["fem/axial_link.py", "fem/chamber.py"],
-        ["tests/fem/test_axial_link.py", "tests/fem/test_chambers.py"],
+        [
+            "tests/fem/test_chamber_state.py",
+            "tests/fem/test_axial_link.py",
+            "tests/fem/test_chambers.py",
+            # a 12 s path through a limit point: per mutant too slow; the prescribed-state tests guard the lines
+            "--deselect",
+            "tests/fem/test_chambers.py::test_volume_control_along_a_two_chamber_load_direction_passes_one_limit_point",
+        ],
     ),
     "contact": (
         ["fem/contact.py", "fem/contact_law.py"],
@@ -103,12 +112,29 @@ def stage(group: str, modules: list[str], tests: list[str]) -> Path:
             shutil.copytree(src, where / name, ignore=ignore)
         elif src.exists():
             shutil.copy2(src, where / name)
-    text = (where / "pyproject.toml").read_text()
+    configure(where, modules, tests)
+    return where
+
+
+def configure(where: Path, modules: list[str], tests: list[str]) -> None:
+    """The checkout's pyproject.toml with the group's modules and tests added to [tool.mutmut]."""
+    text = (ROOT / "pyproject.toml").read_text()
     extra = f"only_mutate = {json.dumps([staged(m) for m in modules])}\n"
     extra += f"pytest_add_cli_args_test_selection = {json.dumps(tests)}\n"
     if "[tool.mutmut]\n" not in text:
         raise SystemExit("pyproject.toml has no [tool.mutmut] table")
     (where / "pyproject.toml").write_text(text.replace("[tool.mutmut]\n", "[tool.mutmut]\n" + extra, 1))
+
+
+def restage_tests(group: str, modules: list[str], tests: list[str]) -> Path:
+    """`--again`: the checkout's tests and the group's test selection copied into the last run's
+    stage, whose mutants and results are kept."""
+    where = STAGE / group
+    if not (where / "mutants").exists():
+        raise SystemExit(f"{group}: no earlier run in {where}; run it without --again first")
+    shutil.rmtree(where / "tests")
+    shutil.copytree(ROOT / "tests", where / "tests", ignore=shutil.ignore_patterns("__pycache__"))
+    configure(where, modules, tests)
     return where
 
 
@@ -119,6 +145,18 @@ def statuses(where: Path, modules: list[str]) -> dict[str, dict[str, int | None]
         meta = where / "mutants" / (staged(m) + ".meta")
         out[m] = json.loads(meta.read_text())["exit_code_by_key"] if meta.exists() else {}
     return out
+
+
+def keep_results(where: Path, before: dict[str, dict[str, int | None]]) -> None:
+    """Put back the earlier exit codes that a run of named mutants reset to None."""
+    for m, old in before.items():
+        meta = where / "mutants" / (staged(m) + ".meta")
+        data = json.loads(meta.read_text())
+        codes = data["exit_code_by_key"]
+        for k, c in old.items():
+            if codes.get(k) is None and c is not None:
+                codes[k] = c
+        meta.write_text(json.dumps(data, indent=4))
 
 
 KILLED = {1, 3, 36, 24, -24, 152, 255, 37}  # killed, pytest internal error, timeouts, type check
@@ -151,6 +189,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--list", action="store_true", help="print the groups and exit")
     ap.add_argument("--report", action="store_true", help="only print the scores of the last run")
     ap.add_argument("--survivors", action="store_true", help="list the surviving mutants")
+    ap.add_argument(
+        "--again",
+        action="store_true",
+        help="keep the last run's mutants and results, copy the checkout's tests in, re-run the mutants not killed",
+    )
     args = ap.parse_args(argv)
     groups = args.groups or list(GROUPS)
     if args.list:
@@ -160,11 +203,22 @@ def main(argv: list[str] | None = None) -> int:
     for g in groups:
         modules, tests = GROUPS[g]
         if not args.report:
-            where = stage(g, modules, tests)
-            t0 = time.perf_counter()
             cmd = ["mutmut", "run", "--max-children", str(args.max_children)]
+            if args.again:
+                where = restage_tests(g, modules, tests)
+                left = [k for codes in statuses(where, modules).values() for k, c in codes.items() if c not in KILLED]
+                if not left:
+                    report(g, modules, args.survivors)
+                    continue
+                cmd += left
+            else:
+                where = stage(g, modules, tests)
+            before = statuses(where, modules) if args.again else {}
+            t0 = time.perf_counter()
             with open(where / "mutmut.log", "w") as log:
                 done = subprocess.run(cmd, cwd=where, stdout=log, stderr=subprocess.STDOUT)
+            if args.again:  # mutmut forgets the results of the mutants it was not asked to run
+                keep_results(where, before)
             print(f"{g}: mutmut run exit {done.returncode} in {time.perf_counter() - t0:.0f} s")
             if done.returncode != 0:
                 print((where / "mutmut.log").read_text()[-3000:], file=sys.stderr)
