@@ -92,6 +92,7 @@ GROUPS = {
         ["fem/axial_link.py", "fem/chamber.py"],
         [
             "tests/fem/test_chamber_state.py",
+            "tests/fem/test_axial_link_state.py",
             "tests/fem/test_axial_link.py",
             "tests/fem/test_chambers.py",
             # a 12 s path through a limit point: per mutant too slow; the prescribed-state tests guard the lines
