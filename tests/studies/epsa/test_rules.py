@@ -248,3 +248,60 @@ def test_linearity_claim_is_relative_to_the_unreinforced_actuator():
     sel = linearity.linearity_claim(bare + straight + curved)
     assert sel.value == 0.5 and "not closer to linear" in sel.evidence[1]
     assert linearity.linearity_claim(straight).status == "undetermined"
+
+
+def test_chamber_radius_selection_in_full():
+    """Every field of the selection and each evidence line from its own branch (issue 32)."""
+    R = rules.CHAMBER_RADIUS_RULE
+    assert rules.select_chamber_radius([]) == rules.Selection(
+        "chamber_radius", None, R, (), "undetermined", "no chamber-radius study data"
+    )
+    rows = _rows("chamber_radius", 3, _linear(0.1), _linear(0.01, 9))  # 110 mm and 10 mm at 100 kPa
+    sel = rules.select_chamber_radius(rows)
+    assert (sel.parameter, sel.value, sel.rule, sel.status) == ("chamber_radius", 3.0, R, "selected")
+    assert sel.reason == "r = 3 mm: smallest radial expansion (1 mm) of 1 admissible radii"
+    assert sel.evidence[0].startswith("r = 3: withstands; not fluctuating (")
+    assert sel.evidence[0].endswith("); extension 10 mm, radial expansion 1 mm")
+    # each way of not withstanding, with its own words
+    rows = _rows("chamber_radius", 2, _linear(0.1, n=2), _linear(0.01, 9, 2), status="failed", limit=50, reason="x")
+    rows += _rows("chamber_radius", 3, [], [], status="running")
+    rows += _rows("chamber_radius", 4, _linear(0.1, n=4), _linear(0.01, 9, 4))
+    rows += _rows("chamber_radius", 5, _linear(0.1, n=1), _linear(0.01, 9, 1), limit=0.5)
+    sel = rules.select_chamber_radius(rows, mu=0.03)
+    assert sel == rules.Selection(
+        "chamber_radius",
+        None,
+        R,
+        (
+            "r = 2: does not withstand: diverged/failed after 40 kPa (x)",
+            "r = 3: does not withstand: no result (running)",
+            "r = 4: does not withstand: no computed state at 100 kPa",
+            "r = 5: does not withstand: limit point at 0.5 kPa (would withstand 100 kPa for mu >= 6 MPa)",
+        ),
+        "undetermined",
+        "no studied radius withstands 100 kPa",
+    )
+    # a limit point at 0 kPa says nothing about the modulus that would withstand the target
+    zero = rules.select_chamber_radius(_rows("chamber_radius", 5, [], [], limit=0.0), mu=0.03)
+    assert zero.evidence == ("r = 5: does not withstand: limit point at 0 kPa",)
+
+
+def test_input_and_pending_selections():
+    assert rules.input_parameter("wall", 2.5, "paper Table 1") == rules.Selection(
+        "wall",
+        2.5,
+        "input of the paper's FE model, not selected by a study",
+        ("paper Table 1",),
+        status="input",
+        reason="fixed input (paper Section V-A); no study selects it",
+    )
+    assert rules.pending("rings", "run it") == rules.Selection(
+        "rings", None, "not implemented", (), status="pending", reason="run it"
+    )
+
+
+def test_sensitivity_without_the_most_turns_is_undetermined():
+    rows = fiber_rows({0: 10.0, 10: 16.5})
+    rows += _rows("fiber_turns", 50, _linear(0.1, n=2), _linear(0.01, 9, 2), status="failed")
+    assert rules.fiber_turns_sensitivity(rows) == {0.05: None, 0.10: None, 0.20: None}
+    assert rules.fiber_turns_sensitivity([]) == {0.05: None, 0.10: None, 0.20: None}
