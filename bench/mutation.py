@@ -218,7 +218,9 @@ def report(group: str, modules: list[str], survivors: bool) -> list[tuple[str, i
             for k, c in sorted(checked.items()):
                 if c not in KILLED:
                     print(f"    {k}  (exit {c}){'  equivalent: ' + same[k] if k in same else ''}")
-        stale = [k for k in same if k.startswith(staged(m)[:-3].replace("/", ".") + ".") and codes.get(k) in KILLED]
+        stale = [
+            k for k in same if k.startswith(staged(m)[:-3].replace("/", ".") + ".") and codes.get(k) in KILLED
+        ]
         for k in stale:
             print(f"    stale equivalent (now killed): {k}")
     return rows
@@ -234,7 +236,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--again",
         action="store_true",
-        help="keep the last run's mutants and results, copy the checkout's tests in, re-run the mutants not killed",
+        help="keep the last run's mutants and results, copy the checkout's tests in, "
+        "re-run the mutants not killed",
     )
     args = ap.parse_args(argv)
     groups = args.groups or list(GROUPS)
@@ -248,7 +251,12 @@ def main(argv: list[str] | None = None) -> int:
             cmd = ["mutmut", "run", "--max-children", str(args.max_children)]
             if args.again:
                 where = restage_tests(g, modules, tests)
-                left = [k for codes in statuses(where, modules).values() for k, c in codes.items() if c not in KILLED]
+                left = [
+                    k
+                    for codes in statuses(where, modules).values()
+                    for k, c in codes.items()
+                    if c not in KILLED
+                ]
                 if not left:
                     report(g, modules, args.survivors)
                     continue

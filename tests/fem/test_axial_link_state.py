@@ -76,7 +76,9 @@ def test_valid_links_are_accepted():
 
 def test_ends_that_share_nodes_and_a_bad_load_are_named_errors():
     with pytest.raises(SolverInputError) as err:
-        AxialLink("b", "ab").build(SimpleNamespace(boundary_nodes=lambda t: {"b": np.array([2, 4]), "ab": TAGS["ab"]}[t]))
+        AxialLink("b", "ab").build(
+            SimpleNamespace(boundary_nodes=lambda t: {"b": np.array([2, 4]), "ab": TAGS["ab"]}[t])
+        )
     assert (err.value.parameter, err.value.detail) == ("axial_link.tag_a", "the two ends share nodes")
     term = AxialLink("b", "a").build(SPACE)
     for args, parameter, detail in (

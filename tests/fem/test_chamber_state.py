@@ -60,7 +60,9 @@ def test_volume_of_the_reference_octant_and_under_a_homogeneous_stretch(octant):
     V0 = octant.chamber_volume(octant.initial_state())
     assert V0 == pytest.approx(math.pi * A**3 / 6, rel=2e-3)
     for F in (np.diag([1.2, 0.9, 1.1]), np.diag([1.0, 1.0, 1.5])):
-        assert octant.chamber_volume(homogeneous(octant, F)) == pytest.approx(np.linalg.det(F) * V0, rel=1e-12)
+        assert octant.chamber_volume(homogeneous(octant, F)) == pytest.approx(
+            np.linalg.det(F) * V0, rel=1e-12
+        )
 
 
 def test_cut_plane_weights_drop_the_flux_of_the_cap():

@@ -100,7 +100,9 @@ def stub(points):
 
     nodes = np.asarray(points, float).T
     return SimpleNamespace(
-        nodes=nodes, boundary_nodes=lambda tag: np.arange(nodes.shape[1]), displacement=lambda x: np.zeros_like(nodes)
+        nodes=nodes,
+        boundary_nodes=lambda tag: np.arange(nodes.shape[1]),
+        displacement=lambda x: np.zeros_like(nodes),
     )
 
 

@@ -63,7 +63,9 @@ def test_the_derived_moduli_of_a_fitted_law_are_its_small_strain_ones(name):
     mu = {"neo-hookean": 0.06, "yeoh": 2 * 0.03, "gent": 0.05}[name]
     k = DEFAULT_K_OVER_MU
     E = 9 * k * mu / (3 * k + 1)
-    assert m.youngs_modulus == pytest.approx(E, rel=1e-4) and m.youngs_modulus == pytest.approx(3 * mu, rel=2e-3)
+    assert m.youngs_modulus == pytest.approx(E, rel=1e-4) and m.youngs_modulus == pytest.approx(
+        3 * mu, rel=2e-3
+    )
     nu = (3 * k - 2) / (2 * (3 * k + 1))
     assert m.poisson_ratio == pytest.approx(nu, rel=1e-9) and m.k_over_mu == pytest.approx(k, rel=1e-9)
     assert m.lame_lambda == pytest.approx((k - 2 / 3) * mu, rel=1e-4)

@@ -254,10 +254,19 @@ def test_state_row_reads_every_quantity_at_the_recorded_state():
         stiffness=2.0, preload=0.5, tension=lambda x: x["T"], extension=lambda x: x["delta"]
     )
     reports = {"rear": contacts["rear"], "front": contacts["front"]}
-    cm.contacts_of = lambda f: [SimpleNamespace(report=lambda x, r=r: r if x["live"] else None) for r in reports[f]]
+    cm.contacts_of = lambda f: [
+        SimpleNamespace(report=lambda x, r=r: r if x["live"] else None) for r in reports[f]
+    ]
     seen = []
     rec = StateRecorder(cm, on_state=lambda row, model, x: seen.append((model, x)))
-    x = {"rear": 0.0, "front": 1.0, "delta": 0.5, "T": 4.0, "live": True, "uz": np.array([3.0, 0.0, 0.0, -4.0])}
+    x = {
+        "rear": 0.0,
+        "front": 1.0,
+        "delta": 0.5,
+        "T": 4.0,
+        "live": True,
+        "uz": np.array([3.0, 0.0, 0.0, -4.0]),
+    }
     s = step()
     s.x, s.penetration = x, 0.125
     rec.record(s, 0, 1.0, (0.0, 0.0, 0.0), "extend")

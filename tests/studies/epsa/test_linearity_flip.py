@@ -118,7 +118,12 @@ def test_the_claims_selections_in_full():
     short = ((20.0,), (101.0,))
     few = L.linearity_claim(rows_of({0.0: bare, 3.0: short}))
     assert few == L.Selection(
-        "linearity", None, RULE, ("N = 3: fewer than 3 common points up to 20 kPa",), "undetermined", "no comparable curves"
+        "linearity",
+        None,
+        RULE,
+        ("N = 3: fewer than 3 common points up to 20 kPa",),
+        "undetermined",
+        "no comparable curves",
     )
     # a design without enough common points is skipped, the next one still compared
     straight = (P3, (101.0, 102.0, 103.0))

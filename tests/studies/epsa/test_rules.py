@@ -263,7 +263,9 @@ def test_chamber_radius_selection_in_full():
     assert sel.evidence[0].startswith("r = 3: withstands; not fluctuating (")
     assert sel.evidence[0].endswith("); extension 10 mm, radial expansion 1 mm")
     # each way of not withstanding, with its own words
-    rows = _rows("chamber_radius", 2, _linear(0.1, n=2), _linear(0.01, 9, 2), status="failed", limit=50, reason="x")
+    rows = _rows(
+        "chamber_radius", 2, _linear(0.1, n=2), _linear(0.01, 9, 2), status="failed", limit=50, reason="x"
+    )
     rows += _rows("chamber_radius", 3, [], [], status="running")
     rows += _rows("chamber_radius", 4, _linear(0.1, n=4), _linear(0.01, 9, 4))
     rows += _rows("chamber_radius", 5, _linear(0.1, n=1), _linear(0.01, 9, 1), limit=0.5)

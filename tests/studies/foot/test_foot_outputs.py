@@ -58,7 +58,9 @@ def test_strain_and_deformation_of_a_homogeneous_state(model):
     vm = element_fields(model, x).von_mises
     assert m["von_mises_mpa_max"] == pytest.approx(vm.max(), rel=1e-12)
     assert m["von_mises_mpa_max"] > 0
-    rigid = solid_metrics(model, state(model, lambda X: 0 * X + np.array([[1.0], [-2.0], [3.0]])), backing="z0")
+    rigid = solid_metrics(
+        model, state(model, lambda X: 0 * X + np.array([[1.0], [-2.0], [3.0]])), backing="z0"
+    )
     assert rigid["deformation_max_mm"] == pytest.approx(0.0, abs=1e-12)
     assert rigid["von_mises_mpa_max"] == pytest.approx(0.0, abs=1e-12)
 

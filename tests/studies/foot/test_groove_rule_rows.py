@@ -75,14 +75,18 @@ def test_min_height_missing_mu_and_non_finite_strain_each_exclude_a_candidate():
 def test_each_check_is_reported_at_its_flip():
     base = [row(0.5, ratio=1.0), row(1.0, ratio=1.1)]  # spread 0.1 / 1.05 = 0.0952
     d = decide(base, GrooveRuleInputs(candidates=(0.5, 1.0), friction_spread=0.0953, strain_limit=1.0))
-    assert d.friction_independent is True and "friction almost independent of h (spread <= 0.0953)" in d.reason
+    assert (
+        d.friction_independent is True and "friction almost independent of h (spread <= 0.0953)" in d.reason
+    )
     d = decide(base, GrooveRuleInputs(candidates=(0.5, 1.0), friction_spread=0.0952, strain_limit=1.0))
     assert d.friction_independent is False and "friction NOT independent of h" in d.reason
     flat = [row(0.5, vm=1.0, deform=1.0), row(1.0, vm=1.0, deform=2.0)]
     d = decide(flat, GrooveRuleInputs(candidates=(0.5, 1.0), strain_limit=1.0))
     assert (d.stress_rises, d.deformation_rises) == (False, True)
     assert "stress does NOT rise and deformation rises with h" in d.reason
-    d = decide([row(0.5, vm=1.0, deform=1.0), row(1.0, vm=2.0, deform=1.0)], GrooveRuleInputs(candidates=(0.5, 1.0)))
+    d = decide(
+        [row(0.5, vm=1.0, deform=1.0), row(1.0, vm=2.0, deform=1.0)], GrooveRuleInputs(candidates=(0.5, 1.0))
+    )
     assert (d.stress_rises, d.deformation_rises) == (True, False)
     assert "stress rises and deformation does NOT rise with h" in d.reason
     # rising in every mu group, not only in one
@@ -124,7 +128,9 @@ def test_the_full_run_is_read_before_the_quick_one(tmp_path):
     assert groove_summary(tmp_path) == quick
     full = write_summary(tmp_path / "groove" / "rubber-70a", [row(0.5), row(1.0, strain=1.0)])
     assert groove_summary(tmp_path) == full
-    decision, source = decide_from_results(tmp_path, GrooveRuleInputs(candidates=(0.5, 1.0), strain_limit=0.5))
+    decision, source = decide_from_results(
+        tmp_path, GrooveRuleInputs(candidates=(0.5, 1.0), strain_limit=0.5)
+    )
     assert source == full and decision.value == 0.5
 
 
@@ -132,10 +138,17 @@ def test_a_missing_study_is_a_pending_row_naming_the_command(tmp_path):
     decision, source = decide_from_results(tmp_path)
     assert (decision.value, decision.status, source) == (None, "pending", None)
     assert decision.reason == "no groove study under the results folder"
-    (name, r), = table1_rows(tmp_path).items()
+    ((name, r),) = table1_rows(tmp_path).items()
     assert name == "groove_height" and r.source is None and (r.material, r.quick) == ("-", False)
-    assert (r.selection.parameter, r.selection.value, r.selection.status) == ("groove_height", None, "pending")
-    assert r.selection.reason == "no groove study under the results folder (run `softcrawl study groove --out DIR`)"
+    assert (r.selection.parameter, r.selection.value, r.selection.status) == (
+        "groove_height",
+        None,
+        "pending",
+    )
+    assert (
+        r.selection.reason
+        == "no groove study under the results folder (run `softcrawl study groove --out DIR`)"
+    )
     assert r.evidence_lines[:2] == (
         "Groove height h: pending mm (pending; paper 1 mm). no groove study under the results folder.",
         "Source: none",

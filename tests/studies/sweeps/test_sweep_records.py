@@ -104,9 +104,20 @@ def test_the_table_takes_settings_reference_and_scalar_columns_from_their_source
         scalar_columns=("z", "a", "none"),
     )
     s = SweepSpec(
-        name="s", grid={"r": (1.0, 2.0)}, out_dir="unused", evaluator="x", fixed={"L": 100}, settings={"mesh": "quick"}
+        name="s",
+        grid={"r": (1.0, 2.0)},
+        out_dir="unused",
+        evaluator="x",
+        fixed={"L": 100},
+        settings={"mesh": "quick"},
     )
-    attrs = {"reference": {"volume": 7.0, "r": 99.0, "L": 99.0}, "a": 1.0, "z": 2.0, "none": None, "failure": "old"}
+    attrs = {
+        "reference": {"volume": 7.0, "r": 99.0, "L": 99.0},
+        "a": 1.0,
+        "z": 2.0,
+        "none": None,
+        "failure": "old",
+    }
     done = Trial(0, TrialState.COMPLETE, {"r": 1.0}, attrs)
     failed = Trial(1, TrialState.FAIL, {"r": 2.0}, {"failure": "limit point", "reference": "not a dict"})
     study = SimpleNamespace(get_trials=lambda deepcopy=False: [done, failed], user_attrs={})
