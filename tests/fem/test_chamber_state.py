@@ -111,3 +111,12 @@ def test_facet_tangent_matches_central_differences_of_the_facet_load(octant):
             e[chamber.u_dofs[b, f]] = eps
             fd = (chamber.load(x + e, False)[0][:, f] - chamber.load(x - e, False)[0][:, f]) / (2 * eps)
             assert dq[f, :, b] == pytest.approx(fd, rel=1e-5, abs=1e-9 * np.abs(dq[f]).max())
+
+
+def test_an_unknown_chamber_tag_is_an_error_naming_the_chamber():
+    from softcrawl.fem.errors import SolverInputError
+
+    mesh = sphere_octant(A, 7.5, n_radial=1, n_surface=2)
+    with pytest.raises(SolverInputError) as err:
+        SolidModel(mesh, NeoHookean.nearly_incompressible(MU, 1000.0), chambers=ChamberSpec(("cavity",)))
+    assert err.value.parameter == "chamber" and "unknown boundary tag 'cavity'" in err.value.detail
