@@ -108,12 +108,10 @@ GROUPS = {
         [
             "tests/fem/test_contact_report.py",
             "tests/fem/test_contact.py",
-            # 5-6 s Hertz solves: per mutant too slow; the pointwise law and the report are checked
-            # at prescribed states, the other verification cases solve in about a second
-            "--deselect",
-            "tests/fem/test_contact.py::test_hertz_line_contact",
-            "--deselect",
-            "tests/fem/test_contact.py::test_verification_cases_hold_with_a_smoothed_normal_law[hertz-0.001]",
+            # the verification cases are solves (1-6 s each, 956 mutants: hours on a shared machine);
+            # the pointwise law, the term's arrays and the report are checked at prescribed states
+            "-k",
+            "not verification_case and not hertz",
         ],
     ),
 }
