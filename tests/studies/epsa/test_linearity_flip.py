@@ -142,3 +142,17 @@ def test_the_claims_selections_in_full():
     half = L.linearity_claim(rows_of({0.0: bare, 3.0: straight, 5.0: bent}))
     assert half.reason == "the paper's claim does not hold for every design"
     assert half.evidence[1].endswith(" up to 60 kPa -> not closer to linear")
+
+
+def test_the_reference_is_bounded_by_the_common_pressures_too():
+    bare = (P3, (101.0, 102.0, 150.0))  # linear up to 40 kPa, far off at 60
+    short = ((20.0, 40.0), (101.0, 103.0))  # a bend below 40 kPa
+    s = L.linearity_claim(rows_of({0.0: bare, 3.0: short}))
+    assert s.value == 0.0 and s.evidence[0].endswith("up to 40 kPa -> not closer to linear")
+    # an unreinforced curve with no extension has no nonlinearity: nothing to compare
+    flat = (P3, (100.0, 100.0, 100.0))
+    s = L.linearity_claim(rows_of({0.0: flat, 3.0: (P3, (101.0, 102.0, 103.0))}))
+    assert s.value is None and s.evidence == ("N = 3: fewer than 3 common points up to 60 kPa",)
+    # equal curves: not closer, and the evidence says so
+    same = L.linearity_claim(rows_of({0.0: bare, 3.0: bare}))
+    assert same.evidence[0].endswith("-> not closer to linear")

@@ -122,18 +122,6 @@ def write_summary(folder, rows):
     return path
 
 
-def test_the_full_run_is_read_before_the_quick_one(tmp_path):
-    assert groove_summary(tmp_path) is None
-    quick = write_summary(tmp_path / "groove" / "rubber-70a-quick", [row(0.5), row(1.0)])
-    assert groove_summary(tmp_path) == quick
-    full = write_summary(tmp_path / "groove" / "rubber-70a", [row(0.5), row(1.0, strain=1.0)])
-    assert groove_summary(tmp_path) == full
-    decision, source = decide_from_results(
-        tmp_path, GrooveRuleInputs(candidates=(0.5, 1.0), strain_limit=0.5)
-    )
-    assert source == full and decision.value == 0.5
-
-
 def test_a_missing_study_is_a_pending_row_naming_the_command(tmp_path):
     decision, source = decide_from_results(tmp_path)
     assert (decision.value, decision.status, source) == (None, "pending", None)
@@ -192,3 +180,73 @@ def test_markdown_lines():
         "| 1 | 0.3 | 1.0000 | 0.200 | 0.040 | 0.100 |",
     ]
     assert markdown(d, "results/groove/x/summary.csv")[1] == "Source: results/groove/x/summary.csv"
+
+
+def test_the_full_run_is_read_before_the_quick_one(tmp_path):
+    assert groove_summary(tmp_path) is None
+    quick = write_summary(tmp_path / "groove" / "abs-quick", [row(0.5), row(1.0)])  # sorts first
+    assert groove_summary(tmp_path) == quick
+    full = write_summary(tmp_path / "groove" / "rubber-70a", [row(0.5), row(1.0, strain=1.0)])
+    assert groove_summary(tmp_path) == full
+    inputs = GrooveRuleInputs(candidates=(0.5, 1.0), strain_limit=2.0)
+    decision, source = decide_from_results(tmp_path, inputs)
+    assert source == full and decision.value == 1.0  # the inputs given, not the defaults (0.5 here)
+
+
+def test_a_study_without_a_completed_point_is_pending_with_its_source(tmp_path):
+    source = write_summary(tmp_path / "groove" / "rubber-70a", [row(0.5, status="failed")])
+    r = table1_rows(tmp_path)["groove_height"]
+    assert r.source == source and r.selection.status == "pending"
+    assert r.selection.reason == "no completed groove-study point (run `softcrawl study groove --out DIR`)"
+    d = decide([], INPUTS)
+    assert (d.value, d.status, d.reason) == (None, "pending", "no completed groove-study point")
+    assert (d.friction_independent, d.stress_rises, d.deformation_rises, d.evidence) == (None, None, None, [])
+
+
+def test_every_mu_group_must_pass_each_check_and_unsorted_rows_are_sorted():
+    ins = GrooveRuleInputs(candidates=(0.5, 1.0, 1.5), friction_spread=0.05, strain_limit=1.0)
+    good = [row(h, mu=0.5) for h in (1.5, 0.5, 1.0)]  # unsorted, rising once sorted
+    d = decide(good, ins)
+    assert [e["h_mm"] for e in d.evidence] == [0.5, 1.0, 1.5] and d.stress_rises and d.deformation_rises
+    assert d.reason.endswith(
+        "at mu = 0.5; friction almost independent of h (spread <= 0.05); "
+        "stress rises and deformation rises with h"
+    )
+    # the first mu group fails a check, the second passes: the check fails
+    for bad in (
+        [row(0.5, ratio=1.0), row(1.0, ratio=2.0)],
+        [row(0.5, vm=2.0), row(1.0, vm=1.0)],
+        [row(0.5, deform=2.0), row(1.0, deform=1.0)],
+    ):
+        d = decide(bad + [row(0.5, mu=0.5), row(1.0, mu=0.5)], ins)
+        assert False in (d.friction_independent, d.stress_rises, d.deformation_rises)
+        assert d.reason.startswith(
+            "largest h >= 0.5 mm (lightest foot) with p99 strain <= 1 at mu = 0.3, 0.5; "
+        )
+    # rising means every step: the first step up, the second down
+    d = decide([row(0.5, vm=1.0), row(1.0, vm=2.0), row(1.5, vm=1.5)], ins)
+    assert d.stress_rises is False
+
+
+def test_the_friction_spread_at_its_bound_and_below_a_mean_of_one():
+    bound = (1.1 - 1.0) / ((1.0 + 1.1) / 2)
+    ins = GrooveRuleInputs(candidates=(0.5, 1.0), friction_spread=bound, strain_limit=1.0)
+    assert decide([row(0.5, ratio=1.0), row(1.0, ratio=1.1)], ins).friction_independent is True  # inclusive
+    # ratios 0.5 and 0.52: the spread is relative to their mean 0.51, not to 1
+    ins = GrooveRuleInputs(candidates=(0.5, 1.0), friction_spread=0.03, strain_limit=1.0)
+    assert decide([row(0.5, ratio=0.5), row(1.0, ratio=0.52)], ins).friction_independent is False
+
+
+def test_a_fallback_keeps_its_checks_and_evidence_and_unreadable_cells_are_nan():
+    rows = [row(0.5, vm=2.0), row(1.0, vm=1.0)]
+    d = decide(rows, GrooveRuleInputs(candidates=(0.5, 1.0), strain_limit=0.0))
+    assert (d.status, d.friction_independent, d.stress_rises, d.deformation_rises) == (
+        "fallback",
+        True,
+        False,
+        True,
+    )
+    assert len(d.evidence) == 2
+    rows[1]["von_mises_mpa_p99"] = "abc"
+    d = decide(rows, GrooveRuleInputs(candidates=(0.5, 1.0), strain_limit=1.0))
+    assert math.isnan(d.evidence[1]["von_mises_p99_mpa"]) and d.stress_rises is False

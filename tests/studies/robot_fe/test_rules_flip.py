@@ -191,3 +191,12 @@ def test_decisions_name_their_parameter_and_keep_their_evidence():
 def test_the_decision_file_is_indented_json():
     text = R.ring_rule([ring(3)]).to_json()
     assert text.startswith('{\n  "parameter": "connecting rings",\n  "value": 3,')
+
+
+def test_the_ring_decision_says_its_limits_and_losses():
+    d = R.ring_rule([ring(3), ring(2)])
+    assert d.reason == (
+        "2 rings: the fewest that combine the actuators into one arc (splay 0.50 <= 1.40 mm, arc RMS "
+        "0.50 <= 1.00 mm) with no more than 2 % loss of bending and extension against the best "
+        "combined count; not combined: none; coupling losses: none"
+    )
