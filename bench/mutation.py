@@ -107,6 +107,8 @@ GROUPS = {
         ["fem/contact.py", "fem/contact_law.py"],
         [
             "tests/fem/test_contact_report.py",
+            "tests/fem/test_contact_term_state.py",
+            "tests/fem/test_contact_law_state.py",
             "tests/fem/test_contact.py",
             # the verification cases are solves (1-6 s each, 956 mutants: hours on a shared machine);
             # the pointwise law, the term's arrays and the report are checked at prescribed states
