@@ -13,6 +13,7 @@ import pytest
 
 from softcrawl.fem import contact_verification as cv
 from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.model import SolidModel
 from softcrawl.fem.rigid_surfaces import Plane
 from softcrawl.fem.structured import box
@@ -117,3 +118,66 @@ def test_the_spec_smoothing_and_slip_band_reach_the_law():
     limit = MU * PENALTY * DEPTH
     x = moved(model, dx=limit / term.spec.eps_t)  # r = 1: on the band, phi = 1 - 0.1^2 / 0.4
     assert term.report(x).friction_force[0] == pytest.approx(-limit * (1 - 0.01 / 0.4), rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    "field, value, parameter, detail",
+    [
+        ("tags", (), "contact.tags", "give at least one boundary tag"),
+        ("surface", "plane", "contact.surface", "must be a Plane or a CylinderWall"),
+        ("penalty", 0.0, "contact.penalty", "must be a positive number, got 0.0"),
+        ("penalty", float("nan"), "contact.penalty", "must be a positive number, got nan"),
+        ("penalty", "stiff", "contact.penalty", "must be a positive number, got 'stiff'"),
+        ("tangential_penalty", -1.0, "contact.tangential_penalty", "must be a positive number, got -1.0"),
+        ("mu", -0.1, "contact.mu", "the friction coefficient must be >= 0, got -0.1"),
+        ("mu", float("inf"), "contact.mu", "the friction coefficient must be >= 0, got inf"),
+        ("mu", None, "contact.mu", "the friction coefficient must be >= 0, got None"),
+        ("max_initial_penetration", -0.1, "contact.max_initial_penetration", "must be a number >= 0"),
+        ("max_initial_penetration", float("inf"), "contact.max_initial_penetration", "must be a number >= 0"),
+        ("smoothing", -0.1, "contact.smoothing", "must be a gap band >= 0 (mm)"),
+        ("smoothing", float("nan"), "contact.smoothing", "must be a gap band >= 0 (mm)"),
+        ("slip_band", 1.0, "contact.slip_band", "must be a share of the Coulomb radius in [0, 1), got 1.0"),
+        ("slip_band", -0.1, "contact.slip_band", "must be a share of the Coulomb radius in [0, 1), got -0.1"),
+        (
+            "slip_band",
+            float("nan"),
+            "contact.slip_band",
+            "must be a share of the Coulomb radius in [0, 1), got nan",
+        ),
+    ],
+)
+def test_a_bad_contact_spec_is_one_error_naming_its_field(field, value, parameter, detail):
+    kwargs = {"tags": ("z0",), "surface": Plane(), "penalty": PENALTY} | {field: value}
+    with pytest.raises(SolverInputError) as err:
+        ContactSpec(**kwargs)
+    assert (err.value.parameter, err.value.detail) == (parameter, detail)
+
+
+def test_a_good_contact_spec_is_normalised():
+    spec = ContactSpec(
+        "z0", Plane(), penalty=3, mu=1, slip_band=0.0, smoothing=0.0, max_initial_penetration=0.0
+    )
+    assert spec.tags == ("z0",) and spec.penalty == 3.0 and type(spec.penalty) is float
+    assert spec.mu == 1.0 and type(spec.mu) is float and spec.eps_t == 3.0
+    spec = ContactSpec(("z0", "x0"), Plane(), penalty=3.0, tangential_penalty=2, slip_band=0.99)
+    assert spec.eps_t == 2.0 and type(spec.tangential_penalty) is float
+
+
+def test_the_terms_facets_and_its_setup_errors_name_the_parameter():
+    model, term = block()
+    assert np.array_equal(term.facets, np.unique(model.mesh.boundaries["z0"]))
+    mesh = box((1.0, 1.0, 1.0), (1, 1, 1))
+    with pytest.raises(SolverInputError) as err:
+        SolidModel(mesh, cv.MATERIAL, contacts=[ContactSpec(("nowhere",), Plane(), penalty=1.0)])
+    assert err.value.parameter == "contact.tags"
+    spec = ContactSpec(("z0",), Plane(point=(0.0, 0.0, 0.5)), penalty=1.0, name="foot")
+    with pytest.raises(SolverInputError) as err:
+        SolidModel(mesh, cv.MATERIAL, contacts=[spec])
+    assert err.value.parameter == "contact.max_initial_penetration"
+    assert err.value.detail == (
+        "foot: the reference state penetrates the surface by 0.5 mm (> 0 mm); "
+        "start with the surface clear of the body"
+    )
+    # within the accepted penetration: built
+    ok = ContactSpec(("z0",), Plane(point=(0.0, 0.0, 0.5)), penalty=1.0, max_initial_penetration=0.5)
+    assert SolidModel(mesh, cv.MATERIAL, contacts=[ok]).contacts[0].spec.max_initial_penetration == 0.5
