@@ -181,3 +181,33 @@ def test_the_terms_facets_and_its_setup_errors_name_the_parameter():
     # within the accepted penetration: built
     ok = ContactSpec(("z0",), Plane(point=(0.0, 0.0, 0.5)), penalty=1.0, max_initial_penetration=0.5)
     assert SolidModel(mesh, cv.MATERIAL, contacts=[ok]).contacts[0].spec.max_initial_penetration == 0.5
+
+
+def test_the_report_at_a_committed_state_uses_the_stick_points_it_was_solved_with():
+    """With a rounded cone the commit stores slipping points at r = 1, where phi = 1 - w/8: the
+    report at the committed x keeps the traction the residual balanced (mu p_N), later states
+    start from the stored points."""
+    model, term = block(mu=MU, slip_band=0.2)
+    x = moved(model, dx=SLIDE)
+    before = term.report(x).friction_force
+    term.commit(x)
+    assert term.report(x).friction_force == pytest.approx(before, rel=1e-12)
+    assert before[0] == pytest.approx(-MU * PENALTY * DEPTH, rel=1e-12)
+    other = moved(model, dx=SLIDE + 1e-3)
+    assert term.report(other).friction_force[0] > before[0]  # from the stored points: below the limit
+
+
+def test_fractions_of_a_small_face_and_of_no_contact():
+    model = SolidModel(
+        box((0.5, 0.5, 1.0), (1, 1, 1)),
+        cv.MATERIAL,
+        contacts=[ContactSpec(("z0",), Plane(), penalty=PENALTY, mu=MU)],
+    )
+    term = model.contacts[0]
+    rep = term.report(moved(model, dx=SLIDE))
+    assert rep.area_reference == pytest.approx(0.25) and rep.contact_fraction == pytest.approx(1.0)
+    assert rep.slip_fraction == 1.0  # a contact area under 1 mm^2 still divides
+    none = term.report(moved(model, dz=0.3))
+    assert (none.slip_fraction, none.contact_fraction, none.normal_force) == (0.0, 0.0, 0.0)
+    term.reset_multipliers()
+    assert term.multiplier.shape == term.positions(moved(model)).shape[:1]
