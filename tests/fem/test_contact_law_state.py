@@ -9,7 +9,7 @@ Points lie DEPTH into the plane z = 0 (p_N = EPS_N DEPTH) with their stick point
 import numpy as np
 import pytest
 
-from softcrawl.fem.contact_law import SLIP_MARGIN, cone, evaluate, normal_pressure
+from softcrawl.fem.contact_law import SLIP_MARGIN, committed_stick, cone, evaluate, normal_pressure
 from softcrawl.fem.rigid_surfaces import Plane
 
 EPS_N, EPS_T, MU, DEPTH = 10.0, 5.0, 0.4, 0.05
@@ -79,3 +79,17 @@ def test_a_point_at_zero_gap_has_only_the_normal_and_the_slip_normal_stiffness()
     n, m = np.array([0.0, 0.0, 1.0]), np.array([-1.0, 0.0, 0.0])
     assert st.pressure[0] == 0.0 and st.active[0]
     assert st.stiffness[0] == pytest.approx(EPS_N * np.outer(n, n) + MU * EPS_N * np.outer(m, n), abs=1e-12)
+
+
+def test_the_slip_flag_is_boolean_without_friction_too():
+    assert law([0.5, 2.0], mu=0.0).slip.dtype == bool
+
+
+def test_commit_returns_a_small_slide_to_the_cone():
+    """A slide whose trial traction is under 1 MPa: the stored point is mu p_N / eps_T behind x,
+    along the unit slip direction (not the traction itself)."""
+    st = law([3.0])  # |t*| = 0.6 MPa, radius 0.2 MPa
+    x = np.array([[0.0, 0.0, -DEPTH]])
+    stick = x - np.array([[3.0 * RADIUS / EPS_T, 0.0, 0.0]])
+    new = committed_stick(st, x, stick, EPS_T, MU)
+    assert new[0] == pytest.approx([-RADIUS / EPS_T, 0.0, -DEPTH], rel=1e-12)
