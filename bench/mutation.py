@@ -4,9 +4,17 @@
     python bench/mutation.py units rules              # chosen groups
     python bench/mutation.py --list                   # the groups, their modules and their tests
     python bench/mutation.py --report units           # the scores of the last run, no new run
+    python bench/mutation.py rules --again --survivors  # re-run the survivors against the checkout's tests
 
-Not part of the default CI run: it runs the group's tests once per mutant (minutes to an hour a
-group on 2 cores). Needs `pip install mutmut` (3.x).
+Not part of the default CI run: it runs the group's tests once per mutant (3-20 minutes a group on
+2 shared cores; an --again run 1-7 minutes). Needs `pip install mutmut` (3.x). Each group runs its
+modules' targeted fast tests only (`GROUPS`); solves of more than a few seconds are deselected there.
+
+The report prints each module's kill rate as measured and without the named equivalent survivors of
+bench/mutation-equivalents.toml (mutmut name -> why the mutant changes nothing observable); with
+--survivors it lists every survivor with its reason, and names an equivalent that is now killed as
+stale. `--again` keeps the stage's mutants and results, copies the checkout's tests in and re-runs
+only the mutants not killed (mutmut forgets the other results of a named run: they are put back).
 
 Why a staged copy: mutmut 3 copies the source into ``mutants/`` and names every mutant after its
 file's path (``fem/contact.py`` -> ``fem.contact.x_...``); the trampoline it plants only switches a
