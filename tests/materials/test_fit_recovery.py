@@ -42,3 +42,41 @@ def test_a_known_law_is_recovered_with_relative_weighting_and_noise_costs_what_i
     fit = fit_uniaxial(lam, noisy, "neo-hookean")
     assert fit.law.mu == pytest.approx(0.1, rel=0.01)
     assert 0.003 < fit.relative_rms_error < 0.02 and 0.003 < fit.rms_pointwise_relative_error < 0.02
+
+
+@pytest.mark.parametrize("name", sorted(TRUE))
+def test_the_derived_moduli_of_a_fitted_law_are_its_small_strain_ones(name):
+    """A fitted material's derived constants from a known law: E = 9 K mu / (3 K + mu) (3 mu
+    when K >> mu), nu = (3K - 2mu) / (2 (3K + mu)), lambda = K - 2 mu / 3; and the small-strain
+    relations back from (E, nu) give mu and K again."""
+    from softcrawl.materials.material import (
+        Material,
+        bulk_modulus_from_youngs,
+        shear_modulus_from_youngs,
+        shear_modulus_nearly_incompressible,
+    )
+
+    law = LAWS[name].nearly_incompressible(**TRUE[name])
+    lam = np.linspace(1.02, 2.0, 40)
+    fit = fit_uniaxial(lam, law.uniaxial_nominal_stress(lam), name)
+    m = Material(name="fitted", law=fit.law, density=1.07e-9)
+    mu = {"neo-hookean": 0.06, "yeoh": 2 * 0.03, "gent": 0.05}[name]
+    k = DEFAULT_K_OVER_MU
+    E = 9 * k * mu / (3 * k + 1)
+    assert m.youngs_modulus == pytest.approx(E, rel=1e-4) and m.youngs_modulus == pytest.approx(
+        3 * mu, rel=2e-3
+    )
+    nu = (3 * k - 2) / (2 * (3 * k + 1))
+    assert m.poisson_ratio == pytest.approx(nu, rel=1e-9) and m.k_over_mu == pytest.approx(k, rel=1e-9)
+    assert m.lame_lambda == pytest.approx((k - 2 / 3) * mu, rel=1e-4)
+    assert shear_modulus_from_youngs(m.youngs_modulus, m.poisson_ratio) == pytest.approx(m.mu, rel=1e-12)
+    assert bulk_modulus_from_youngs(m.youngs_modulus, m.poisson_ratio) == pytest.approx(m.bulk, rel=1e-9)
+    assert shear_modulus_nearly_incompressible(m.youngs_modulus, k) == pytest.approx(m.mu, rel=1e-12)
+
+
+def test_small_strain_relations_by_hand():
+    from softcrawl.materials.material import bulk_modulus_from_youngs, shear_modulus_from_youngs
+
+    assert shear_modulus_from_youngs(2600.0, 0.3) == pytest.approx(1000.0)
+    assert bulk_modulus_from_youngs(2400.0, 0.3) == pytest.approx(2000.0)
+    assert bulk_modulus_from_youngs(3.0, 0.0) == pytest.approx(1.0)

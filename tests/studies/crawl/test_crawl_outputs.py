@@ -220,3 +220,59 @@ def test_steady_stride_skips_the_first_cycle():
     assert steady_stride(make_result([1.0, 2.0, 4.0])) == 3.0
     assert steady_stride(make_result([1.5])) == 1.5
     assert np.isnan(steady_stride(make_result([])))
+
+
+def test_steady_stride_of_two_cycles_is_the_second():
+    assert steady_stride(make_result([1.0, 3.0])) == 3.0
+
+
+def test_a_result_without_crawl_states_reports_zero_extremes_and_keeps_its_rows():
+    rec = StateRecorder(stub({"rear": [report(1.0, -2.0, 1.0, 0.0)], "front": []}))
+    assert rec.start is None and rec.states == [] and rec.cycles == []
+    record(rec, {"rear": 0.0, "front": 0.0, "rear_ground": 9.0}, -1, "insert", stage="insert")
+    rec.cycles.append({"stride_mm": 1.0})
+    res = rec.result(False, "stopped", [], 1.0)
+    assert (res.ground_max_n, res.friction_max_n, res.momentum_max_n) == (0.0, 0.0, 0.0)
+    assert res.states == tuple(rec.states) and res.cycles == ({"stride_mm": 1.0},)
+    assert res.newton_iterations == 0 and res.assembly_s == 0.0
+
+
+def test_mark_start_records_each_foots_position():
+    rec = StateRecorder(stub())
+    rec.mark_start({"rear": -1.0, "front": 2.5})
+    assert rec.start == {"rear": -1.0, "front": 2.5}
+
+
+def test_state_row_reads_every_quantity_at_the_recorded_state():
+    """Each quantity from the state x itself (stubs that read x), the skirt's lead from the
+    deformed positions (nodes + displacement, not uniform), a small contact area still divides."""
+    contacts = {"rear": [report(2.0, -1.0, 0.5, 1.0)], "front": [report(1.0, 0.5, 0.25, 0.5)]}
+    cm = stub(contacts)
+    # node z: rear rim 0, rear hub top 1, front hub top 10, front rim 11; displaced by x["uz"]
+    cm.model.displacement = lambda x: np.vstack([np.zeros((2, 4)), x["uz"]])
+    cm.terms["actuator"] = SimpleNamespace(
+        stiffness=2.0, preload=0.5, tension=lambda x: x["T"], extension=lambda x: x["delta"]
+    )
+    reports = {"rear": contacts["rear"], "front": contacts["front"]}
+    cm.contacts_of = lambda f: [
+        SimpleNamespace(report=lambda x, r=r: r if x["live"] else None) for r in reports[f]
+    ]
+    seen = []
+    rec = StateRecorder(cm, on_state=lambda row, model, x: seen.append((model, x)))
+    x = {
+        "rear": 0.0,
+        "front": 1.0,
+        "delta": 0.5,
+        "T": 4.0,
+        "live": True,
+        "uz": np.array([3.0, 0.0, 0.0, -4.0]),
+    }
+    s = step()
+    s.x, s.penetration = x, 0.125
+    rec.record(s, 0, 1.0, (0.0, 0.0, 0.0), "extend")
+    row = rec.states[-1]
+    assert row["actuator_force_n"] == 4.0 and row["penetration_mm"] == 0.125
+    assert row["rear_normal_n"] == 2.0 and row["rear_slip_share"] == 1.0 and row["front_slip_share"] == 0.5
+    # rear: rim 0 + 3 over hub top 1 along +z = 2; front (mirrored): -(11 - 4 - 10) = 3
+    assert row["rear_tip_lead_mm"] == pytest.approx(2.0) and row["front_tip_lead_mm"] == pytest.approx(3.0)
+    assert seen == [(cm.model, x)]

@@ -248,3 +248,143 @@ def test_linearity_claim_is_relative_to_the_unreinforced_actuator():
     sel = linearity.linearity_claim(bare + straight + curved)
     assert sel.value == 0.5 and "not closer to linear" in sel.evidence[1]
     assert linearity.linearity_claim(straight).status == "undetermined"
+
+
+def test_chamber_radius_selection_in_full():
+    """Every field of the selection and each evidence line from its own branch (issue 32)."""
+    R = rules.CHAMBER_RADIUS_RULE
+    assert rules.select_chamber_radius([]) == rules.Selection(
+        "chamber_radius", None, R, (), "undetermined", "no chamber-radius study data"
+    )
+    rows = _rows("chamber_radius", 3, _linear(0.1), _linear(0.01, 9))  # 110 mm and 10 mm at 100 kPa
+    sel = rules.select_chamber_radius(rows)
+    assert (sel.parameter, sel.value, sel.rule, sel.status) == ("chamber_radius", 3.0, R, "selected")
+    assert sel.reason == "r = 3 mm: smallest radial expansion (1 mm) of 1 admissible radii"
+    assert sel.evidence[0].startswith("r = 3: withstands; not fluctuating (")
+    assert sel.evidence[0].endswith("); extension 10 mm, radial expansion 1 mm")
+    # each way of not withstanding, with its own words
+    rows = _rows(
+        "chamber_radius", 2, _linear(0.1, n=2), _linear(0.01, 9, 2), status="failed", limit=50, reason="x"
+    )
+    rows += _rows("chamber_radius", 3, [], [], status="running")
+    rows += _rows("chamber_radius", 4, _linear(0.1, n=4), _linear(0.01, 9, 4))
+    rows += _rows("chamber_radius", 5, _linear(0.1, n=1), _linear(0.01, 9, 1), limit=0.5)
+    sel = rules.select_chamber_radius(rows, mu=0.03)
+    assert sel == rules.Selection(
+        "chamber_radius",
+        None,
+        R,
+        (
+            "r = 2: does not withstand: diverged/failed after 40 kPa (x)",
+            "r = 3: does not withstand: no result (running)",
+            "r = 4: does not withstand: no computed state at 100 kPa",
+            "r = 5: does not withstand: limit point at 0.5 kPa (would withstand 100 kPa for mu >= 6 MPa)",
+        ),
+        "undetermined",
+        "no studied radius withstands 100 kPa",
+    )
+    # a limit point at 0 kPa says nothing about the modulus that would withstand the target
+    zero = rules.select_chamber_radius(_rows("chamber_radius", 5, [], [], limit=0.0), mu=0.03)
+    assert zero.evidence == ("r = 5: does not withstand: limit point at 0 kPa",)
+
+
+def test_input_and_pending_selections():
+    assert rules.input_parameter("wall", 2.5, "paper Table 1") == rules.Selection(
+        "wall",
+        2.5,
+        "input of the paper's FE model, not selected by a study",
+        ("paper Table 1",),
+        status="input",
+        reason="fixed input (paper Section V-A); no study selects it",
+    )
+    assert rules.pending("rings", "run it") == rules.Selection(
+        "rings", None, "not implemented", (), status="pending", reason="run it"
+    )
+
+
+def test_sensitivity_without_the_most_turns_is_undetermined():
+    rows = fiber_rows({0: 10.0, 10: 16.5})
+    rows += _rows("fiber_turns", 50, _linear(0.1, n=2), _linear(0.01, 9, 2), status="failed")
+    assert rules.fiber_turns_sensitivity(rows) == {0.05: None, 0.10: None, 0.20: None}
+    assert rules.fiber_turns_sensitivity([]) == {0.05: None, 0.10: None, 0.20: None}
+
+
+def test_fiber_turns_selection_in_full():
+    R = rules.FIBER_TURNS_RULE
+    assert rules.select_fiber_turns([]) == rules.Selection(
+        "fiber_turns", None, R, (), "undetermined", "no fiber-turns study data"
+    )
+    # extensions at 100 kPa: N = 0 -> 15, 10 -> 20, 20 -> 22.5 (exactly 10 % below), 50 -> 25 mm;
+    # radial expansions 1 / (1 + N) mm; N = 25 stops at a limit point, N = 30 fails
+    rows = []
+    for n, e in {0: 15.0, 10: 20.0, 20: 22.5, 50: 25.0}.items():
+        rows += _rows("fiber_turns", n, [100.0 + e * k / 5 for k in range(1, 6)], _linear(0.01 / (1 + n), 9))
+    rows += _rows("fiber_turns", 25, _linear(0.2, n=3), _linear(0.01, 9, 3), limit=70)
+    rows += _rows(
+        "fiber_turns", 30, _linear(0.2, n=2), _linear(0.01, 9, 2), status="failed", reason="diverged"
+    )
+    sel = rules.select_fiber_turns(rows)
+    assert (sel.parameter, sel.value, sel.rule, sel.status) == ("fiber_turns", 20.0, R, "selected")
+    assert sel.reason == "N = 20: fewest turns within 10% of N = 50"
+    assert sel.evidence == (
+        "N = 25: does not reach 100 kPa (limit point at 70 kPa)",
+        "N = 30: does not reach 100 kPa (failed after 40 kPa: diverged)",
+        "N = 0: extension 15 mm (-40.0% vs N = 50), radial expansion 1 mm -> differs",
+        "N = 10: extension 20 mm (-20.0% vs N = 50), radial expansion 0.0909 mm -> differs",
+        "N = 20: extension 22.5 mm (-10.0% vs N = 50), radial expansion 0.0476 mm -> differs little",
+        "N = 50: extension 25 mm (+0.0% vs N = 50), radial expansion 0.0196 mm -> differs little",
+    )
+    # the most-turned design without a state at the target: undetermined, with the evidence
+    failed = [r for r in rows if r["fiber_turns"] != "50"]
+    failed += _rows("fiber_turns", 50, _linear(0.2, n=2), _linear(0.01, 9, 2), status="failed", reason="")
+    sel = rules.select_fiber_turns(failed)
+    assert (sel.parameter, sel.value, sel.rule, sel.status) == ("fiber_turns", None, R, "undetermined")
+    assert sel.reason == "the most-turned design N = 50 has no result at 100 kPa to compare with"
+    assert sel.evidence[-1] == "N = 50: does not reach 100 kPa (failed after 40 kPa:)"
+    # a reference that does not extend: every design is compared at +0.0 %
+    flat = _rows("fiber_turns", 10, [100.0] * 5, [9.0] * 5) + _rows("fiber_turns", 50, [100.0] * 5, [9.0] * 5)
+    sel = rules.select_fiber_turns(flat)
+    assert sel.value == 10.0 and sel.evidence[0].startswith("N = 10: extension 0 mm (+0.0% vs N = 50)")
+
+
+def test_design_curves_read_each_column_from_its_row():
+    def state(p, x, y, status):
+        return {"n": "3", "pressure_kpa": p, "length_mm": x, "outer_radius_mm": y, "row_status": status}
+
+    rows = [
+        {"length": "120", "outer_radius": "10"} | state("20", "121", "10.1", "converged"),
+        {"length": "100", "outer_radius": "9"} | state("", "1", "1", "converged"),  # no pressure: skipped
+        state("40", "123", "10.3", "volume-control"),
+        state("30", "122", "10.2", "converged"),
+        state("50", "9", "9", "failed"),
+    ]
+    c = rules.design_curves(rows, "n")[3.0]
+    assert c.value == 3.0 and (c.length0, c.radius0) == (120.0, 10.0)  # the first row's design
+    assert (c.trial_status, c.reason) == ("", "")
+    assert c.pressures == [20.0, 30.0] and c.lengths == [121.0, 122.0]  # pressure control only
+    assert [p for p, *_ in c.path] == [20.0, 40.0, 30.0]  # every computed state, in solution order
+    ref = [
+        {
+            "n": "1",
+            "pressure_kpa": "0",
+            "length_mm": "99",
+            "outer_radius_mm": "8.5",
+            "row_status": "reference",
+        }
+    ]
+    c = rules.design_curves(ref, "n")[1.0]
+    assert (c.length0, c.radius0) == (99.0, 8.5)  # the evaluator's own 0 kPa state
+    bare = rules.design_curves([{"n": "2", "reason": None}], "n")[2.0]
+    assert (bare.length0, bare.radius0, bare.reason) == (100.0, 9.0, "")  # the Table 1 design
+    with pytest.raises(ValueError, match=r"row without a numeric 'n': \{'n': 'x'\}"):
+        rules.design_curves([{"n": "x"}], "n")
+
+
+def test_fluctuation_words_and_its_two_increment_minimum():
+    def c(lengths):
+        return rules.design_curves(_rows("r", 1, lengths, [9.0] * len(lengths)), "r")[1.0]
+
+    assert rules.fluctuation(c([101.0])) == (False, "too few points to judge")
+    assert rules.fluctuation(c([101.0, 102.0]))[0] is False
+    assert rules.fluctuation(c([101.0, 100.0])) == (True, "length decreases between two pressure steps")
+    assert rules.fluctuation(c([101.0, 103.0]))[1] == "monotone, 0 change(s) of slope trend"

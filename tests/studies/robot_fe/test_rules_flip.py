@@ -157,3 +157,46 @@ def test_table1_row_prefers_the_full_run_and_reads_the_material(tmp_path):
     assert pick_run(tmp_path, "nothing/*/decision.json") is None and material_of(None) == ("-", False)
     assert fmt_value(1.23456) == "1.235" and fmt_value(float("nan")) == "n/a" and fmt_value(None) == "n/a"
     assert fmt_value(float("inf")) == "n/a" and fmt_value(3) == "3" and fmt_value("x") == "x"
+
+
+def test_camera_channel_exactly_at_its_bound_admits():
+    bound = R.ENDOSCOPE_DIAMETER_MM / 2 + R.CHANNEL_CLEARANCE_MM - 1e-9
+    assert (9.0 + bound) - 9.0 == bound  # the comparison meets equality here
+    assert R.channel_admits_camera(9.0 + bound, 9.0)
+
+
+def test_decisions_name_their_parameter_and_keep_their_evidence():
+    none = R.ring_rule([ring(2, splay=5.0)])
+    assert (none.parameter, none.value) == ("connecting rings", None)
+    assert none.evidence == (
+        dict(
+            n_rings=2,
+            theta_asym_deg=30.0,
+            extension_equal_mm=10.0,
+            splay_max_mm=5.0,
+            arc_rms_max_mm=0.5,
+            computed=True,
+            combined=False,
+        ),
+    )
+    assert R.ring_rule([ring(3)]).parameter == "connecting rings"
+    d = R.foot_radius_rule([foot(16.0, 30.0), foot(12.0, 50.0), foot(14.0, 30.0)])
+    assert (d.parameter, d.value) == ("foot radius d", 14.0)
+    assert [e["d"] for e in d.evidence] == [12.0, 14.0, 16.0]  # sorted by d, whatever the row order
+    no = R.foot_radius_rule([foot(13.0, 50.0)])
+    assert (no.parameter, no.value, len(no.evidence)) == ("foot radius d", None, 1)
+    assert no.reason == "no computed d leaves a channel for a 8 mm camera"
+
+
+def test_the_decision_file_is_indented_json():
+    text = R.ring_rule([ring(3)]).to_json()
+    assert text.startswith('{\n  "parameter": "connecting rings",\n  "value": 3,')
+
+
+def test_the_ring_decision_says_its_limits_and_losses():
+    d = R.ring_rule([ring(3), ring(2)])
+    assert d.reason == (
+        "2 rings: the fewest that combine the actuators into one arc (splay 0.50 <= 1.40 mm, arc RMS "
+        "0.50 <= 1.00 mm) with no more than 2 % loss of bending and extension against the best "
+        "combined count; not combined: none; coupling losses: none"
+    )

@@ -90,3 +90,82 @@ def test_flat_attrs_and_blank_and_the_csv_round_trip(tmp_path):
     assert blank(None) == "" and blank(0) == 0
     path = write_csv([{"a": 1}, {"b": 2, "a": 3}], tmp_path / "t.csv")
     assert read_csv(path) == [{"a": "1", "b": ""}, {"a": "3", "b": "2"}]
+
+
+def test_the_table_takes_settings_reference_and_scalar_columns_from_their_sources():
+    """Each column family from its own source: settings (blank when the spec has none), the
+    reference dict (never over a grid or fixed value; blank for a missing key), the evaluator's
+    scalars (only those stored, in its order, None blank); a completed trial's stale failure
+    attribute is no reason."""
+    layout = TableLayout(
+        settings_columns=("mesh", "absent"),
+        reference="reference",
+        reference_columns=("volume", "r", "L", "gone"),
+        scalar_columns=("z", "a", "none"),
+    )
+    s = SweepSpec(
+        name="s",
+        grid={"r": (1.0, 2.0)},
+        out_dir="unused",
+        evaluator="x",
+        fixed={"L": 100},
+        settings={"mesh": "quick"},
+    )
+    attrs = {
+        "reference": {"volume": 7.0, "r": 99.0, "L": 99.0},
+        "a": 1.0,
+        "z": 2.0,
+        "none": None,
+        "failure": "old",
+    }
+    done = Trial(0, TrialState.COMPLETE, {"r": 1.0}, attrs)
+    failed = Trial(1, TrialState.FAIL, {"r": 2.0}, {"failure": "limit point", "reference": "not a dict"})
+    study = SimpleNamespace(get_trials=lambda deepcopy=False: [done, failed], user_attrs={})
+    ok, bad = collect(study, s, layout)
+    assert (ok["mesh"], ok["absent"]) == ("quick", "")
+    assert (ok["volume"], ok["r"], ok["L"], ok["gone"]) == (7.0, 1.0, 100, "")
+    assert ok["reason"] == "" and ok["trial_status"] == "completed"
+    assert [k for k in ok if k in layout.scalar_columns] == ["a", "z", "none"]  # the evaluator's order
+    assert (ok["z"], ok["a"], ok["none"]) == (2.0, 1.0, "")
+    assert bad["reason"] == "limit point" and "volume" not in bad and "z" not in bad
+    # without a reference or rows attribute name nothing is looked up (not even an attribute "")
+    odd = Trial(0, TrialState.COMPLETE, {"r": 1.0}, {"": {"volume": 5.0}})
+    odd_study = SimpleNamespace(get_trials=lambda deepcopy=False: [odd], user_attrs={})
+    (plain, _) = collect(odd_study, s, TableLayout(reference_columns=("volume",)))
+    assert "volume" not in plain
+    odd.user_attrs[""] = [{"p": 1}, {"p": 2}]
+    assert len(collect(odd_study, s, TableLayout(row_columns=("p",)))) == 2  # one row per point
+    # a row without one of the row columns: blank there
+    odd.user_attrs["rows"] = [{"p": 1}, {"q": 2}]
+    first, second, _ = collect(odd_study, s, TableLayout(rows="rows", row_columns=("p",)))
+    assert (first["p"], second["p"]) == (1, "")
+
+
+def test_the_study_fails_on_input_only_when_every_point_failed_on_input():
+    from softcrawl.studies.sweeps.spec import StudyError
+    from softcrawl.studies.sweeps.tables import input_failure
+
+    s = SweepSpec(name="s", grid={"r": (1.0, 2.0)}, out_dir="unused", evaluator="x")
+    bad = {"input_error": {"parameter": "wall", "detail": "must be positive"}, "failure": "bad input"}
+    both = [Trial(0, TrialState.FAIL, {"r": 1.0}, bad), Trial(1, TrialState.FAIL, {"r": 2.0}, bad)]
+
+    def study(trials):
+        return SimpleNamespace(get_trials=lambda deepcopy=False: trials, user_attrs={})
+
+    other_input = {"input_error": {"parameter": "length", "detail": "too long"}, "failure": "bad input"}
+    both[1] = Trial(1, TrialState.FAIL, {"r": 2.0}, other_input)
+    err = input_failure(study(both), s)
+    assert isinstance(err, StudyError) and err.parameter == "wall"  # the first point's error
+    assert str(err).count("must be positive (no point of the study could be evaluated)") == 1
+    one_ok = [both[0], Trial(1, TrialState.COMPLETE, {"r": 2.0}, {})]
+    assert input_failure(study(one_ok), s) is None
+    other = [both[0], Trial(1, TrialState.FAIL, {"r": 2.0}, {"failure": "diverged"})]
+    assert input_failure(study(other), s) is None
+    assert input_failure(study([both[0]]), s) is None  # a missing point is no failure
+
+
+def test_csv_keeps_line_breaks_inside_a_value(tmp_path):
+    """CSV files are opened with newline="" (the csv module's rule): a value holding a CRLF
+    reads back as written."""
+    path = write_csv([{"message": "limit point\r\nat 80 kPa", "n": 1}], tmp_path / "t.csv")
+    assert read_csv(path) == [{"message": "limit point\r\nat 80 kPa", "n": "1"}]
