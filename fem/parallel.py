@@ -11,6 +11,15 @@ two when the second core is free; when other jobs keep both cores busy, two thre
 (nor slower) than one.
 
 Only the assembly runs here: the linear solver (PARDISO) has its own threads.
+
+Threads policy (docs/decisions/069-crawl-speed.md), stated here once. A process uses the usable
+cores twice over, one after the other: its assembly pool (`threads()`) while it assembles, MKL's
+OpenMP threads (PARDISO) while it factorises; the two never run at the same time, so each may take
+every core. N worker processes (`--workers N`, `studies.sweeps.pool`) share the cores: each gets
+``max(1, cores // N)`` threads for both (`worker_env`), so two workers on two cores run one assembly
+thread and one MKL thread each, instead of two plus two over-subscribing the cores. A variable the
+user set (SOFTCRAWL_THREADS, MKL_NUM_THREADS, OMP_NUM_THREADS) is kept. MKL's spin time after a
+parallel region is `fem.linsolve.KMP_BLOCKTIME_MS`.
 """
 
 from __future__ import annotations
@@ -21,12 +30,27 @@ from concurrent.futures import ThreadPoolExecutor, wait
 _POOL: dict = {}  # pid -> (threads, executor); a forked child makes its own
 
 
+#: The thread variables of `worker_env`: the assembly pool's, MKL's, OpenMP's (MKL's runtime).
+THREAD_VARIABLES = ("SOFTCRAWL_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
 def threads() -> int:
     forced = os.environ.get("SOFTCRAWL_THREADS")
     if forced:
         return max(1, int(forced))
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return max(1, min(cores or 1, 4))
+    return max(1, min(cores(), 4))
+
+
+def worker_env(workers: int) -> dict[str, str]:
+    """The thread variables for each of `workers` processes sharing this machine (module docstring,
+    "Threads policy"): the user's settings, else max(1, cores // workers) threads."""
+    share = str(max(1, cores() // max(1, int(workers))))
+    return {name: os.environ.get(name) or share for name in THREAD_VARIABLES}
 
 
 def _executor(n: int):
