@@ -6,10 +6,12 @@ Each "worker" is one Table 1 ePSA ramp (`bench/epsa_bench.py --only default`, it
 and the N workers start together. Policies, run in alternation (A B A B ...) so that a changing
 load from other jobs hits both alike:
 
-  shared  `fem.parallel.worker_env(N)`: each worker max(1, cores // N) assembly and MKL threads
-          (the policy `studies.sweeps.pool` applies to `--workers N`);
-  greedy  each worker as a lone process: the assembly pool on every core (at most 4) and MKL's
-          default of one thread per core (what the workers did before the policy).
+  shared  `fem.parallel.worker_env(N, "shared")`: each worker max(1, cores // N) assembly and
+          MKL threads;
+  greedy  `fem.parallel.worker_env(N, "greedy")`: each worker as a lone process, the assembly pool
+          on every core (at most 4) and MKL on every core (what the workers did before issue 31).
+
+`fem.parallel.WORKER_POLICY` names the one `studies.sweeps.pool` applies to `--workers N`.
 
 Printed per run: the wall time until the last worker finished, and the ratio greedy / shared of
 the medians. The same number of Newton iterations must show in every run (the length at 100 kPa
@@ -46,10 +48,11 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=2)
     args = ap.parse_args()
     base = {k: v for k, v in os.environ.items() if k not in THREAD_VARIABLES}
-    policies = {"shared": base | worker_env(args.workers), "greedy": base}
+    policies = {name: base | worker_env(args.workers, name) for name in ("shared", "greedy")}
     print(f"$ python {' '.join(sys.argv)}")
     load = os.getloadavg()[0]
-    print(f"load average {load:.1f} on {os.cpu_count()} cores; shared = {worker_env(args.workers)}")
+    threads = {n: {k: policies[n][k] for k in THREAD_VARIABLES} for n in policies}
+    print(f"load average {load:.1f} on {os.cpu_count()} cores; {threads}")
     walls: dict[str, list[float]] = {name: [] for name in policies}
     for k in range(args.repeats):
         for name, env in policies.items():

@@ -13,13 +13,17 @@ two when the second core is free; when other jobs keep both cores busy, two thre
 Only the assembly runs here: the linear solver (PARDISO) has its own threads.
 
 Threads policy (docs/decisions/069-crawl-speed.md), stated here once. A process uses the usable
-cores twice over, one after the other: its assembly pool (`threads()`) while it assembles, MKL's
-OpenMP threads (PARDISO) while it factorises; the two never run at the same time, so each may take
-every core. N worker processes (`--workers N`, `studies.sweeps.pool`) share the cores: each gets
-``max(1, cores // N)`` threads for both (`worker_env`), so two workers on two cores run one assembly
-thread and one MKL thread each, instead of two plus two over-subscribing the cores. A variable the
-user set (SOFTCRAWL_THREADS, MKL_NUM_THREADS, OMP_NUM_THREADS) is kept. MKL's spin time after a
-parallel region is `fem.linsolve.KMP_BLOCKTIME_MS`.
+cores twice over, one after the other: its assembly pool (`threads()`, at most 4) while it
+assembles, MKL's OpenMP threads (PARDISO, one per core) while it factorises; the two never run at
+the same time. N worker processes (`--workers N`, `studies.sweeps.pool`) start with `worker_env(N)`:
+under `WORKER_POLICY = "greedy"` each worker takes what a lone process takes (on 2 cores: 2
+assembly and 2 MKL threads per worker), so that a worker in a serial part of its work (Python,
+GMRES's substitutions, the contact update) leaves its cores to the other one's parallel parts; MKL's
+threads sleep at once after a parallel region (`fem.linsolve.KMP_BLOCKTIME_MS` = 0), so
+over-subscribed factorisations do not spin against each other. "shared" gives each worker
+max(1, cores // N) threads instead. Greedy was 9-14 % faster than shared in 3 of 4 alternated
+pairs on the loaded 2-core machine (`bench/workers_bench.py`; the idle comparison is the lead's).
+A variable the user set (SOFTCRAWL_THREADS, MKL_NUM_THREADS, OMP_NUM_THREADS) is always kept.
 """
 
 from __future__ import annotations
@@ -46,11 +50,23 @@ def threads() -> int:
     return max(1, min(cores(), 4))
 
 
-def worker_env(workers: int) -> dict[str, str]:
-    """The thread variables for each of `workers` processes sharing this machine (module docstring,
-    "Threads policy"): the user's settings, else max(1, cores // workers) threads."""
-    share = str(max(1, cores() // max(1, int(workers))))
-    return {name: os.environ.get(name) or share for name in THREAD_VARIABLES}
+#: The policy of `worker_env`: "greedy" or "shared" (module docstring, "Threads policy").
+WORKER_POLICY = "greedy"
+
+
+def worker_env(workers: int, policy: str | None = None) -> dict[str, str]:
+    """The thread variables for each of `workers` processes on this machine (module docstring,
+    "Threads policy"): the user's settings, else those of `policy` (default `WORKER_POLICY`)."""
+    policy = policy or WORKER_POLICY
+    if policy == "shared":
+        share = str(max(1, cores() // max(1, int(workers))))
+        chosen = dict.fromkeys(THREAD_VARIABLES, share)
+    elif policy == "greedy":
+        chosen = {"SOFTCRAWL_THREADS": str(max(1, min(cores(), 4)))}
+        chosen |= dict.fromkeys(THREAD_VARIABLES[1:], str(cores()))
+    else:
+        raise ValueError(f"threads policy {policy!r} is not 'greedy' or 'shared'")
+    return {name: os.environ.get(name) or chosen[name] for name in THREAD_VARIABLES}
 
 
 def _executor(n: int):

@@ -21,7 +21,7 @@ polls the parent's pid once a second. SIGTERM reaches the worker's `SignalGuard`
 handed back as after Ctrl-C, and the next run computes it.
 
 Threads: the workers start with `fem.parallel.worker_env(workers)` in their environment (the
-cores shared out among them, for the assembly pool and MKL; the user's settings kept).
+threads policy's assembly and MKL threads; the user's settings kept).
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""The threads policy of `fem.parallel` (docs/decisions/069-crawl-speed.md): N workers share the
-cores for the assembly pool and MKL; the user's settings win; a spawned sweep worker sees them."""
+"""The threads policy of `fem.parallel` (docs/decisions/069-crawl-speed.md): greedy workers take
+what a lone process takes, shared ones split the cores; the user's settings win."""
 
 from __future__ import annotations
 
@@ -9,11 +9,27 @@ from softcrawl.fem import parallel
 
 
 @pytest.mark.parametrize(("cores", "workers", "share"), [(2, 1, "2"), (2, 2, "1"), (2, 3, "1"), (8, 2, "4")])
-def test_workers_share_the_cores(monkeypatch, cores, workers, share):
+def test_shared_workers_share_the_cores(monkeypatch, cores, workers, share):
     monkeypatch.setattr(parallel, "cores", lambda: cores)
     for name in parallel.THREAD_VARIABLES:
         monkeypatch.delenv(name, raising=False)
-    assert parallel.worker_env(workers) == dict.fromkeys(parallel.THREAD_VARIABLES, share)
+    assert parallel.worker_env(workers, "shared") == dict.fromkeys(parallel.THREAD_VARIABLES, share)
+
+
+@pytest.mark.parametrize(("cores", "assembly"), [(2, "2"), (8, "4")])
+def test_greedy_workers_take_what_a_lone_process_takes(monkeypatch, cores, assembly):
+    monkeypatch.setattr(parallel, "cores", lambda: cores)
+    for name in parallel.THREAD_VARIABLES:
+        monkeypatch.delenv(name, raising=False)
+    env = parallel.worker_env(2, "greedy")
+    assert env == {
+        "SOFTCRAWL_THREADS": assembly,
+        "MKL_NUM_THREADS": str(cores),
+        "OMP_NUM_THREADS": str(cores),
+    }
+    assert int(env["SOFTCRAWL_THREADS"]) == parallel.threads()  # a lone process's assembly pool
+    with pytest.raises(ValueError, match="policy"):
+        parallel.worker_env(2, "all")
 
 
 def test_the_users_setting_is_kept(monkeypatch):
@@ -21,5 +37,5 @@ def test_the_users_setting_is_kept(monkeypatch):
     monkeypatch.setenv("MKL_NUM_THREADS", "2")
     monkeypatch.delenv("SOFTCRAWL_THREADS", raising=False)
     monkeypatch.delenv("OMP_NUM_THREADS", raising=False)
-    env = parallel.worker_env(2)
+    env = parallel.worker_env(2, "shared")
     assert env == {"SOFTCRAWL_THREADS": "1", "MKL_NUM_THREADS": "2", "OMP_NUM_THREADS": "1"}

@@ -1,5 +1,5 @@
-"""Sweep workers start with the threads policy of `fem.parallel.worker_env` (decision 069): two
-workers on this machine's cores share them; the parent's environment is left as it was."""
+"""Sweep workers start with the threads policy of `fem.parallel.worker_env` (decision 069); the
+parent's environment is left as it was."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ def report_threads(spec_dict: dict, index: int, poll_s: float) -> WorkerReport:
     return WorkerReport(completed=1)
 
 
-def test_two_workers_share_the_cores(tmp_path, monkeypatch):
+def test_two_workers_start_with_the_policys_threads(tmp_path, monkeypatch):
     for name in THREAD_VARIABLES:
         monkeypatch.delenv(name, raising=False)
     before = dict(os.environ)
