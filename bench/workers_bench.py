@@ -8,8 +8,9 @@ load from other jobs hits both alike:
 
   shared  `fem.parallel.worker_env(N, "shared")`: each worker max(1, cores // N) assembly and
           MKL threads;
-  greedy  `fem.parallel.worker_env(N, "greedy")`: each worker as a lone process, the assembly pool
-          on every core (at most 4) and MKL on every core (what the workers did before issue 31).
+  greedy  `fem.parallel.worker_env(N, "greedy")` (nothing set): each worker as a lone process,
+          the assembly pool on every core (at most 4) and MKL's default of a thread per physical
+          core (what the workers did before issue 31).
 
 `fem.parallel.WORKER_POLICY` names the one `studies.sweeps.pool` applies to `--workers N`.
 
@@ -51,7 +52,7 @@ def main() -> None:
     policies = {name: base | worker_env(args.workers, name) for name in ("shared", "greedy")}
     print(f"$ python {' '.join(sys.argv)}")
     load = os.getloadavg()[0]
-    threads = {n: {k: policies[n][k] for k in THREAD_VARIABLES} for n in policies}
+    threads = {n: {k: policies[n].get(k, "-") for k in THREAD_VARIABLES} for n in policies}
     print(f"load average {load:.1f} on {os.cpu_count()} cores; {threads}")
     walls: dict[str, list[float]] = {name: [] for name in policies}
     for k in range(args.repeats):

@@ -16,8 +16,8 @@ Threads policy (docs/decisions/069-crawl-speed.md), stated here once. A process 
 cores twice over, one after the other: its assembly pool (`threads()`, at most 4) while it
 assembles, MKL's OpenMP threads (PARDISO, one per core) while it factorises; the two never run at
 the same time. N worker processes (`--workers N`, `studies.sweeps.pool`) start with `worker_env(N)`:
-under `WORKER_POLICY = "greedy"` each worker takes what a lone process takes (on 2 cores: 2
-assembly and 2 MKL threads per worker), so that a worker in a serial part of its work (Python,
+under `WORKER_POLICY = "greedy"` each worker takes what a lone process takes (nothing is set;
+on 2 cores: 2 assembly and 2 MKL threads per worker), so that a worker in a serial part of its work (Python,
 GMRES's substitutions, the contact update) leaves its cores to the other one's parallel parts; MKL's
 threads sleep at once after a parallel region (`fem.linsolve.KMP_BLOCKTIME_MS` = 0), so
 over-subscribed factorisations do not spin against each other. "shared" gives each worker
@@ -55,18 +55,17 @@ WORKER_POLICY = "greedy"
 
 
 def worker_env(workers: int, policy: str | None = None) -> dict[str, str]:
-    """The thread variables for each of `workers` processes on this machine (module docstring,
-    "Threads policy"): the user's settings, else those of `policy` (default `WORKER_POLICY`)."""
+    """The thread variables to set in each of `workers` processes on this machine (module
+    docstring, "Threads policy") under `policy` (default `WORKER_POLICY`); a variable the user set
+    is never among them. "greedy" sets none: each worker takes a lone process's defaults (the
+    assembly pool's `threads()`, MKL's one thread per physical core)."""
     policy = policy or WORKER_POLICY
-    if policy == "shared":
-        share = str(max(1, cores() // max(1, int(workers))))
-        chosen = dict.fromkeys(THREAD_VARIABLES, share)
-    elif policy == "greedy":
-        chosen = {"SOFTCRAWL_THREADS": str(max(1, min(cores(), 4)))}
-        chosen |= dict.fromkeys(THREAD_VARIABLES[1:], str(cores()))
-    else:
+    if policy not in ("greedy", "shared"):
         raise ValueError(f"threads policy {policy!r} is not 'greedy' or 'shared'")
-    return {name: os.environ.get(name) or chosen[name] for name in THREAD_VARIABLES}
+    if policy == "greedy":
+        return {}
+    share = str(max(1, cores() // max(1, int(workers))))
+    return {name: share for name in THREAD_VARIABLES if not os.environ.get(name)}
 
 
 def _executor(n: int):

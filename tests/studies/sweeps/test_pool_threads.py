@@ -7,6 +7,9 @@ import json
 import os
 from pathlib import Path
 
+import pytest
+
+from softcrawl.fem import parallel
 from softcrawl.fem.parallel import THREAD_VARIABLES, worker_env
 from softcrawl.studies.sweeps.faults import WorkerReport
 from softcrawl.studies.sweeps.pool import run_pool
@@ -18,12 +21,16 @@ def report_threads(spec_dict: dict, index: int, poll_s: float) -> WorkerReport:
     return WorkerReport(completed=1)
 
 
-def test_two_workers_start_with_the_policys_threads(tmp_path, monkeypatch):
+@pytest.mark.parametrize("policy", ["greedy", "shared"])
+def test_two_workers_start_with_the_policys_threads(tmp_path, monkeypatch, policy):
     for name in THREAD_VARIABLES:
         monkeypatch.delenv(name, raising=False)
+    monkeypatch.setattr(parallel, "WORKER_POLICY", policy)
+    monkeypatch.setenv("OMP_NUM_THREADS", "3")  # the user's: kept
     before = dict(os.environ)
     total, dead = run_pool(report_threads, {"folder": str(tmp_path)}, 2, 0.1)
     assert (total.completed, dead) == (2, [])
+    expected = dict.fromkeys(THREAD_VARIABLES) | {"OMP_NUM_THREADS": "3"} | worker_env(2, policy)
     for index in range(2):
-        assert json.loads((tmp_path / f"worker-{index}.json").read_text()) == worker_env(2)
+        assert json.loads((tmp_path / f"worker-{index}.json").read_text()) == expected
     assert dict(os.environ) == before
