@@ -1,85 +1,198 @@
-"""Crawl benchmark (issue 17): the two-feet crawl in a 70 mm pipe, the extension half-cycle.
+"""Crawl benchmark (issues 17, 31): insertion plus two full cycles, quick feet, one pipe.
 
-    python bench/crawl_bench.py [--quick-only] [--pipe 70] [--cycle]
+    python bench/crawl_bench.py [--pipe 70] [--cycles 2] [--runs cold,warm] [--default-mesh]
 
-By default the run is the extension (0 -> 100 kPa, 2 segments' worth of sub-steps), because the
-retraction of the paper's feet at mu = 0.5 stalls in cut-backs near -6 N
-(docs/decisions/054-crawl-tetwild.md); --cycle runs the whole inflate cycle (and reports where it stops).
+The run is `softcrawl crawl --quick --cycles 2` (24-sector revolved feet, 81,984 DOFs, 4
+insertion steps, 4 sub-steps per schedule segment, the "inflate" gait at 100 kPa in 2 s, mu 0.5 on
+both faces): the frictionless insertion, friction on, then the cycles. Two runs, each in its own
+child process (its peak resident memory is its own), in this order:
 
-Targets (issue 17): one gait cycle on the default settings at most 15 minutes, --quick at most 3
-minutes, on an idle 2-core machine. Prints per run: DOFs, states (increments), Newton iterations,
-wall time of the setup (insertion, friction on) and per cycle, the linear solves' and assembly's
-seconds, and the contact terms' share of one assembly (`ContactTerm.arrays`, residual and tangent).
-The feet are the revolved mesh: 48 sectors by default, 24 in --quick, which also takes 4
-insertion steps instead of 8; both 4 sub-steps per schedule segment.
+  cold  a new design: the insertion is computed (and written to a fresh insertion cache);
+  warm  the same design again: the insertion comes from that cache (`studies.crawl.insertion`).
+
+Printed per run: DOFs; wall time of mesh + model, of the insertion (or the cache read), of the
+friction step and of each cycle, and in total; the stride of each cycle (the first, from rest, and
+the second, the steady one); Newton iterations of the whole run, per phase and per sub-step of the
+cycles (the load reversals show there); PARDISO's symbolic analyses, numeric factorisations and
+substitutions (counted at PARDISO's phase calls); the linear solves' and assembly's seconds; the
+peak RSS. The two runs' strides must agree bit for bit (the cached state is the computed one).
+
+Targets (issue 31, on an idle 2-core machine): cold at most 60 s, warm at most 30 s. The figures
+printed under load are not those: the lead reruns this on an idle machine.
 """
 
 from __future__ import annotations
 
 import argparse
+import multiprocessing as mp
+import os
+import resource
+import sys
+import tempfile
 import time
+from pathlib import Path
 
-import numpy as np
-
-from bench.contact_bench import contact_share  # run with (CONTRIBUTING)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 
-def run_case(pipe: float, whole_cycle: bool, quick: bool) -> None:
+def _count_pardiso_phases() -> dict:
+    """Count PARDISO's phase calls: 11 symbolic analysis, 22 numeric factorisation, 33 solve."""
+    import pypardiso
+
+    counts = {11: 0, 22: 0, 33: 0}
+    original = pypardiso.PyPardisoSolver.set_phase
+
+    def set_phase(self, phase):
+        counts[phase] = counts.get(phase, 0) + 1
+        return original(self, phase)
+
+    pypardiso.PyPardisoSolver.set_phase = set_phase
+    return counts
+
+
+def _record_solves() -> list:
+    """The Newton iterations of every converged sub-step: the first solve's, then those of each
+    augmented-Lagrangian re-solve (`fem.contact_stages._solve_augmented`)."""
+    from softcrawl.fem import contact_stages
+
+    solves = []
+    original = contact_stages._solve_augmented
+
+    def recorded(*args, **kwargs):
+        out = original(*args, **kwargs)
+        solves.append(tuple(int(i) for i in out[1]))
+        return out
+
+    contact_stages._solve_augmented = recorded
+    return solves
+
+
+def run_case(pipe: float, cycles: int, quick: bool, cache: str, queue) -> None:
+    from softcrawl.fem.linsolve import _prepare_mkl
     from softcrawl.materials import get_material
     from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.crawl.insertion import InsertionCache
     from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
     from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
-    from softcrawl.studies.crawl.schedule import Schedule, preset
+    from softcrawl.studies.crawl.schedule import preset
 
+    _prepare_mkl()
+    counts = _count_pardiso_phases()
+    solves = _record_solves()
     setup = CrawlSetup(
         pipe_diameter=pipe,
         insert_steps=4 if quick else 8,
         steps=4,
-        cycles=1,
+        cycles=cycles,
         sectors=QUICK_SECTORS if quick else None,
     )
-    extend = Schedule("extend", np.array([0.0, 1.0]), np.array([[0.0] * 3, [100.0] * 3]), "0 -> 100 kPa")
-    schedule = preset("inflate") if whole_cycle else extend
-    t0 = time.perf_counter()
+    t_start = time.perf_counter()
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
-    cm = build(mesh, solid_law(get_material("rubber-70a"), hyperelastic_only=True), design, setup)
-    t_build = time.perf_counter() - t0
-    stamps = {}
+    law = solid_law(get_material("rubber-70a"), hyperelastic_only=True)
+    cm = build(mesh, law, design, setup)
+    insertion = InsertionCache(cm, mesh, design, law, cache)
+    t_build = time.perf_counter() - t_start
+    marks = []  # (time, row) per converged state
 
     def on_state(row, model, x):
-        stamps[row["index"]] = time.perf_counter()
-        stamps["x"] = x
+        marks.append((time.perf_counter(), row))
 
     t0 = time.perf_counter()
-    res = run_crawl(cm, schedule, on_state=on_state)
-    setup_states = [s for s in res.states if s["cycle"] == 0]
-    t_setup = (stamps[setup_states[-1]["index"]] - t0) if setup_states else float("nan")
-    t_run = res.wall_s - t_setup
-    full, contact = contact_share(cm.model, stamps["x"])
-    label = "quick" if quick else "default"
-    print(f"{label}: {pipe:g} mm pipe, {res.n_dofs} DOFs, mesh + model {t_build:.1f} s; {res.message}")
-    print(
-        f"  {res.increments} states ({len(setup_states)} setup), {res.newton_iterations} Newton iterations; "
-        f"setup {t_setup:.0f} s, {schedule.name} {t_run:.0f} s (cycle target {'180' if quick else '900'} s)"
+    res = run_crawl(cm, preset("inflate", 100.0, 2.0), on_state=on_state, insertion=insertion)
+    t_end = time.perf_counter()
+    # phase boundaries from the converged states: the end of the insertion, of friction on, of each cycle
+    ends = {}
+    for t, row in marks:
+        key = row["stage"] if row["cycle"] == 0 else f"cycle {row['cycle']}"
+        ends[key] = t
+    bounds, last = {}, t0
+    for key in ("insert", "friction", *(f"cycle {k + 1}" for k in range(cycles))):
+        if key in ends:
+            bounds[key] = ends[key] - last
+            last = ends[key]
+    newton = {}
+    for row in res.states:
+        key = row["stage"] if row["cycle"] == 0 else f"cycle {row['cycle']}"
+        newton.setdefault(key, []).append(int(row["newton"]))
+    queue.put(
+        {
+            "dofs": res.n_dofs,
+            "message": res.message,
+            "hit": bool(insertion.hit),
+            "build_s": t_build,
+            "run_s": t_end - t0,
+            "total_s": time.perf_counter() - t_start,
+            "phases_s": bounds,
+            "strides": res.strides,
+            "newton_total": res.newton_iterations,
+            "newton": newton,
+            "solves": solves,
+            "analyses": counts[11],
+            "factorizations": counts[22],
+            "substitutions": counts[33],
+            "solve_s": res.solve_s,
+            "assembly_s": res.assembly_s,
+            "peak_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2,
+        }
     )
-    print(f"  linear solves {res.solve_s:.0f} s, assembly {res.assembly_s:.0f} s of {res.wall_s:.0f} s")
-    print(f"  assembly {full:.2f} s per iteration, contact terms {contact:.2f} s ({contact / full:.1%})")
-    end = res.states[-1]
+
+
+def report(name: str, r: dict) -> None:
+    ph = r["phases_s"]
+    insertion = "cached, read" if r["hit"] else "computed"
+    print(f"{name}: {r['dofs']} DOFs; {r['message']}; insertion {insertion}")
     print(
-        f"  last state t = {end['time_s']:.3f} s: rear {end['rear_u_mm']:+.3f} mm, "
-        f"front {end['front_u_mm']:+.3f} mm"
+        f"  wall {r['total_s']:.1f} s = mesh + model {r['build_s']:.1f} s + run {r['run_s']:.1f} s: "
+        + ", ".join(f"{k} {v:.1f} s" for k, v in ph.items())
     )
+    strides = r["strides"]
+    first = f"{strides[0]:.15g}" if strides else "-"
+    steady = f"{strides[1]:.15g}" if len(strides) > 1 else "-"
+    print(f"  strides: first {first} mm, steady (cycle 2) {steady} mm")
+    per = "; ".join(f"{k} {sum(v)} ({' '.join(map(str, v))})" for k, v in r["newton"].items())
+    print(f"  Newton iterations {r['newton_total']} (insertion's counted from the cache when read): {per}")
+    solves = r.get("solves", [])
+    augment = sum(sum(s[1:]) for s in solves)
+    print(
+        f"  of this run's {sum(sum(s) for s in solves)}, {augment} in augmented-Lagrangian re-solves; "
+        "per sub-step (first+re-solves): " + " ".join("+".join(map(str, s)) for s in solves)
+    )
+    print(
+        f"  PARDISO: {r['analyses']} symbolic analyses, {r['factorizations']} factorisations, "
+        f"{r['substitutions']} substitutions; linear solves {r['solve_s']:.1f} s, "
+        f"assembly {r['assembly_s']:.1f} s"
+    )
+    print(f"  peak RSS {r['peak_gb']:.2f} GB")
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick-only", action="store_true")
     ap.add_argument("--pipe", type=float, default=70.0, help="pipe diameter (mm)")
-    ap.add_argument("--cycle", action="store_true", help="the whole inflate cycle, not the extension")
+    ap.add_argument("--cycles", type=int, default=2)
+    ap.add_argument("--runs", default="cold,warm", help="comma-separated: cold, warm")
+    ap.add_argument("--default-mesh", action="store_true", help="48 sectors and 8 insertion steps")
+    ap.add_argument("--cache", help="insertion cache folder (default: a new temporary one)")
     args = ap.parse_args()
-    run_case(args.pipe, args.cycle, True)
-    if not args.quick_only:
-        run_case(args.pipe, args.cycle, False)
+    runs = args.runs.split(",")
+    if not set(runs) <= {"cold", "warm"}:
+        ap.error(f"--runs: cold and/or warm, not {args.runs}")
+    load = os.getloadavg()[0]
+    print(f"$ python {' '.join(sys.argv)}")
+    print(f"load average {load:.1f} on {os.cpu_count()} cores at the start; threads: "
+          f"SOFTCRAWL_THREADS={os.environ.get('SOFTCRAWL_THREADS', '-')}, "
+          f"MKL_NUM_THREADS={os.environ.get('MKL_NUM_THREADS', '-')}")  # fmt: skip
+    with tempfile.TemporaryDirectory(prefix="crawl-bench-") as tmp:
+        cache = args.cache or tmp
+        ctx = mp.get_context("spawn")
+        for name in runs:
+            queue = ctx.Queue()
+            proc = ctx.Process(
+                target=run_case, args=(args.pipe, args.cycles, not args.default_mesh, cache, queue)
+            )
+            proc.start()
+            result = queue.get()
+            proc.join()
+            report(name, result)
 
 
 if __name__ == "__main__":

@@ -8,8 +8,13 @@ PARDISO when it imports and SuperLU otherwise; `SOFTCRAWL_SOLVER=superlu` forces
 
 The sparsity pattern of a model never changes (`fem.pattern`), so `LinearSolver` runs PARDISO's
 symbolic analysis (ordering, ~40 % of a factorisation) once per pattern and only the numeric
-factorisation per Newton step. Solves take one or several right-hand sides (volume control needs
-two per step).
+factorisation per Newton step. For the non-symmetric type (11) the analysis depends on the
+pattern alone (iparm 11 and 13, scaling and matching, are off), so it is kept across solvers: a
+new `LinearSolver` on the same pattern (each `run_stages` call of a crawl makes one) reuses the
+handle's analysis; the symmetric indefinite type (-2) scales and matches by the values of the
+matrix analysed, so each solver analyses its own first matrix, as before (a reuse there would move
+results, within the tolerance but not bit for bit). Solves take one or several right-hand sides
+(volume control needs two per step).
 
 Symmetry is known from the load types (`fem.model.SolidModel.symmetric_tangent`), so no matrix
 is tested for it per Newton step. `StepSolver` is what Newton uses: it factorises the current
@@ -153,12 +158,18 @@ class LinearSolver:
         key = (mtype, M.shape[0], M.nnz, zlib.crc32(M.indptr), zlib.crc32(M.indices))
         dummy = np.zeros(M.shape[0])
         if _OWNER.get(mtype) is not self or self._analysed_pattern != key:
-            ps.free_memory(everything=True)
-            ps.set_phase(11)  # symbolic analysis, once per pattern
-            ps._call_pardiso(M, dummy)
+            if mtype == 11 and _ANALYSED.get(mtype, (None,))[0] == key:
+                # the handle holds this pattern's analysis, made by another solver: for the
+                # non-symmetric type it depends on the pattern alone (module docstring)
+                self.cost_ratio = _ANALYSED[mtype][1]
+            else:
+                ps.free_memory(everything=True)
+                ps.set_phase(11)  # symbolic analysis, once per pattern
+                ps._call_pardiso(M, dummy)
+                # factorisation / substitution cost, from the flop count (module docstring)
+                self.cost_ratio = float(ps.iparm[18]) * 1e6 / max(float(ps.iparm[17]), 1.0) / FLOPS_PER_RATIO
+                _ANALYSED[mtype] = (key, self.cost_ratio)
             self._analysed_pattern = key
-            # factorisation / substitution cost, from the flop count (module docstring)
-            self.cost_ratio = float(ps.iparm[18]) * 1e6 / max(float(ps.iparm[17]), 1.0) / FLOPS_PER_RATIO
             _OWNER[mtype] = self
         ps.set_phase(22)  # numeric factorisation
         ps._call_pardiso(M, dummy)
@@ -178,7 +189,8 @@ class LinearSolver:
         return ps._call_pardiso(self._A, np.asfortranarray(b, dtype=float))
 
 
-_OWNER: dict = {}  # matrix type -> the LinearSolver whose analysis the handle holds
+_OWNER: dict = {}  # matrix type -> the LinearSolver whose factorisation the handle holds
+_ANALYSED: dict = {}  # matrix type -> (pattern key, cost ratio) of the analysis the handle holds
 
 
 class StepSolver:

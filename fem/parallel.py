@@ -11,6 +11,19 @@ two when the second core is free; when other jobs keep both cores busy, two thre
 (nor slower) than one.
 
 Only the assembly runs here: the linear solver (PARDISO) has its own threads.
+
+Threads policy (docs/decisions/069-crawl-speed.md), stated here once. A process uses the usable
+cores twice over, one after the other: its assembly pool (`threads()`, at most 4) while it
+assembles, MKL's OpenMP threads (PARDISO, one per core) while it factorises; the two never run at
+the same time. N worker processes (`--workers N`, `studies.sweeps.pool`) start with `worker_env(N)`:
+under `WORKER_POLICY = "greedy"` each worker takes what a lone process takes (nothing is set;
+on 2 cores: 2 assembly and 2 MKL threads per worker), so that a worker in a serial part of its work (Python,
+GMRES's substitutions, the contact update) leaves its cores to the other one's parallel parts; MKL's
+threads sleep at once after a parallel region (`fem.linsolve.KMP_BLOCKTIME_MS` = 0), so
+over-subscribed factorisations do not spin against each other. "shared" gives each worker
+max(1, cores // N) threads instead. Greedy was 9-14 % faster than shared in 3 of 4 alternated
+pairs on the loaded 2-core machine (`bench/workers_bench.py`; the idle comparison is the lead's).
+A variable the user set (SOFTCRAWL_THREADS, MKL_NUM_THREADS, OMP_NUM_THREADS) is always kept.
 """
 
 from __future__ import annotations
@@ -21,12 +34,38 @@ from concurrent.futures import ThreadPoolExecutor, wait
 _POOL: dict = {}  # pid -> (threads, executor); a forked child makes its own
 
 
+#: The thread variables of `worker_env`: the assembly pool's, MKL's, OpenMP's (MKL's runtime).
+THREAD_VARIABLES = ("SOFTCRAWL_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
 def threads() -> int:
     forced = os.environ.get("SOFTCRAWL_THREADS")
     if forced:
         return max(1, int(forced))
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return max(1, min(cores or 1, 4))
+    return max(1, min(cores(), 4))
+
+
+#: The policy of `worker_env`: "greedy" or "shared" (module docstring, "Threads policy").
+WORKER_POLICY = "greedy"
+
+
+def worker_env(workers: int, policy: str | None = None) -> dict[str, str]:
+    """The thread variables to set in each of `workers` processes on this machine (module
+    docstring, "Threads policy") under `policy` (default `WORKER_POLICY`); a variable the user set
+    is never among them. "greedy" sets none: each worker takes a lone process's defaults (the
+    assembly pool's `threads()`, MKL's one thread per physical core)."""
+    policy = policy or WORKER_POLICY
+    if policy not in ("greedy", "shared"):
+        raise ValueError(f"threads policy {policy!r} is not 'greedy' or 'shared'")
+    if policy == "greedy":
+        return {}
+    share = str(max(1, cores() // max(1, int(workers))))
+    return {name: share for name in THREAD_VARIABLES if not os.environ.get(name)}
 
 
 def _executor(n: int):

@@ -36,6 +36,12 @@ softcrawl version than the checkpoint's is refused in one line naming it (exit 2
 without a checkpoint starts from the beginning (and says so), so that a job script can always
 pass it; without --resume, a folder holding an unfinished run's checkpoint is refused (exit 2)
 rather than overwritten.
+
+--insertion-cache: the insertion (frictionless, so the same for every friction, schedule and
+number of cycles) is read from the content-addressed cache of inserted states when it holds this
+model's (`studies.crawl.insertion`: keyed by the mesh, the feet, the pipe, the material and the
+solver settings), and computed and written there when it does not; the strides are those of a
+computed insertion, bit for bit.
 """
 
 from __future__ import annotations
@@ -107,6 +113,12 @@ def register(subparsers) -> None:
     p.add_argument(
         "--resume", action="store_true", help="continue from the last state in OUT/checkpoints (same options)"
     )
+    p.add_argument(
+        "--insertion-cache",
+        action="store_true",
+        help="take the inserted state from the cache of insertions ($SOFTCRAWL_CACHE/insertions or "
+        "~/.cache/softcrawl/meshes/insertions), computing and writing it there when it is not",
+    )
     p.set_defaults(func=run)
 
 
@@ -152,6 +164,7 @@ def run(args) -> int:
         precision=args.vtu_precision,
         store=store,
         resumed=resumed,
+        insertion_cache=args.insertion_cache,
     )
     print(summary["text"])
     if animation is not None:

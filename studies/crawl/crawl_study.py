@@ -18,6 +18,11 @@ a point handed back (Ctrl-C, SIGTERM, a dead worker) restarts from its last conv
 when it is evaluated again, and a point stopped by the memory watchdog (`--max-memory`) names
 that state in its failure (``last_state``).
 
+The insertion is frictionless, so the two friction values of one diameter share it: each point
+starts from the cached inserted state of its diameter (`studies.crawl.insertion`; the first point
+of a diameter computes and writes it, a second worker asking for it meanwhile waits for it), and
+records ``insertion_cached``; its ``wall_s`` is then the run after the insertion.
+
 Figures per point: the stride of each cycle and the steady stride (cycles after the first), the
 speed, and the anchoring slip ratio of the extension phase, |anchoring foot's motion| / (|rear| +
 |front| motion): 0 when the rear foot holds perfectly, 0.5 when both feet move alike.
@@ -83,8 +88,9 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
     resumed = store.load()  # another version's checkpoint: a failed point naming it (CheckpointError)
     try:
         result, summary = run_and_write(
-            setup, schedule, folder, quick=quick, vtu=False, store=store, resumed=resumed
-        )
+            setup, schedule, folder, quick=quick, vtu=False, store=store, resumed=resumed,
+            insertion_cache=settings.get("insertion_cache", True),
+        )  # fmt: skip
     except OutOfMemory as exc:
         exc.last_state = store.latest_summary()
         raise
@@ -106,6 +112,7 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
         "newton_iterations": result.newton_iterations,
         "wall_s": result.wall_s,
         "resumed_from": resumed.describe() if resumed is not None else "",
+        "insertion_cached": summary["insertion_cached"],
     }
     jsonio.write(
         Path(settings["out_dir"]) / "points" / f"crawl-{point_stem(params)}.json", {"params": params} | attrs

@@ -23,6 +23,7 @@ from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.paper import FRICTION_N, table2
 from softcrawl.provenance import write_summary
+from softcrawl.studies.crawl.insertion import insertion_cache_for
 from softcrawl.studies.crawl.mesh import crawl_mesh
 from softcrawl.studies.crawl.model import build, run_crawl
 from softcrawl.studies.crawl.outputs import steady_stride
@@ -199,14 +200,19 @@ def run_and_write(
     store=None,
     resumed=None,
     precision: int = 32,
+    insertion_cache=False,
 ):
     """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
     `progress(line)` is called with one line per converged state. `store` (`resume.CrawlStore`):
     each converged state is written to it, and it is cleared once the files are written;
-    `resumed` (its `load()`): the run continues from that state; `precision`: the VTU floats."""
+    `resumed` (its `load()`): the run continues from that state; `precision`: the VTU floats;
+    `insertion_cache`: True (the default folder) or a folder: the insertion is taken from
+    (or written to) the cache of inserted states (`studies.crawl.insertion`); False: computed."""
     folder.mkdir(parents=True, exist_ok=True)
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
-    cm = build(mesh, solid_law(get_material(MATERIAL), hyperelastic_only=True), design, setup)
+    law = solid_law(get_material(MATERIAL), hyperelastic_only=True)
+    cm = build(mesh, law, design, setup)
+    insertion = insertion_cache_for(insertion_cache, cm, mesh, design, law)
     series = None
     if vtu:
         series = _VtuSeries(folder / "vtu", resumed.rows if resumed is not None else (), precision)
@@ -219,7 +225,7 @@ def run_and_write(
         if progress is not None:
             progress(progress_line(row))
 
-    result = run_crawl(cm, schedule, on_state=on_state, store=store, resumed=resumed)
+    result = run_crawl(cm, schedule, on_state=on_state, store=store, resumed=resumed, insertion=insertion)
     pressure = float(np.max(schedule.pressures_kpa))
     cmp = compare(result, setup, schedule, pressure)
     text = summary_text(result, setup, schedule, cmp)
@@ -236,6 +242,7 @@ def run_and_write(
         "strides_mm": result.strides,
         "cycles": list(result.cycles),
         "text": text,
+        "insertion_cached": bool(insertion is not None and insertion.hit),
     } | fields
     write_summary(folder / "summary.json", summary, indent=1)
     if result.states:

@@ -24,6 +24,7 @@ refines a hard one). Every converged state is recorded (`studies.crawl.outputs`)
 
 from __future__ import annotations
 
+import contextlib
 import time
 from dataclasses import dataclass, field, replace
 
@@ -219,18 +220,31 @@ def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf, start=None, on
     )
 
 
-def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None, store=None, resumed=None) -> CrawlResult:
+def run_crawl(
+    cm: CrawlModel, schedule: Schedule, on_state=None, store=None, resumed=None, insertion=None
+) -> CrawlResult:
     """Insert, switch friction on, follow `schedule` for `setup.cycles` cycles (module docstring).
 
     `store` (a `studies.crawl.resume.CrawlStore`): every converged state is written to it;
     `resumed` (its `load()`): the run continues from that state (the phases before it are
-    skipped, their effects being in the state; the recorder's rows are the state's)."""
+    skipped, their effects being in the state; the recorder's rows are the state's).
+    `insertion` (a `studies.crawl.insertion.InsertionCache`), for a run not resumed: the inserted
+    state is taken from it when it holds one (a resume at the end of the insertion), else the
+    insertion is computed and its last state written to it, under the key's lock."""
     setup, model = cm.setup, cm.model
     t0 = time.perf_counter()
     recorder = StateRecorder(cm, on_state)
-    carried = Totals() if resumed is None else resumed.totals
-    if resumed is not None:
+    lock = contextlib.ExitStack()
+    if resumed is None and insertion is not None:
+        lock.enter_context(insertion.locked())
+        resumed = insertion.load()
+        insertion.hit = resumed is not None
+        if resumed is not None:
+            lock.close()
+            insertion.store.restore(cm, recorder, resumed)
+    elif resumed is not None:
         store.restore(cm, recorder, resumed)
+    carried = Totals() if resumed is None else resumed.totals
     deadline = t0 - carried.wall_s + (setup.max_wall_s if setup.max_wall_s is not None else np.inf)
     stats: list = [carried]
 
@@ -290,7 +304,7 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None, store=None, res
         else:
             stages, spans = _cycle_stages(cm, schedule, cycle, setup.steps, deadline)
         on_cursor = None
-        if store is not None:
+        if store is not None or (name == "insert" and insertion is not None and not insertion.hit):
             done = Totals(
                 int(sum(r.newton_iterations for r in stats)),
                 float(sum(r.assembly_s for r in stats)),
@@ -304,12 +318,15 @@ def run_crawl(cm: CrawlModel, schedule: Schedule, on_state=None, store=None, res
                     done.solve_s + c.solve_s,
                     elapsed(),
                 )
-                store.save(cm, recorder, k, name, c, totals)
+                if store is not None:
+                    store.save(cm, recorder, k, name, c, totals)
+                if name == "insert" and insertion is not None and not insertion.hit and c.t >= 1.0 - 1e-12:
+                    insertion.save(cm, recorder, c, totals)
 
         try:
-            res = _run(
-                cm, stages, spans, x, recorder, cycle, deadline if cycle < 0 else np.inf, cursor, on_cursor
-            )
+            with lock if name == "insert" else contextlib.nullcontext():
+                limit = deadline if cycle < 0 else np.inf
+                res = _run(cm, stages, spans, x, recorder, cycle, limit, cursor, on_cursor)
         except WallBudgetExceeded:
             last = recorder.states[-1]
             message = (

@@ -21,6 +21,7 @@ from softcrawl.materials import Material, get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.crawl.files import MATERIAL, progress_line
 from softcrawl.studies.crawl.flipped import check_pipe
+from softcrawl.studies.crawl.insertion import insertion_cache_for
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
 from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
 from softcrawl.studies.crawl.outputs import CrawlResult
@@ -64,12 +65,15 @@ def simulate_crawl(
     material=MATERIAL,
     max_wall_s: float | None = None,
     progress=None,
+    insertion_cache=False,
 ) -> CrawlResult:
     """The robot's two grooved feet crawling in a rigid pipe of `pipe_diameter` mm for `cycles`
     cycles of the pressure schedule (kPa) -> `CrawlResult` (`strides`, per-cycle speed, states).
     `feet`: "paper" (skirts lean back), "backward" (both flipped: grooved faces on the wall,
     `studies.crawl.flipped`), "symmetric" (front mirrored);
-    `material`: the feet's rubber, a preset name or a `Material`."""
+    `material`: the feet's rubber, a preset name or a `Material`; `insertion_cache`: True (the
+    default folder) or a folder to take the inserted state from, or write it to
+    (`studies.crawl.insertion`; the same strides as a computed insertion), False to compute it."""
     number(pipe_diameter, "pipe_diameter", minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True,
            max_open=True, unit="mm", error=ScheduleError)  # fmt: skip
     if feet == "backward":
@@ -99,10 +103,12 @@ def simulate_crawl(
     )
     mat = material if isinstance(material, Material) else get_material(material)
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
-    cm = build(mesh, solid_law(mat, hyperelastic_only=True), design, setup)
+    law = solid_law(mat, hyperelastic_only=True)
+    cm = build(mesh, law, design, setup)
+    insertion = insertion_cache_for(insertion_cache, cm, mesh, design, law)
 
     def on_state(row, model, x):
         if progress is not None:
             progress(progress_line(row))
 
-    return run_crawl(cm, plan, on_state=on_state)
+    return run_crawl(cm, plan, on_state=on_state, insertion=insertion)

@@ -19,6 +19,9 @@ as orphans of PID 1. Each worker therefore asks the kernel for SIGTERM when its 
 pid that started it (the parent may have died before the request); elsewhere a watchdog thread
 polls the parent's pid once a second. SIGTERM reaches the worker's `SignalGuard`: the point is
 handed back as after Ctrl-C, and the next run computes it.
+
+Threads: the workers start with `fem.parallel.worker_env(workers)` in their environment (the
+threads policy's assembly and MKL threads; the user's settings kept).
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from softcrawl.fem.parallel import worker_env
 from softcrawl.studies.sweeps import memory
 from softcrawl.studies.sweeps.faults import SignalGuard, WorkerReport
 
@@ -108,13 +112,17 @@ def run_pool(
         for i in range(workers)
     ]
     total = WorkerReport()
+    saved = dict(os.environ)
     with SignalGuard() as guard:
         handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        os.environ.update(worker_env(workers))  # the threads policy (fem.parallel), inherited at spawn
         try:
             for p in procs:
                 p.start()
         finally:
             signal.signal(signal.SIGINT, handler)
+            os.environ.clear()
+            os.environ.update(saved)
         deadline = None
         while any(p.is_alive() for p in procs):
             if guard.signum and deadline is None:

@@ -44,3 +44,38 @@ def test_pardiso_symmetric_and_unsymmetric_paths_agree_with_superlu(tangent):
     ref.factor(K2)
     x2 = ref.solve(b)
     assert np.linalg.norm(lu.solve(b) - x2) <= 1e-9 * np.linalg.norm(x2)
+
+
+@pytest.mark.skipif(not pardiso_available(), reason="pypardiso not installed")
+def test_a_new_solver_on_the_same_nonsymmetric_pattern_keeps_the_analysis(tangent, monkeypatch):
+    """The non-symmetric analysis depends on the pattern alone: a second solver on it (a crawl's
+    next phase) does not analyse again and solves bit for bit as after an analysis of its own;
+    another pattern is analysed."""
+    import pypardiso
+
+    from softcrawl.fem import linsolve
+
+    model, K, b = tangent
+    K2 = K.copy()
+    K2.pattern = K.pattern
+    K2.data[K2.indptr[5] + 1] *= 1.5  # non-symmetric
+    K3 = K2.copy()
+    K3.pattern = K.pattern
+    K3.data *= 1.0 + 1e-3 * np.random.default_rng(1).random(K3.data.size)
+    phases = []
+    original = pypardiso.PyPardisoSolver.set_phase
+    monkeypatch.setattr(
+        pypardiso.PyPardisoSolver, "set_phase", lambda s, p: (phases.append(p), original(s, p))
+    )
+    linsolve._ANALYSED.clear()
+    first = LinearSolver("pardiso")
+    first.factor(K2)
+    second = LinearSolver("pardiso")
+    second.factor(K3)
+    x_kept = second.solve(b)
+    assert phases.count(11) == 1 and second.cost_ratio == first.cost_ratio
+    linsolve._ANALYSED.clear()
+    fresh = LinearSolver("pardiso")
+    fresh.factor(K3)
+    assert phases.count(11) == 2
+    assert np.array_equal(fresh.solve(b), x_kept)

@@ -170,8 +170,8 @@ def _no_solve(*args, **kwargs):
 def test_resume_without_a_checkpoint_starts_from_the_beginning_and_says_so(tmp_path, capsys, monkeypatch):
     seen = {}
 
-    def fake_run(setup, schedule, folder, *, quick, progress, store, resumed, precision=32):
-        seen.update(setup=setup, store=store, resumed=resumed)
+    def fake_run(setup, schedule, folder, *, quick, progress, store, resumed, precision=32, insertion_cache):
+        seen.update(setup=setup, store=store, resumed=resumed, insertion_cache=insertion_cache)
         return SimpleNamespace(converged=True), {"text": "done"}
 
     monkeypatch.setattr(files, "run_and_write", fake_run)
@@ -179,6 +179,7 @@ def test_resume_without_a_checkpoint_starts_from_the_beginning_and_says_so(tmp_p
     out = capsys.readouterr().out
     assert f"crawl: no checkpoint in {tmp_path / 'out' / 'checkpoints'}; starting from the beginning" in out
     assert seen["resumed"] is None and seen["setup"] == QUICK
+    assert seen["insertion_cache"] is False  # softcrawl crawl computes its insertion unless asked
     assert seen["store"].checkpoints.options == _store(tmp_path).checkpoints.options  # the key of the run
 
 
@@ -190,7 +191,8 @@ def test_a_study_point_resumes_from_its_checkpoint_and_a_memory_stop_names_its_l
 
     calls = []
 
-    def stopped(setup, schedule, folder, *, quick, vtu, store, resumed):
+    def stopped(setup, schedule, folder, *, quick, vtu, store, resumed, insertion_cache):
+        assert insertion_cache is True  # a study point starts from its diameter's cached insertion
         calls.append(resumed)
         cm, recorder = _fakes(2)
         store.save(cm, recorder, 3, "cycle0", _cursor(2), _totals())
