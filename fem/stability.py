@@ -26,7 +26,8 @@ forming it: (S - sigma I)^{-1} v is the displacement part of the solution of
 
     [[A - sigma I, B^T], [B, -C]] [w; q] = [v; 0],
 
-one factorisation of the shifted saddle-point matrix (SuperLU) serves every Lanczos step. The
+one factorisation of the shifted saddle-point matrix (PARDISO's LDL^T, SuperLU without it)
+serves every Lanczos step. The
 eigenvalues nearest sigma come out; with sigma at or below zero and k above the negative count,
 the negative ones are all found, which cross-checks the pivot count.
 """
@@ -72,30 +73,45 @@ def _dense_inertia(A) -> Inertia:
     return Inertia(int(np.sum(lam > tol)), int(np.sum(lam < -tol)), int(np.sum(np.abs(lam) <= tol)))
 
 
-def _pardiso_inertia(A) -> Inertia:
-    import pypardiso  # third-party, loaded only when a large inertia is asked
+class SymmetricFactor:
+    """LDL^T of a symmetric (indefinite) sparse matrix by MKL PARDISO (mtype -2): `inertia` and
+    `solve`; `close()` frees PARDISO's memory. Pivot perturbation 1e-13 (as few perturbed pivots
+    as possible), scaling and weighted matching (advised for saddle-point systems)."""
 
-    T = sp.triu(sp.coo_matrix(A)).tocoo()
-    n = A.shape[0]
-    # PARDISO needs every diagonal entry stored, a zero one too: coo -> csr keeps explicit zeros
-    rows = np.concatenate([T.row, np.arange(n)])
-    cols = np.concatenate([T.col, np.arange(n)])
-    vals = np.concatenate([T.data, np.zeros(n)])
-    U = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
-    U.sort_indices()
-    ps = pypardiso.PyPardisoSolver(mtype=-2)
-    ps.set_iparm(1, 1)  # user-set iparm
-    ps.set_iparm(2, 2)  # METIS ordering
-    ps.set_iparm(10, 13)  # pivot perturbation 1e-13: as few perturbed pivots as possible
-    ps.set_iparm(11, 1)  # scaling and weighted matching (saddle-point systems)
-    ps.set_iparm(13, 1)
-    ps.set_phase(12)  # analysis and numeric factorisation
-    try:
-        ps._call_pardiso(U, np.zeros(U.shape[0]))
-        return Inertia(int(ps.iparm[21]), int(ps.iparm[22]), int(U.shape[0] - ps.iparm[21] - ps.iparm[22]),
-                       int(ps.iparm[13]))  # fmt: skip
-    finally:
-        ps.free_memory(everything=True)
+    def __init__(self, A) -> None:
+        import pypardiso  # third-party, loaded only when a large matrix is factorised
+
+        T = sp.triu(sp.coo_matrix(A)).tocoo()
+        n = A.shape[0]
+        # PARDISO needs every diagonal entry stored, a zero one too: coo -> csr keeps explicit zeros
+        rows = np.concatenate([T.row, np.arange(n)])
+        cols = np.concatenate([T.col, np.arange(n)])
+        vals = np.concatenate([T.data, np.zeros(n)])
+        self.U = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        self.U.sort_indices()
+        ps = self.ps = pypardiso.PyPardisoSolver(mtype=-2)
+        ps.set_iparm(1, 1)  # user-set iparm
+        ps.set_iparm(2, 2)  # METIS ordering
+        ps.set_iparm(10, 13)  # pivot perturbation 1e-13
+        ps.set_iparm(11, 1)  # scaling and weighted matching
+        ps.set_iparm(13, 1)
+        ps.set_phase(12)  # analysis and numeric factorisation
+        ps._call_pardiso(self.U, np.zeros(n))
+        pos, neg = int(ps.iparm[21]), int(ps.iparm[22])
+        self.inertia = Inertia(pos, neg, n - pos - neg, int(ps.iparm[13]))
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        self.ps.set_phase(33)
+        return self.ps._call_pardiso(self.U, np.asfortranarray(b, dtype=float))
+
+    def close(self) -> None:
+        self.ps.free_memory(everything=True)
+
+
+def _pardiso_inertia(A) -> Inertia:
+    f = SymmetricFactor(A)
+    f.close()
+    return f.inertia
 
 
 def inertia(A, method: str | None = None) -> Inertia:
@@ -155,7 +171,11 @@ def lowest_modes(K, iu, ip, k: int, sigma: float = 0.0, tol: float = 1e-8):
     order = np.concatenate([iu, ip])
     Kp = K[order][:, order].tocsc()
     shift = sp.diags(np.concatenate([np.full(nu, sigma), np.zeros(ip.size)]))
-    lu = spla.splu((Kp - shift).tocsc(), permc_spec="MMD_AT_PLUS_A", options=dict(SymmetricMode=True))
+    shifted = (Kp - shift).tocsr()
+    if pardiso_available():
+        lu = SymmetricFactor(shifted)
+    else:
+        lu = spla.splu(shifted.tocsc(), permc_spec="MMD_AT_PLUS_A", options=dict(SymmetricMode=True))
     A = Kp[:nu, :nu]
     if ip.size:
         B = Kp[nu:, :nu]
@@ -177,7 +197,11 @@ def lowest_modes(K, iu, ip, k: int, sigma: float = 0.0, tol: float = 1e-8):
     S = spla.LinearOperator((nu, nu), matvec=s_matvec, dtype=float)
     OPinv = spla.LinearOperator((nu, nu), matvec=op_inv, dtype=float)
     k = min(k, nu - 2)
-    lam, vec = spla.eigsh(S, k=k, sigma=sigma, which="LM", OPinv=OPinv, tol=tol)
+    try:
+        lam, vec = spla.eigsh(S, k=k, sigma=sigma, which="LM", OPinv=OPinv, tol=tol)
+    finally:
+        if isinstance(lu, SymmetricFactor):
+            lu.close()
     order_lam = np.argsort(lam)
     return lam[order_lam], vec[:, order_lam]
 
