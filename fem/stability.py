@@ -69,7 +69,9 @@ def _dense_inertia(A) -> Inertia:
     M = A.toarray() if sp.issparse(A) else np.asarray(A, dtype=float)
     _, D, _ = sla.ldl(M, lower=True)
     lam = np.linalg.eigvalsh(D)  # D is block diagonal (1x1, 2x2): its eigenvalues are cheap
-    tol = ZERO_TOL * max(float(np.abs(np.diag(M)).max(initial=0.0)), float(np.abs(lam).max(initial=0.0)), 1e-300)
+    tol = ZERO_TOL * max(
+        float(np.abs(np.diag(M)).max(initial=0.0)), float(np.abs(lam).max(initial=0.0)), 1e-300
+    )
     return Inertia(int(np.sum(lam > tol)), int(np.sum(lam < -tol)), int(np.sum(np.abs(lam) <= tol)))
 
 
@@ -206,7 +208,9 @@ def lowest_modes(K, iu, ip, k: int, sigma: float = 0.0, tol: float = 1e-8):
     return lam[order_lam], vec[:, order_lam]
 
 
-def stability(K, free_dofs, n_u: int, k: int | None = None, sigma: float = 0.0, method: str | None = None) -> Stability:
+def stability(
+    K, free_dofs, n_u: int, k: int | None = None, sigma: float = 0.0, method: str | None = None
+) -> Stability:
     """Unstable-mode count and the lowest modes of a state whose tangent on the free dofs is K
     (`fem.model.SolidModel.residual_and_tangent`); k modes (default: the unstable count + 4),
     more if some negative ones lie farther from sigma than positive ones (then the lowest is

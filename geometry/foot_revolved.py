@@ -88,7 +88,9 @@ def thickness_cells(design: FootDesign, thickness_layers: int) -> tuple[int, int
         return thickness_layers, 0
     if thickness_layers < 2:
         raise DesignError("thickness_layers", "a grooved skirt needs at least 2 cells: one under the grooves")
-    n_back = min(max(1, round(thickness_layers * design.groove_height / design.skirt_thickness)), thickness_layers - 1)
+    n_back = min(
+        max(1, round(thickness_layers * design.groove_height / design.skirt_thickness)), thickness_layers - 1
+    )
     return thickness_layers - n_back, n_back
 
 

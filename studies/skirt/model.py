@@ -47,7 +47,14 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.fem.stability import Stability, stability
 from softcrawl.geometry.foot_meshers import mesh_foot_with
-from softcrawl.studies.foot.model import AUGMENT, FOOT_NEWTON, MAX_CUTBACKS, MIN_STEP_FRACTION, foot_model, insertion_wall
+from softcrawl.studies.foot.model import (
+    AUGMENT,
+    FOOT_NEWTON,
+    MAX_CUTBACKS,
+    MIN_STEP_FRACTION,
+    foot_model,
+    insertion_wall,
+)
 
 #: Sectors of the mesh on which the axisymmetric inserted state is computed before it is carried
 #: to a finer one (the fewest at which the contact faces' quadrature works, `studies.crawl.mesh`).
@@ -72,8 +79,10 @@ def seeded_mesh(mesh: MeshTet2, shape: np.ndarray, amplitude: float = SEED_MM) -
     """`mesh` with every P2 node moved by `amplitude` * shape / max |shape| (shape (3, n_nodes),
     in the node order of the mesh's P2 basis, which is that of its dof locations)."""
     scale = amplitude / np.linalg.norm(shape, axis=0).max()
-    doflocs = np.asarray(mesh.doflocs) + scale * shape
-    return MeshTet2(doflocs, mesh.t, _boundaries=mesh.boundaries, _subdomains=mesh.subdomains)
+    doflocs = np.ascontiguousarray(np.asarray(mesh.doflocs) + scale * shape)
+    return MeshTet2(
+        doflocs, np.ascontiguousarray(mesh.t), _boundaries=mesh.boundaries, _subdomains=mesh.subdomains
+    )
 
 
 def insert(model, design, pipe: Pipe, steps: int, max_wall_s=None):

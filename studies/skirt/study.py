@@ -6,7 +6,7 @@ from softcrawl.studies.declaration import Study
 STUDIES = (
     Study(
         name="skirt",
-        summary="the foot squeezed into a 60 mm pipe: insertion force, unstable modes and lobes against the mesh",
+        summary="the foot squeezed into a 60 mm pipe: force, unstable modes and lobes against the mesh",
         run="softcrawl.studies.skirt.runs:run_request",
         default_material="rubber-70a",
         tables=("skirt.csv",),

@@ -85,7 +85,9 @@ def test_the_refined_mesh_has_the_asked_sectors_and_cells(sectors, layers):
     mesh = mesh_foot_revolved(design, n_theta=sectors, thickness_layers=layers)
     p = mesh.points
     off_axis = np.hypot(p[:, 0], p[:, 1]) > 1e-6
-    angles = np.round(np.mod(np.arctan2(p[off_axis, 1], p[off_axis, 0]), 2 * np.pi) / (2 * np.pi) * sectors, 6)
+    angles = np.round(
+        np.mod(np.arctan2(p[off_axis, 1], p[off_axis, 0]), 2 * np.pi) / (2 * np.pi) * sectors, 6
+    )
     assert len(np.unique(angles)) == sectors
     assert np.allclose(angles, np.round(angles))
     rim = np.unique(mesh.facets["rim"])
