@@ -65,7 +65,7 @@ SEED_MM = 0.05
 #: Two skirt nodes are "apart" (a fold, not the skirt's own thickness) beyond this (mm).
 APART_MM = 4.5
 #: Node pairs closer than this (mm) are searched for the gap; none: the gap is above it.
-GAP_SEARCH_MM = 3.0
+GAP_SEARCH_MM = 6.0
 SKIRT_TAGS = ("front", "back", "rim")
 TOL_MATCH = 1e-6  # mm: two nodes at the same (rho, z)
 
@@ -85,8 +85,10 @@ def seeded_mesh(mesh: MeshTet2, shape: np.ndarray, amplitude: float = SEED_MM) -
     )
 
 
-def insert(model, design, pipe: Pipe, steps: int, max_wall_s=None):
-    """The foot study's frictionless insertion (the wall shrinks to the pipe): StagedResult."""
+def insert(model, design, pipe: Pipe, steps: int, max_wall_s=None, on_step=None):
+    """The foot study's frictionless insertion (the wall shrinks to the pipe): StagedResult.
+    `on_step(step)` runs after each converged sub-step, while the wall is where that step put
+    it (a force evaluated later would be against the final wall)."""
     wall_at = insertion_wall(pipe, design.tip_radius + 0.5)
     stage = Stage("insert", surfaces={i: wall_at for i in range(len(model.contacts))}, steps=steps)
     return run_stages(
@@ -96,6 +98,7 @@ def insert(model, design, pipe: Pipe, steps: int, max_wall_s=None):
         max_cutbacks=MAX_CUTBACKS,
         max_wall_s=max_wall_s,
         min_step_fraction=MIN_STEP_FRACTION,
+        on_step=on_step,
         **AUGMENT,
     )
 

@@ -56,23 +56,26 @@ def point_name(sectors: int, cells: int) -> str:
     return f"S{sectors}-C{cells}"
 
 
-def rim_wrinkle(model, x) -> float:
-    """Half the largest spread (mm) of the deformed radius around a ring of rim nodes."""
+def rim_wrinkle(model, x, reference) -> float:
+    """Half the largest spread (mm) of the deformed radius around a ring of rim nodes; rings
+    are those of `reference`, the perfect foot's nodes (a seeded foot's own are perturbed)."""
     nodes = model.boundary_nodes("rim")
-    X = model.nodes[:, nodes]
-    xd = X + model.displacement(x)[:, nodes]
+    X = reference[:, nodes]
+    xd = model.nodes[:, nodes] + model.displacement(x)[:, nodes]
     key = np.round(np.column_stack([np.hypot(X[0], X[1]), X[2]]) / sm.TOL_MATCH).astype(np.int64)
     _, ring = np.unique(key, axis=0, return_inverse=True)
     r = np.hypot(xd[0], xd[1])
     return float(max(0.5 * np.ptp(r[ring.reshape(-1) == k]) for k in np.unique(ring)))
 
 
-def describe_state(model, x, design) -> dict:
-    """Force, stability and gap of an equilibrium (the module docstring's item 2)."""
+def describe_state(model, x, design, reference=None) -> dict:
+    """Force, stability and gap of an equilibrium (the module docstring's item 2); lobes and
+    rings are counted on `reference` (the perfect foot's nodes; default the model's own)."""
+    reference = model.nodes if reference is None else reference
     t0 = time.perf_counter()
     release_factorisations()
     st = sm.state_stability(model, x)
-    lobes = [int(np.argmax(sm.lobe_spectrum(model.nodes, sm.mode_field(model, st.modes[:, i]))))
+    lobes = [int(np.argmax(sm.lobe_spectrum(reference, sm.mode_field(model, st.modes[:, i]))))
              for i in range(min(st.n_unstable, N_LOBES_REPORTED, st.modes.shape[1]))]  # fmt: skip
     lowest = sm.mode_field(model, st.modes[:, 0])
     where = int(np.argmax(np.linalg.norm(lowest, axis=0)))
@@ -85,13 +88,14 @@ def describe_state(model, x, design) -> dict:
         "neg_pressure_block": st.pressure_block.negative if st.pressure_block else 0,
         "perturbed_pivots": st.tangent.perturbed + (st.pressure_block.perturbed if st.pressure_block else 0),
         "lowest_eigenvalues": [float(v) for v in st.eigenvalues[: max(st.n_unstable + 2, 4)]],
-        "lobes_lowest": lobes[0] if lobes else int(np.argmax(sm.lobe_spectrum(model.nodes, lowest))),
+        "lobes_lowest": lobes[0] if lobes else int(np.argmax(sm.lobe_spectrum(reference, lowest))),
         "lobes_unstable": lobes,
         "lowest_mode_rho_over_tip": rho / design.tip_radius,
         "lowest_mode_z_mm": float(model.nodes[2, where]),
-        "rim_wrinkle_mm": rim_wrinkle(model, x),
+        "rim_wrinkle_mm": rim_wrinkle(model, x, reference),
         "self_gap_mm": gap.gap,
         "self_gap_tags": "/".join(gap.tags),
+        "gap_search_mm": sm.GAP_SEARCH_MM,
         "stability_s": time.perf_counter() - t0,
         "_mode": lowest,
     }
@@ -151,14 +155,20 @@ def run_point(
     if seeded and row["n_unstable"] > 0:
         release_factorisations()
         imperfect = sm.build_model(sm.seeded_mesh(mesh, mode), material, design)
-        res2 = sm.insert(imperfect, design, pipe, INSERT_STEPS)
+        path_rows = []
+
+        def record(step):
+            wall = design.tip_radius + 0.5 + step.s * (pipe.radius - design.tip_radius - 0.5)
+            wrinkle = rim_wrinkle(imperfect, step.x, model.nodes)
+            path_rows.append((float(wall), sm.normal_force(imperfect, step.x), wrinkle))
+
+        res2 = sm.insert(imperfect, design, pipe, INSERT_STEPS, on_step=record)
         row |= {"seeded_converged": bool(res2.converged), "seeded_message": res2.message}
-        row["seeded_force_path_n"] = [sm.normal_force(imperfect, s.x) for s in res2.steps]
-        row["seeded_wall_radius_path_mm"] = [
-            float(design.tip_radius + 0.5 + s.s * (pipe.radius - design.tip_radius - 0.5)) for s in res2.steps
-        ]
+        row["seeded_wall_radius_path_mm"] = [r[0] for r in path_rows]
+        row["seeded_force_path_n"] = [r[1] for r in path_rows]
+        row["seeded_rim_wrinkle_path_mm"] = [r[2] for r in path_rows]
         if res2.converged:
-            more = describe_state(imperfect, res2.x, design)
+            more = describe_state(imperfect, res2.x, design, model.nodes)
             more.pop("_mode")
             row |= {f"seeded_{k}": v for k, v in more.items()}
     return row | {"wall_s": time.perf_counter() - t0, "peak_rss_mb": _peak_mb()}
@@ -192,19 +202,30 @@ def run_skirt(out, *, material=None, quick: bool = False, ladder=None, progress:
     return write_outputs(folder, full)
 
 
+def _gap(value, radius=sm.GAP_SEARCH_MM) -> str:
+    """A gap in mm; None (JSON's inf) is beyond the search radius."""
+    return f"> {radius:g} mm" if value is None or value == float("inf") else f"{value:.3g} mm"
+
+
 def _line(r: dict) -> str:
     if not r.get("converged"):
         return f"not converged: {r.get('message', '')}"
+    if r.get("lowest_eigenvalues") is None:
+        return f"{r['n_dofs']} dofs, force {r['insertion_force_n']:.2f} N (stability not computed)"
     text = (
         f"{r['n_dofs']} dofs, force {r['insertion_force_n']:.2f} N, {r['n_unstable']} unstable modes, "
         f"lowest {r['lowest_eigenvalues'][0]:.3g} N/mm with {r['lobes_lowest']} lobes, "
-        f"gap {r['self_gap_mm']:.3g} mm"
+        f"gap {_gap(r['self_gap_mm'], r.get('gap_search_mm'))}"
     )
     if "seeded_converged" in r:
-        text += (f"; seeded: {'converged' if r['seeded_converged'] else 'stopped'}"
-                 + (f", force {r['seeded_insertion_force_n']:.2f} N, {r['seeded_n_unstable']} unstable, "
-                    f"rim wrinkle {r['seeded_rim_wrinkle_mm']:.3g} mm, lobes {r['seeded_lobes_lowest']}, "
-                    f"gap {r['seeded_self_gap_mm']:.3g} mm" if r["seeded_converged"] else ""))  # fmt: skip
+        text += f"; seeded: {'converged' if r['seeded_converged'] else 'stopped'}"
+        if r["seeded_converged"]:
+            text += (
+                f", force {r['seeded_insertion_force_n']:.2f} N, {r['seeded_n_unstable']} unstable, "
+                f"rim wrinkle {r.get('seeded_rim_wrinkle_mm', float('nan')):.3g} mm, "
+                f"lobes {r.get('seeded_lobes_lowest', '-')}, "
+                f"gap {_gap(r['seeded_self_gap_mm'], r.get('gap_search_mm'))}"
+            )
     return text
 
 
