@@ -193,6 +193,16 @@ _OWNER: dict = {}  # matrix type -> the LinearSolver whose factorisation the han
 _ANALYSED: dict = {}  # matrix type -> (pattern key, cost ratio) of the analysis the handle holds
 
 
+def release_factorisations() -> None:
+    """Free the memory of PARDISO's process-wide handles (their factors); a solver that held
+    one analyses its pattern again at its next `factor`. For a caller that factorises another
+    large matrix next (`fem.stability`)."""
+    for mtype, owner in list(_OWNER.items()):
+        _pardiso_handle(mtype).free_memory(everything=True)
+        owner._analysed_pattern, owner._A = None, None
+    _OWNER.clear()
+
+
 class StepSolver:
     """The linear solves of Newton's method on one model (module docstring): `solve(K, B, rtol,
     weights)` returns X with ||W (K X - B)|| <= rtol ||W B|| per column, by a factorisation of K

@@ -21,8 +21,10 @@ into bilinear quadrilateral blocks, each split into `n_xi` x `n_eta` cells:
   hub      rho in [r_bore, r_hub], z in [-t_hub, 0], its z levels those of the skirt root
            (so the blocks conform) plus the hub side below the skirt; radial cells of
            `HUB_CELL_FACTOR` x `cell_size` (the hub top is held by the actuators).
-The depth levels are the same in every skirt block: `thickness_layers` cells of about t / layers,
-split at d = t - h so that a groove removes whole cells. Each quadrilateral is cut along its
+The depth levels are the same in every skirt block: exactly `thickness_layers` cells through a
+land, split at d = t - h so that a groove removes whole cells (`thickness_cells`: the depth h
+takes round(layers h / t) of them, at least one; before issue 29 the count was only about
+t / layers per cell, and 4 asked layers gave 5 cells). Each quadrilateral is cut along its
 shorter diagonal; duplicate nodes of neighbouring blocks are merged.
 
 Revolution. The section's triangles are swept through `n_theta` equal sectors; each prism
@@ -78,6 +80,20 @@ def _block(corners: np.ndarray, xi: np.ndarray, eta: np.ndarray) -> tuple[np.nda
     return pts.reshape(-1, 2), quads
 
 
+def thickness_cells(design: FootDesign, thickness_layers: int) -> tuple[int, int]:
+    """(cells from the front face to the groove bottoms, cells across the groove depth h), which
+    sum to `thickness_layers` exactly: the depth h takes round(layers * h / t) cells, at least one
+    (none without grooves)."""
+    if not design.n_grooves or design.groove_height <= 0:
+        return thickness_layers, 0
+    if thickness_layers < 2:
+        raise DesignError("thickness_layers", "a grooved skirt needs at least 2 cells: one under the grooves")
+    n_back = min(
+        max(1, round(thickness_layers * design.groove_height / design.skirt_thickness)), thickness_layers - 1
+    )
+    return thickness_layers - n_back, n_back
+
+
 def foot_section(
     design: FootDesign, thickness_layers: int = THICKNESS_LAYERS, cell_size: float = CELL_SIZE
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -92,10 +108,10 @@ def foot_section(
     def S(s: float, d: float) -> np.ndarray:
         return F0 + s * u - d * n
 
-    layer = t / thickness_layers
+    n_front, n_back = thickness_cells(design, thickness_layers)
     back_depth = h if design.n_grooves else 0.0
-    d_front = np.linspace(0.0, t - back_depth, _divisions(t - back_depth, layer) + 1)
-    d_back = np.linspace(t - back_depth, t, _divisions(back_depth, layer) + 1)[1:] if back_depth else []
+    d_front = np.linspace(0.0, t - back_depth, n_front + 1)
+    d_back = np.linspace(t - back_depth, t, n_back + 1)[1:] if back_depth else []
     d_all = np.concatenate([d_front, d_back])
     eta_all, eta_groove = d_all / t, d_front / t
 
@@ -188,6 +204,7 @@ def mesh_foot_revolved(
         raise DesignError(
             "thickness_layers", f"needs at least 1 cell through the skirt, got {thickness_layers!r}"
         )
+    thickness_cells(design, thickness_layers)
     if not (isinstance(cell_size, (int, float)) and math.isfinite(cell_size) and cell_size > 0):
         raise DesignError("cell_size", f"must be a positive length in mm, got {cell_size!r}")
     xy, tris = foot_section(design, thickness_layers, float(cell_size))

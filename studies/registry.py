@@ -24,6 +24,7 @@ from softcrawl.studies.sweeps.spec import StudyError
 STUDY_MODULES = (
     "softcrawl.studies.epsa.study",
     "softcrawl.studies.foot.study",
+    "softcrawl.studies.skirt.study",
     "softcrawl.studies.robot_fe.study",
     "softcrawl.studies.crawl.study",
     "softcrawl.studies.material.study",

@@ -63,18 +63,44 @@ def test_the_mesh_conforms_and_every_boundary_facet_has_one_tag():
     assert len(np.unique(np.sort(tagged, axis=1), axis=0)) == len(boundary)
 
 
-@pytest.mark.parametrize("layers", [2, 3, 4])
+@pytest.mark.parametrize("layers", [2, 3, 4, 5, 6])
 def test_cells_through_the_skirt(layers):
     design = FootDesign()
     xy, tris = foot_section(design, thickness_layers=layers)
-    # nodes on the rim (the skirt's end cross-section): layers + 1, or + 2 where d = t - h splits a cell
+    # nodes on the rim (the skirt's end cross-section, a land): exactly layers + 1
     a = math.radians(design.angle / 2)
     u = np.array([math.sin(a), -math.cos(a)])
     tip = np.array([design.hub_radius, 0.0]) + design.front_face_length * u
     on_rim = np.abs((xy - tip) @ u) < 1e-9
-    assert layers + 1 <= on_rim.sum() <= layers + 2
+    assert on_rim.sum() == layers + 1
     mesh = mesh_foot_revolved(design, n_theta=24, thickness_layers=layers)
-    assert len(mesh.facets["rim"]) == 2 * (on_rim.sum() - 1) * 24
+    assert len(mesh.facets["rim"]) == 2 * layers * 24
+
+
+@pytest.mark.parametrize(("sectors", "layers"), [(96, 4), (128, 6)])
+def test_the_refined_mesh_has_the_asked_sectors_and_cells(sectors, layers):
+    """Count them on the mesh itself: distinct vertex angles, and distinct depths of the rim's
+    vertices below the front face."""
+    design = FootDesign()
+    mesh = mesh_foot_revolved(design, n_theta=sectors, thickness_layers=layers)
+    p = mesh.points
+    off_axis = np.hypot(p[:, 0], p[:, 1]) > 1e-6
+    angles = np.round(
+        np.mod(np.arctan2(p[off_axis, 1], p[off_axis, 0]), 2 * np.pi) / (2 * np.pi) * sectors, 6
+    )
+    assert len(np.unique(angles)) == sectors
+    assert np.allclose(angles, np.round(angles))
+    rim = np.unique(mesh.facets["rim"])
+    rz = np.column_stack([np.hypot(p[rim, 0], p[rim, 1]), p[rim, 2]])
+    a = math.radians(design.angle / 2)
+    n = np.array([math.cos(a), math.sin(a)])
+    depth = -(rz - np.array([design.hub_radius, 0.0])) @ n
+    assert len(np.unique(np.round(depth, 9))) == layers + 1  # layers cells through the skirt
+
+
+def test_a_grooved_skirt_needs_two_cells():
+    with pytest.raises(DesignError, match="thickness_layers"):
+        mesh_foot_revolved(FootDesign(), n_theta=24, thickness_layers=1)
 
 
 def test_grooves_are_cut_to_their_depth():

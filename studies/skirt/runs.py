@@ -1,0 +1,252 @@
+r"""`softcrawl study skirt`: the squeezed skirt's stability against the mesh (`studies.skirt.model`).
+
+For each mesh of the ladder (sectors around the axis x cells through the skirt) one point:
+  1. the inserted state in the 60 mm pipe: directly (`model.insert`, the foot study's path) on
+     meshes of `SOURCE_SECTORS` or listed in `DIRECT`, else carried from the insertion on the
+     `SOURCE_SECTORS` mesh with the same cells (`map_axisymmetric`) and settled by Newton;
+  2. its insertion force (N), unstable-mode count neg(K) - neg(K_pp), lowest eigenvalues and the
+     lobe count of each unstable mode, and the closest approach of the skirt to itself;
+  3. on meshes in `SEEDED` with an unstable mode: the lowest mode seeded into the geometry
+     (`SEED_MM`) and the insertion followed again: force, unstable count, the rim's wrinkle
+     (half the spread of its deformed radius around a ring) and lobe count, and the gap.
+Each point is written to DIR/skirt/MATERIAL[-quick]/points/S<sectors>-C<cells>.json when it is
+done; a run again computes only the missing ones. skirt.csv gathers them (one row per mesh,
+the seeded path's columns prefixed "seeded_"), with the wall time and the process's peak memory.
+"""
+
+from __future__ import annotations
+
+import json
+import resource
+import time
+from pathlib import Path
+
+import numpy as np
+
+from softcrawl import jsonio
+from softcrawl.analytic.pipe import Pipe
+from softcrawl.fem.linsolve import release_factorisations
+from softcrawl.geometry.design import FootDesign
+from softcrawl.materials import get_material
+from softcrawl.materials.fem_law import solid_law
+from softcrawl.studies.declaration import StudyRequest
+from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.skirt import model as sm
+from softcrawl.studies.sweeps.tables import write_csv
+
+DEFAULT_MATERIAL = "rubber-70a"
+PIPE_MM = 60.0
+INSERT_STEPS = 8
+#: (sectors, cells through the skirt): the foot study's default mesh first.
+LADDER = ((48, 3), (24, 3), (96, 3), (96, 4), (128, 4), (96, 6), (128, 6))
+QUICK_LADDER = ((24, 3), (48, 3))
+#: Meshes inserted directly as well as the source ones: the default mesh, the check of the carried state.
+DIRECT = ((48, 3),)
+#: Meshes on which the lowest unstable mode is seeded and the insertion followed again.
+SEEDED = ((48, 3),)
+QUICK_SEEDED = ((48, 3),)
+N_LOBES_REPORTED = 12  # unstable modes whose lobe count is listed
+
+
+def _peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def point_name(sectors: int, cells: int) -> str:
+    return f"S{sectors}-C{cells}"
+
+
+def rim_wrinkle(model, x, reference) -> float:
+    """Half the largest spread (mm) of the deformed radius around a ring of rim nodes; rings
+    are those of `reference`, the perfect foot's nodes (a seeded foot's own are perturbed)."""
+    nodes = model.boundary_nodes("rim")
+    X = reference[:, nodes]
+    xd = model.nodes[:, nodes] + model.displacement(x)[:, nodes]
+    key = np.round(np.column_stack([np.hypot(X[0], X[1]), X[2]]) / sm.TOL_MATCH).astype(np.int64)
+    _, ring = np.unique(key, axis=0, return_inverse=True)
+    r = np.hypot(xd[0], xd[1])
+    return float(max(0.5 * np.ptp(r[ring.reshape(-1) == k]) for k in np.unique(ring)))
+
+
+def describe_state(model, x, design, reference=None) -> dict:
+    """Force, stability and gap of an equilibrium (the module docstring's item 2); lobes and
+    rings are counted on `reference` (the perfect foot's nodes; default the model's own)."""
+    reference = model.nodes if reference is None else reference
+    t0 = time.perf_counter()
+    release_factorisations()
+    st = sm.state_stability(model, x)
+    lobes = [int(np.argmax(sm.lobe_spectrum(reference, sm.mode_field(model, st.modes[:, i]))))
+             for i in range(min(st.n_unstable, N_LOBES_REPORTED, st.modes.shape[1]))]  # fmt: skip
+    lowest = sm.mode_field(model, st.modes[:, 0])
+    where = int(np.argmax(np.linalg.norm(lowest, axis=0)))
+    rho = float(np.hypot(*model.nodes[:2, where]))
+    gap = sm.self_gap(model, x)
+    return {
+        "insertion_force_n": sm.normal_force(model, x),
+        "n_unstable": st.n_unstable,
+        "neg_tangent": st.tangent.negative,
+        "neg_pressure_block": st.pressure_block.negative if st.pressure_block else 0,
+        "perturbed_pivots": st.tangent.perturbed + (st.pressure_block.perturbed if st.pressure_block else 0),
+        "lowest_eigenvalues": [float(v) for v in st.eigenvalues[: max(st.n_unstable + 2, 4)]],
+        "lobes_lowest": lobes[0] if lobes else int(np.argmax(sm.lobe_spectrum(reference, lowest))),
+        "lobes_unstable": lobes,
+        "lowest_mode_rho_over_tip": rho / design.tip_radius,
+        "lowest_mode_z_mm": float(model.nodes[2, where]),
+        "rim_wrinkle_mm": rim_wrinkle(model, x, reference),
+        "self_gap_mm": gap.gap,
+        "self_gap_tags": "/".join(gap.tags),
+        "gap_search_mm": sm.GAP_SEARCH_MM,
+        "stability_s": time.perf_counter() - t0,
+        "_mode": lowest,
+    }
+
+
+def _insert_source(cells: int, material, design, pipe, sources: dict):
+    """The inserted state on the `SOURCE_SECTORS` mesh with `cells` cells: (model, x, result),
+    computed once per run (kept in `sources`)."""
+    if cells not in sources:
+        model = sm.build_model(sm.foot_mesh(design, sm.SOURCE_SECTORS, cells), material, design)
+        sources[cells] = (model, sm.insert(model, design, pipe, INSERT_STEPS))
+    return sources[cells]
+
+
+def run_point(
+    sectors: int,
+    cells: int,
+    material,
+    design,
+    pipe,
+    sources: dict,
+    seeded: bool,
+    direct: bool,
+    progress=False,
+) -> dict:
+    t0 = time.perf_counter()
+    if sectors == sm.SOURCE_SECTORS:
+        model, res = _insert_source(cells, material, design, pipe, sources)
+        mesh, path = model.mesh, "inserted"
+    else:
+        mesh = sm.foot_mesh(design, sectors, cells)
+        model = sm.build_model(mesh, material, design)
+        if direct:
+            res, path = sm.insert(model, design, pipe, INSERT_STEPS), "inserted"
+        else:
+            src_model, src = _insert_source(cells, material, design, pipe, sources)
+            if not src.converged:
+                message = f"the {sm.SOURCE_SECTORS}-sector source did not converge: {src.message}"
+                return {"sectors": sectors, "cells": cells, "converged": False, "message": message}
+            release_factorisations()
+            res = sm.settle(model, pipe, sm.map_axisymmetric(src_model, src.x, model))
+            path = f"carried from {sm.SOURCE_SECTORS} sectors, settled"
+    row = {"sectors": sectors, "cells": cells, "n_dofs": int(model.n_dofs), "path": path}
+    row |= {
+        "converged": bool(res.converged),
+        "message": res.message,
+        "newton_iterations": res.newton_iterations,
+    }
+    if not res.converged:
+        return row | {"wall_s": time.perf_counter() - t0, "peak_rss_mb": _peak_mb()}
+    x = res.x
+    info = describe_state(model, x, design)
+    mode = info.pop("_mode")
+    row |= info
+    if progress:
+        print(f"skirt: {point_name(sectors, cells)} inserted: {_line(row)}", flush=True)
+    if seeded and row["n_unstable"] > 0:
+        release_factorisations()
+        imperfect = sm.build_model(sm.seeded_mesh(mesh, mode), material, design)
+        path_rows = []
+
+        def record(step):
+            wall = design.tip_radius + 0.5 + step.s * (pipe.radius - design.tip_radius - 0.5)
+            wrinkle = rim_wrinkle(imperfect, step.x, model.nodes)
+            path_rows.append((float(wall), sm.normal_force(imperfect, step.x), wrinkle))
+
+        res2 = sm.insert(imperfect, design, pipe, INSERT_STEPS, on_step=record)
+        row |= {"seeded_converged": bool(res2.converged), "seeded_message": res2.message}
+        row["seeded_wall_radius_path_mm"] = [r[0] for r in path_rows]
+        row["seeded_force_path_n"] = [r[1] for r in path_rows]
+        row["seeded_rim_wrinkle_path_mm"] = [r[2] for r in path_rows]
+        if res2.converged:
+            more = describe_state(imperfect, res2.x, design, model.nodes)
+            more.pop("_mode")
+            row |= {f"seeded_{k}": v for k, v in more.items()}
+    return row | {"wall_s": time.perf_counter() - t0, "peak_rss_mb": _peak_mb()}
+
+
+def run_skirt(out, *, material=None, quick: bool = False, ladder=None, progress: bool = True) -> StudyOutcome:
+    material = material or DEFAULT_MATERIAL
+    folder = Path(out) / "skirt" / (material + ("-quick" if quick else ""))
+    (folder / "points").mkdir(parents=True, exist_ok=True)
+    full = QUICK_LADDER if quick else LADDER
+    ladder = tuple(ladder or full)  # a subset computes only those (two processes share a run)
+    seeded = QUICK_SEEDED if quick else SEEDED
+    spec = {"study": "skirt", "material": material, "pipe_mm": PIPE_MM, "ladder": [list(m) for m in full],
+            "direct": [list(m) for m in DIRECT], "seeded": [list(m) for m in seeded], "seed_mm": sm.SEED_MM,
+            "insert_steps": INSERT_STEPS}  # fmt: skip
+    jsonio.write(folder / "spec.json", spec)
+    design, pipe = FootDesign(), Pipe(diameter=PIPE_MM)
+    law = solid_law(get_material(material), hyperelastic_only=True)
+    sources: dict = {}
+    for s, c in ladder:
+        path = folder / "points" / f"{point_name(s, c)}.json"
+        if path.exists():
+            continue
+        if progress:
+            print(f"skirt: {s} sectors x {c} cells ...", flush=True)
+        row = run_point(s, c, law, design, pipe, sources, (s, c) in seeded, (s, c) in DIRECT, progress)
+        jsonio.write(path, row)
+        write_outputs(folder, full)
+        if progress:
+            print(f"skirt: {point_name(s, c)}: {_line(row)}", flush=True)
+    return write_outputs(folder, full)
+
+
+def _gap(value, radius=sm.GAP_SEARCH_MM) -> str:
+    """A gap in mm; None (JSON's inf) is beyond the search radius."""
+    return f"> {radius:g} mm" if value is None or value == float("inf") else f"{value:.3g} mm"
+
+
+def _line(r: dict) -> str:
+    if not r.get("converged"):
+        return f"not converged: {r.get('message', '')}"
+    if r.get("lowest_eigenvalues") is None:
+        return f"{r['n_dofs']} dofs, force {r['insertion_force_n']:.2f} N (stability not computed)"
+    text = (
+        f"{r['n_dofs']} dofs, force {r['insertion_force_n']:.2f} N, {r['n_unstable']} unstable modes, "
+        f"lowest {r['lowest_eigenvalues'][0]:.3g} N/mm with {r['lobes_lowest']} lobes, "
+        f"gap {_gap(r['self_gap_mm'], r.get('gap_search_mm'))}"
+    )
+    if "seeded_converged" in r:
+        text += f"; seeded: {'converged' if r['seeded_converged'] else 'stopped'}"
+        if r["seeded_converged"]:
+            text += (
+                f", force {r['seeded_insertion_force_n']:.2f} N, {r['seeded_n_unstable']} unstable, "
+                f"rim wrinkle {r.get('seeded_rim_wrinkle_mm', float('nan')):.3g} mm, "
+                f"lobes {r.get('seeded_lobes_lowest', '-')}, "
+                f"gap {_gap(r['seeded_self_gap_mm'], r.get('gap_search_mm'))}"
+            )
+    return text
+
+
+def write_outputs(folder: Path, ladder) -> StudyOutcome:
+    rows, lines = [], []
+    for s, c in ladder:
+        path = folder / "points" / f"{point_name(s, c)}.json"
+        if not path.exists():
+            lines.append(f"{point_name(s, c)}: not computed")
+            continue
+        r = json.loads(path.read_text())
+        rows.append({k: (";".join(map(str, v)) if isinstance(v, list) else v) for k, v in r.items()})
+        lines.append(f"{point_name(s, c)}: {_line(r)}")
+    written = [write_csv(rows, folder / "skirt.csv")]
+    failed = tuple(
+        f"{r['sectors']} x {r['cells']}: {r.get('message', '')}" for r in rows if not r.get("converged")
+    )
+    missing = len(rows) < len(ladder)
+    return StudyOutcome(tuple(lines), tuple(written), not failed and not missing, failed)
+
+
+def run_request(request: StudyRequest) -> StudyOutcome:
+    """`softcrawl study skirt` (the registry's entry point)."""
+    return run_skirt(request.out, material=request.material, quick=request.quick, progress=request.progress)
