@@ -218,14 +218,16 @@ def _study_names() -> dict[str, str]:
 
 def _study_block(folder: Path, name: str) -> str:
     spec = json.loads((folder / "spec.json").read_text())
-    material = spec["settings"].get("material")
-    quick = bool(spec["settings"].get("quick")) or spec["settings"].get("mesh") == "quick"
+    # a sweep's spec keeps its settings apart; a study that is not a sweep (skirt) writes them flat
+    settings = spec.get("settings", spec)
+    material = settings.get("material")
+    quick = bool(settings.get("quick")) or settings.get("mesh") == "quick"
     head = f"<h3>{esc(study_title(name, material, quick))}</h3>"
-    command = study_command(_study_names().get(name, name), material, quick, spec["settings"])
+    command = study_command(_study_names().get(name, name), material, quick, settings)
     body = [f"<p>Material {esc(material_label(material))}. Command: <code>{esc(command)}</code></p>"]
     for png in sorted(folder.glob("*.png")):
         body.append(figure(png, f"{folder.relative_to(folder.parents[1])}/{png.name}"))
-    for name_csv in ("summary.csv", "identification.csv", "pareto.csv"):
+    for name_csv in ("summary.csv", "identification.csv", "pareto.csv", "skirt.csv"):
         if (folder / name_csv).exists():
             body.append(f"<p><code>{name_csv}</code></p>" + table(csv_rows(folder / name_csv)))
     return head + "".join(body)
