@@ -47,9 +47,7 @@ class _Solver:
 
     def load_step(self, x, P, f):
         term = self.model.contacts[0] if self.model.contacts else None
-        self.calls.append(
-            SimpleNamespace(x=np.array(x), P=np.array(P), f=f, surface=term and term.surface)
-        )
+        self.calls.append(SimpleNamespace(x=np.array(x), P=np.array(P), f=f, surface=term and term.surface))
         if self.diverge is not None and self.diverge(f, len(self.calls)):
             if term is not None:
                 term.multiplier += 5.0
@@ -98,7 +96,13 @@ def test_loads_move_linearly_from_each_stage_start_to_its_end(monkeypatch):
         ([0.4, 0.1], 0.75),
         ([0.4, 0.1], 0.5),
     ]
-    assert [(st.stage, st.s) for st in res.steps] == [("a", 0.5), ("a", 1.0), ("b", 1.0), ("c", 0.5), ("c", 1.0)]
+    assert [(st.stage, st.s) for st in res.steps] == [
+        ("a", 0.5),
+        ("a", 1.0),
+        ("b", 1.0),
+        ("c", 0.5),
+        ("c", 1.0),
+    ]
     last = res.steps[-1]
     assert last.pressure.tolist() == [0.4, 0.1] and last.factor == 0.5
     assert np.array_equal(last.x, [0.5, 0.4, 5.0]) and np.array_equal(res.x, last.x)
@@ -116,7 +120,9 @@ def test_a_model_without_chambers_has_one_zero_pressure(monkeypatch):
 
 def test_the_options_and_the_start_state_reach_the_solver(monkeypatch):
     opt = NewtonOptions(max_iter=7)
-    _, solver = _run(monkeypatch, _model(), [cs.Stage("a", factor=1.0)], options=opt, x0=np.array([1.0, 2, 3]))
+    _, solver = _run(
+        monkeypatch, _model(), [cs.Stage("a", factor=1.0)], options=opt, x0=np.array([1.0, 2, 3])
+    )
     assert solver.options is opt and solver.calls[0].x.tolist() == [1.0, 2.0, 3.0]
     _, solver = _run(monkeypatch, _model(), [cs.Stage("a", factor=1.0)])
     assert solver.options == NewtonOptions() and solver.calls[0].x.tolist() == [0.0, 0.0, 0.0]
@@ -245,9 +251,16 @@ def test_cursors_say_where_the_run_stands(monkeypatch):
     cursors = []
     stages = [cs.Stage("a", pressure=0.2, factor=1.0, steps=2), cs.Stage("b", factor=3.0, steps=2)]
     res, solver = _run(monkeypatch, _model(), stages, on_cursor=cursors.append)
-    assert [(c.stage, c.t, c.h) for c in cursors] == [(0, 0.5, 0.5), (0, 1.0, 0.5), (1, 0.5, 0.5), (1, 1.0, 0.5)]
+    assert [(c.stage, c.t, c.h) for c in cursors] == [
+        (0, 0.5, 0.5),
+        (0, 1.0, 0.5),
+        (1, 0.5, 0.5),
+        (1, 1.0, 0.5),
+    ]
     c = cursors[2]
-    assert np.array_equal(c.x, res.steps[2].x) and c.prev_t == 0.0 and np.array_equal(c.prev_x, res.steps[1].x)
+    assert (
+        np.array_equal(c.x, res.steps[2].x) and c.prev_t == 0.0 and np.array_equal(c.prev_x, res.steps[1].x)
+    )
     assert c.P0.tolist() == [0.2] and c.f0 == 1.0 and c.P.tolist() == [0.2] and c.f == 2.0
     assert (c.newton_iterations, c.assembly_s, c.solve_s) == (6, 0.75, 1.5)
     assert cursors[0].prev_t == 0.0 and np.array_equal(cursors[0].prev_x, np.zeros(3))
@@ -261,9 +274,20 @@ def test_a_resumed_stage_continues_from_the_cursor_without_setting_friction(monk
         cs.Stage("c", friction={0: 0.2}),
     ]
     start = cs.Cursor(
-        stage=1, t=0.5, h=0.25, x=np.array([2.0, 0.0, 20.0]), prev_t=0.25, prev_x=np.array([1.5, 0.0, 15.0]),
-        P0=np.array([0.0]), f0=1.0, P=np.array([0.0]), f=2.0, newton_iterations=0, assembly_s=0.0, solve_s=0.0,
-    )  # fmt: skip
+        stage=1,
+        t=0.5,
+        h=0.25,
+        x=np.array([2.0, 0.0, 20.0]),
+        prev_t=0.25,
+        prev_x=np.array([1.5, 0.0, 15.0]),
+        P0=np.array([0.0]),
+        f0=1.0,
+        P=np.array([0.0]),
+        f=2.0,
+        newton_iterations=0,
+        assembly_s=0.0,
+        solve_s=0.0,
+    )
     res, solver = _run(monkeypatch, _model(term=term), stages, start=start, x0=np.full(3, 9.0))
     assert res.converged
     assert [c.f for c in solver.calls] == [2.5, 3.0, 3.0]  # stage a skipped; b from t = 0.5 with h = 0.25
@@ -273,11 +297,27 @@ def test_a_resumed_stage_continues_from_the_cursor_without_setting_friction(monk
 
 def test_a_resumed_run_that_fails_at_once_names_the_cursor(monkeypatch):
     start = cs.Cursor(
-        stage=0, t=0.5, h=0.5, x=np.zeros(3), prev_t=None, prev_x=None,
-        P0=np.array([0.0]), f0=0.0, P=np.array([0.0]), f=0.5, newton_iterations=0, assembly_s=0.0, solve_s=0.0,
-    )  # fmt: skip
+        stage=0,
+        t=0.5,
+        h=0.5,
+        x=np.zeros(3),
+        prev_t=None,
+        prev_x=None,
+        P0=np.array([0.0]),
+        f0=0.0,
+        P=np.array([0.0]),
+        f=0.5,
+        newton_iterations=0,
+        assembly_s=0.0,
+        solve_s=0.0,
+    )
     res, solver = _run(
-        monkeypatch, _model(), [cs.Stage("a", factor=1.0)], start=start, diverge=lambda f, n: True, max_cutbacks=0
+        monkeypatch,
+        _model(),
+        [cs.Stage("a", factor=1.0)],
+        start=start,
+        diverge=lambda f, n: True,
+        max_cutbacks=0,
     )
     assert solver.calls[0].f == 1.0 and solver.calls[0].x.tolist() == [0.0, 0.0, 0.0]
     assert res.message == "stage 'a' diverged (scripted); last converged: stage 'a' at s = 0.5"
@@ -287,9 +327,20 @@ def test_a_resumed_run_that_fails_at_once_names_the_cursor(monkeypatch):
 def test_a_cursor_outside_the_stages_is_refused(monkeypatch, index):
     monkeypatch.setattr(cs, "NewtonSolver", _Solver)
     start = cs.Cursor(
-        stage=index, t=0.0, h=1.0, x=np.zeros(3), prev_t=None, prev_x=None,
-        P0=np.zeros(1), f0=0.0, P=np.zeros(1), f=0.0, newton_iterations=0, assembly_s=0.0, solve_s=0.0,
-    )  # fmt: skip
+        stage=index,
+        t=0.0,
+        h=1.0,
+        x=np.zeros(3),
+        prev_t=None,
+        prev_x=None,
+        P0=np.zeros(1),
+        f0=0.0,
+        P=np.zeros(1),
+        f=0.0,
+        newton_iterations=0,
+        assembly_s=0.0,
+        solve_s=0.0,
+    )
     with pytest.raises(SolverInputError, match=f"stage {index} of a run of 2 stages"):
         cs.run_stages(_model(), [cs.Stage("a"), cs.Stage("b")], start=start)
 
@@ -313,7 +364,11 @@ def test_a_stage_needs_a_sub_step():
     with pytest.raises(SolverInputError, match="stage.steps") as err:
         cs.Stage("press", steps=0)
     assert "press: needs at least one sub-step" in str(err.value)
-    assert cs.Stage("press").steps == 1 and cs.Stage("press").pressure is None and cs.Stage("press").factor is None
+    assert (
+        cs.Stage("press").steps == 1
+        and cs.Stage("press").pressure is None
+        and cs.Stage("press").factor is None
+    )
 
 
 def test_a_result_without_steps_reports_its_end_state():
@@ -384,9 +439,20 @@ def test_each_bad_input_is_one_error_with_its_parameter_and_detail(monkeypatch, 
 def test_a_cursor_past_the_stages_is_one_error_with_its_detail(monkeypatch):
     monkeypatch.setattr(cs, "NewtonSolver", _Solver)
     start = cs.Cursor(
-        stage=1, t=0.0, h=1.0, x=np.zeros(3), prev_t=None, prev_x=None,
-        P0=np.zeros(1), f0=0.0, P=np.zeros(1), f=0.0, newton_iterations=0, assembly_s=0.0, solve_s=0.0,
-    )  # fmt: skip
+        stage=1,
+        t=0.0,
+        h=1.0,
+        x=np.zeros(3),
+        prev_t=None,
+        prev_x=None,
+        P0=np.zeros(1),
+        f0=0.0,
+        P=np.zeros(1),
+        f=0.0,
+        newton_iterations=0,
+        assembly_s=0.0,
+        solve_s=0.0,
+    )
     with pytest.raises(SolverInputError) as err:
         cs.run_stages(_model(), [cs.Stage("a")], start=start)
     assert err.value.parameter == "start" and err.value.detail == "stage 1 of a run of 1 stages"
@@ -396,7 +462,9 @@ def test_a_stage_without_sub_steps_is_one_error_with_its_detail():
     for steps in (0, -2, 0.5):
         with pytest.raises(SolverInputError) as err:
             cs.Stage("press", steps=steps)
-        assert err.value.parameter == "stage.steps" and err.value.detail == "press: needs at least one sub-step"
+        assert (
+            err.value.parameter == "stage.steps" and err.value.detail == "press: needs at least one sub-step"
+        )
     assert cs.Stage("one", steps=1).steps == 1 and cs.Stage("two", steps=1.5).steps == 1.5
 
 
@@ -422,9 +490,20 @@ def test_on_step_receives_every_converged_sub_step(monkeypatch):
 def test_a_cursor_at_the_end_of_a_stage_resumes_at_the_next_with_its_loads(monkeypatch):
     term = _Term()
     start = cs.Cursor(
-        stage=0, t=1.0, h=0.5, x=np.array([1.0, 0.3, 10.0]), prev_t=0.5, prev_x=np.array([0.5, 0.3, 5.0]),
-        P0=[0], f0=0, P=[0.3], f=1, newton_iterations=0, assembly_s=0.0, solve_s=0.0,
-    )  # fmt: skip
+        stage=0,
+        t=1.0,
+        h=0.5,
+        x=np.array([1.0, 0.3, 10.0]),
+        prev_t=0.5,
+        prev_x=np.array([0.5, 0.3, 5.0]),
+        P0=[0],
+        f0=0,
+        P=[0.3],
+        f=1,
+        newton_iterations=0,
+        assembly_s=0.0,
+        solve_s=0.0,
+    )
     stages = [cs.Stage("a", factor=1.0), cs.Stage("b", factor=3.0, friction={0: 0.4}, steps=2)]
     res, solver = _run(monkeypatch, _model(term=term), stages, start=start)
     assert [(c.P.tolist(), c.f) for c in solver.calls] == [([0.3], 2.0), ([0.3], 3.0)]
@@ -440,21 +519,50 @@ def test_sub_steps_grow_back_by_doubling_after_two_cut_backs(monkeypatch):
 
 def test_a_resumed_stage_starts_with_no_cut_backs_counted(monkeypatch):
     start = cs.Cursor(
-        stage=0, t=0.5, h=0.5, x=np.zeros(3), prev_t=None, prev_x=None,
-        P0=np.array([0.0]), f0=0.0, P=np.array([0.0]), f=0.5, newton_iterations=0, assembly_s=0.0, solve_s=0.0,
-    )  # fmt: skip
+        stage=0,
+        t=0.5,
+        h=0.5,
+        x=np.zeros(3),
+        prev_t=None,
+        prev_x=None,
+        P0=np.array([0.0]),
+        f0=0.0,
+        P=np.array([0.0]),
+        f=0.5,
+        newton_iterations=0,
+        assembly_s=0.0,
+        solve_s=0.0,
+    )
     res, solver = _run(
-        monkeypatch, _model(), [cs.Stage("a", factor=1.0)], start=start, diverge=lambda f, n: n == 1, max_cutbacks=1
+        monkeypatch,
+        _model(),
+        [cs.Stage("a", factor=1.0)],
+        start=start,
+        diverge=lambda f, n: n == 1,
+        max_cutbacks=1,
     )
     assert res.converged and [c.f for c in solver.calls] == [1.0, 0.75, 1.0]
 
 
 def test_a_cursor_within_1e_12_of_the_stage_end_is_at_the_end(monkeypatch):
     start = cs.Cursor(
-        stage=0, t=1.0 - 1e-12, h=0.5, x=np.zeros(3), prev_t=None, prev_x=None,
-        P0=np.array([0.0]), f0=0.0, P=np.array([0.0]), f=1.0, newton_iterations=0, assembly_s=0.0, solve_s=0.0,
-    )  # fmt: skip
-    res, solver = _run(monkeypatch, _model(), [cs.Stage("a", factor=1.0), cs.Stage("b", factor=2.0)], start=start)
+        stage=0,
+        t=1.0 - 1e-12,
+        h=0.5,
+        x=np.zeros(3),
+        prev_t=None,
+        prev_x=None,
+        P0=np.array([0.0]),
+        f0=0.0,
+        P=np.array([0.0]),
+        f=1.0,
+        newton_iterations=0,
+        assembly_s=0.0,
+        solve_s=0.0,
+    )
+    res, solver = _run(
+        monkeypatch, _model(), [cs.Stage("a", factor=1.0), cs.Stage("b", factor=2.0)], start=start
+    )
     assert [c.f for c in solver.calls] == [2.0] and res.converged
 
 
