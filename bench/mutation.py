@@ -129,6 +129,7 @@ GROUPS = {
         ["fem/contact_stages.py"],
         [
             "tests/fem/test_contact_stages_driver.py",
+            "tests/fem/test_contact_stages_cursor.py",
             "tests/fem/test_contact_stages.py",
             "tests/fem/test_contact_stages_resume.py",
             # two resumed block solves (4 s and 1 s, 8-40 s per mutant on the loaded machine: the first
