@@ -143,6 +143,7 @@ GROUPS = {
     "verification": (
         ["fem/contact_verification.py"],
         [
+            "tests/fem/test_contact_verification_results.py",
             "tests/fem/test_contact_report.py",
             "tests/fem/test_contact_term_state.py",
             "tests/fem/test_contact.py",
