@@ -68,3 +68,34 @@ def test_a_staged_solve_that_does_not_converge_is_an_infinite_error(monkeypatch,
     assert r.tolerance == {"contact-area": 1e-8, "contact-drag": 5e-3, "contact-stick": 5e-3}[case]
     if case == "contact-area":
         assert r.details == {"message": "stage 'x' diverged (scripted)"}
+
+
+@pytest.mark.parametrize(
+    "residuals, order",
+    [
+        ([1.0, 1e-1, 1e-2, 1e-4, 1e-8], 2.0),  # quadratic: the last triple
+        ([1.0, 1e-1, 1e-2, 1e-3], 1.0),  # r_k = 1e-2 is in the asymptotic range (inclusive)
+        ([1e-1, 1e-2, 1e-4, 1e-11], 2.0),  # a residual at the floor is dropped
+        ([1.0, 1e-2, 1e-4], 1.0),  # the first triple counts (linear here)
+        ([1e-3, 1e-1, 1e-2, 1e-4], 2.0),  # r_k below its predecessor, not below the one before
+        ([1e-1, 1e-2, 1e-2, 1e-4], 0.0),  # a stalled residual is no triple of its own
+        ([1.0, 0.5, 0.1], float("nan")),  # nothing at or below 1e-2
+        ([1e-3, 1e-2, 1e-1], float("nan")),  # rising
+        ([1.0], float("nan")),
+    ],
+)
+def test_convergence_order_by_hand(residuals, order):
+    got = cv.convergence_order(residuals)
+    if np.isnan(order):
+        assert np.isnan(got)
+    else:
+        assert got == pytest.approx(order, rel=1e-12, abs=1e-15)
+
+
+def test_the_drag_block_carries_its_contact_and_drag_settings():
+    model = cv._drag_block(0.0, 0.2, 100.0, drag=0.5, smoothing=0.01, slip_band=0.05)
+    spec = model.contacts[0].spec
+    assert (spec.penalty, spec.smoothing, spec.slip_band, spec.mu) == (100.0, 0.01, 0.05, 0.0)
+    X = model.mesh.p
+    assert np.allclose(X.max(axis=1), [2.0, 1.0, 1.0]) and np.allclose(X.min(axis=1), 0.0)
+    assert model.mesh.t.shape[1] == 6 * 4 * 2 * 2  # 4 x 2 x 2 hexahedra of six tetrahedra
