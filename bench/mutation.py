@@ -8,7 +8,8 @@
 
 Not part of the default CI run: it runs the group's tests once per mutant (3-20 minutes a group on
 2 shared cores; an --again run 1-7 minutes). Needs mutmut 3 (`pip install -e '.[mutation]'`).
-Each group runs its modules' targeted fast tests only (`GROUPS`); solves of more than a few seconds are deselected there.
+Each group runs its modules' targeted fast tests only (`GROUPS`); solves of more than a few
+seconds are deselected there.
 
 The report prints each module's kill rate as measured and without the named equivalent survivors of
 bench/mutation-equivalents.toml (mutmut name -> why the mutant changes nothing observable); with
