@@ -67,19 +67,21 @@ def _layer_of_name(name: str) -> str | None:
     return "softcrawl.core"
 
 
-def _imports(path: Path):
-    """(module name, is it at module level) of every import in the file."""
-    tree = ast.parse(path.read_text())
+def _import_nodes(tree: ast.Module):
+    """(node, the absolute module names it imports, is it at module level) of every import."""
     top = set(map(id, tree.body))
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
-            names = [a.name for a in node.names]
+            yield node, [a.name for a in node.names], id(node) in top
         elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names = [node.module]
-        else:
-            continue
+            yield node, [node.module], id(node) in top
+
+
+def _imports(path: Path):
+    """(module name, is it at module level) of every import in the file."""
+    for _, names, at_top in _import_nodes(ast.parse(path.read_text())):
         for name in names:
-            yield name, id(node) in top
+            yield name, at_top
 
 
 def _module_name(path: Path) -> str:
@@ -231,18 +233,10 @@ LAZY_REASON = re.compile(r"#\s*lazy:\s*\S")
 def function_level_project_imports(source: str) -> list[tuple[int, str, bool]]:
     """(line, first line of the statement, does it carry a `# lazy: why` comment) of every import
     of a `softcrawl` module that is not at module level (inside a function, a class, an `if`)."""
-    tree = ast.parse(source)
     lines = source.splitlines()
-    top = set(map(id, tree.body))
     found = []
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            names = [a.name for a in node.names]
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names = [node.module]
-        else:
-            continue
-        if id(node) in top or not any(_layer_of_name(n) for n in names):
+    for node, names, at_top in _import_nodes(ast.parse(source)):
+        if at_top or not any(_layer_of_name(n) for n in names):
             continue
         above = lines[node.lineno - 2].strip() if node.lineno > 1 else ""
         said = any(LAZY_REASON.search(line) for line in lines[node.lineno - 1 : node.end_lineno])

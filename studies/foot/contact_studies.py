@@ -179,7 +179,7 @@ def evaluate_groove(params: dict, fixed: dict, settings: dict):
         return Evaluation(ok=False, attrs=summary, message=r.message)
     if settings.get("objective") == GROOVE:
         mus = [float(m) for m in settings.get("rule_mus", (mu,))]
-        strains = {m: (_rule_strain(r) if m == mu else rule_strain(h, m, settings)) for m in mus}
+        strains = {m: rule_strain(h, m, settings) for m in mus}  # this point's own is cached above
         return Evaluation(ok=True, values=(h,), attrs=summary | groove_constraints(h, strains))
     return Evaluation(ok=True, values=(r.plateau,), attrs=summary)
 

@@ -18,13 +18,13 @@ The first section answers the reviewer's three questions from the tables alone:
 
 from __future__ import annotations
 
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 from softcrawl import __version__
 from softcrawl.console import detail
+from softcrawl.provenance import git_commit
 from softcrawl.studies.html import page
 from softcrawl.studies.review import headline as H
 from softcrawl.studies.review import provenance as P
@@ -47,28 +47,6 @@ SECTIONS = (
     ("benchmarks", "Solver benchmarks and mesh convergence", S.benchmarks),
     ("provenance", "Provenance: version, commit, commands and materials of every result", P.provenance),
 )
-
-
-def git_commit(folder: Path) -> str:
-    """The checkout's commit (with "+ local changes" when dirty), or why there is none."""
-    try:
-        head = subprocess.run(
-            ["git", "-C", str(folder), "rev-parse", "--short", "HEAD"],
-            capture_output=True,
-            text=True,
-            timeout=10,
-        )
-        if head.returncode != 0:
-            return "not a git checkout"
-        dirty = subprocess.run(
-            ["git", "-C", str(folder), "status", "--porcelain", "--untracked-files=no"],
-            capture_output=True,
-            text=True,
-            timeout=10,
-        ).stdout.strip()
-        return head.stdout.strip() + (" + local changes" if dirty else "")
-    except (OSError, subprocess.SubprocessError):
-        return "git not available"
 
 
 def build_report(results, out, progress=print) -> Path:

@@ -11,6 +11,13 @@ from softcrawl.fem.newton import NewtonRecord
 from tests.fem.test_contact_stages_driver import _model, _run, _Solver, _Term
 
 
+def _cursor(**fields) -> cs.Cursor:
+    """A cursor half way through stage 0 (no secant, no counts), with `fields` replaced."""
+    default = dict(stage=0, t=0.5, h=0.5, x=np.zeros(3), prev_t=None, prev_x=None, f0=0.0, f=0.5)
+    default |= dict(P0=np.array([0.0]), P=np.array([0.0]), newton_iterations=0, assembly_s=0.0, solve_s=0.0)
+    return cs.Cursor(**(default | fields))
+
+
 def test_cursors_say_where_the_run_stands(monkeypatch):
     cursors = []
     stages = [cs.Stage("a", pressure=0.2, factor=1.0, steps=2), cs.Stage("b", factor=3.0, steps=2)]
@@ -37,20 +44,14 @@ def test_a_resumed_stage_continues_from_the_cursor_without_setting_friction(monk
         cs.Stage("b", factor=3.0, friction={0: 0.4}, steps=4),
         cs.Stage("c", friction={0: 0.2}),
     ]
-    start = cs.Cursor(
+    start = _cursor(
         stage=1,
-        t=0.5,
         h=0.25,
         x=np.array([2.0, 0.0, 20.0]),
         prev_t=0.25,
         prev_x=np.array([1.5, 0.0, 15.0]),
-        P0=np.array([0.0]),
         f0=1.0,
-        P=np.array([0.0]),
         f=2.0,
-        newton_iterations=0,
-        assembly_s=0.0,
-        solve_s=0.0,
     )
     res, solver = _run(monkeypatch, _model(term=term), stages, start=start, x0=np.full(3, 9.0))
     assert res.converged
@@ -60,21 +61,7 @@ def test_a_resumed_stage_continues_from_the_cursor_without_setting_friction(monk
 
 
 def test_a_resumed_run_that_fails_at_once_names_the_cursor(monkeypatch):
-    start = cs.Cursor(
-        stage=0,
-        t=0.5,
-        h=0.5,
-        x=np.zeros(3),
-        prev_t=None,
-        prev_x=None,
-        P0=np.array([0.0]),
-        f0=0.0,
-        P=np.array([0.0]),
-        f=0.5,
-        newton_iterations=0,
-        assembly_s=0.0,
-        solve_s=0.0,
-    )
+    start = _cursor()
     res, solver = _run(
         monkeypatch,
         _model(),
@@ -90,21 +77,7 @@ def test_a_resumed_run_that_fails_at_once_names_the_cursor(monkeypatch):
 @pytest.mark.parametrize("index", [-1, 2])
 def test_a_cursor_outside_the_stages_is_refused(monkeypatch, index):
     monkeypatch.setattr(cs, "NewtonSolver", _Solver)
-    start = cs.Cursor(
-        stage=index,
-        t=0.0,
-        h=1.0,
-        x=np.zeros(3),
-        prev_t=None,
-        prev_x=None,
-        P0=np.zeros(1),
-        f0=0.0,
-        P=np.zeros(1),
-        f=0.0,
-        newton_iterations=0,
-        assembly_s=0.0,
-        solve_s=0.0,
-    )
+    start = _cursor(stage=index, t=0.0, h=1.0, P0=np.zeros(1), P=np.zeros(1), f=0.0)
     with pytest.raises(SolverInputError, match=f"stage {index} of a run of 2 stages"):
         cs.run_stages(_model(), [cs.Stage("a"), cs.Stage("b")], start=start)
 
@@ -202,21 +175,7 @@ def test_each_bad_input_is_one_error_with_its_parameter_and_detail(monkeypatch, 
 
 def test_a_cursor_past_the_stages_is_one_error_with_its_detail(monkeypatch):
     monkeypatch.setattr(cs, "NewtonSolver", _Solver)
-    start = cs.Cursor(
-        stage=1,
-        t=0.0,
-        h=1.0,
-        x=np.zeros(3),
-        prev_t=None,
-        prev_x=None,
-        P0=np.zeros(1),
-        f0=0.0,
-        P=np.zeros(1),
-        f=0.0,
-        newton_iterations=0,
-        assembly_s=0.0,
-        solve_s=0.0,
-    )
+    start = _cursor(stage=1, t=0.0, h=1.0, P0=np.zeros(1), P=np.zeros(1), f=0.0)
     with pytest.raises(SolverInputError) as err:
         cs.run_stages(_model(), [cs.Stage("a")], start=start)
     assert err.value.parameter == "start" and err.value.detail == "stage 1 of a run of 1 stages"
@@ -234,10 +193,8 @@ def test_a_stage_without_sub_steps_is_one_error_with_its_detail():
 
 def test_a_cursor_at_the_end_of_a_stage_resumes_at_the_next_with_its_loads(monkeypatch):
     term = _Term()
-    start = cs.Cursor(
-        stage=0,
+    start = _cursor(
         t=1.0,
-        h=0.5,
         x=np.array([1.0, 0.3, 10.0]),
         prev_t=0.5,
         prev_x=np.array([0.5, 0.3, 5.0]),
@@ -245,9 +202,6 @@ def test_a_cursor_at_the_end_of_a_stage_resumes_at_the_next_with_its_loads(monke
         f0=0,
         P=[0.3],
         f=1,
-        newton_iterations=0,
-        assembly_s=0.0,
-        solve_s=0.0,
     )
     stages = [cs.Stage("a", factor=1.0), cs.Stage("b", factor=3.0, friction={0: 0.4}, steps=2)]
     res, solver = _run(monkeypatch, _model(term=term), stages, start=start)
@@ -258,21 +212,7 @@ def test_a_cursor_at_the_end_of_a_stage_resumes_at_the_next_with_its_loads(monke
 
 
 def test_a_resumed_stage_starts_with_no_cut_backs_counted(monkeypatch):
-    start = cs.Cursor(
-        stage=0,
-        t=0.5,
-        h=0.5,
-        x=np.zeros(3),
-        prev_t=None,
-        prev_x=None,
-        P0=np.array([0.0]),
-        f0=0.0,
-        P=np.array([0.0]),
-        f=0.5,
-        newton_iterations=0,
-        assembly_s=0.0,
-        solve_s=0.0,
-    )
+    start = _cursor()
     res, solver = _run(
         monkeypatch,
         _model(),
@@ -285,21 +225,7 @@ def test_a_resumed_stage_starts_with_no_cut_backs_counted(monkeypatch):
 
 
 def test_a_cursor_within_1e_12_of_the_stage_end_is_at_the_end(monkeypatch):
-    start = cs.Cursor(
-        stage=0,
-        t=1.0 - 1e-12,
-        h=0.5,
-        x=np.zeros(3),
-        prev_t=None,
-        prev_x=None,
-        P0=np.array([0.0]),
-        f0=0.0,
-        P=np.array([0.0]),
-        f=1.0,
-        newton_iterations=0,
-        assembly_s=0.0,
-        solve_s=0.0,
-    )
+    start = _cursor(t=1.0 - 1e-12, f=1.0)
     res, solver = _run(
         monkeypatch, _model(), [cs.Stage("a", factor=1.0), cs.Stage("b", factor=2.0)], start=start
     )
