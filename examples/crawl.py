@@ -4,9 +4,11 @@ Shows the crawl simulation of the public API: `sc.simulate_crawl` inserts both f
 pipe, switches friction on and follows the "inflate" gait (all three ePSAs 0 -> 100 kPa -> 0 in a
 2 s cycle); the ePSAs act through the paper's identified axial law. Prints every converged state
 as it comes, then the stride and speed of each cycle beside the paper's Table 2 (18.3 mm/s forward
-at 70 mm). With the assumed friction mu = 0.5 the first cycle (from rest) strides 5.35 mm, as the
-quick crawl study (results/crawl/rubber-70a-quick); docs/decisions/055-crawl-revolved.md says why it falls
-short of the paper. The quick crawl takes 2-4 minutes (about 140 s of CPU).
+at 70 mm). The friction is the committed identification's (mu = 0.3 on both faces: the sourced
+range's lower end, since no mu in 0.3-0.9 gives the measured resistance; docs/decisions/070-identify-feet.md).
+The first cycle (from rest) strides 15.98 mm, as the quick crawl study's point at 70 mm, mu = 0.3
+(results/crawl/rubber-70a-quick); record 070 says why the FE crawl falls short of the paper. The quick
+crawl takes 2-4 minutes (about 140 s of CPU).
 
     python examples/crawl.py [CYCLES]        (CYCLES defaults to 1)
 """

@@ -8,6 +8,10 @@ The model: docs/decisions/051-crawl-model.md.
                     [--mesher revolved|tetwild] [--sectors N] [--layers N] [--edge-length MM]
                     [--gif | --animation PATH.gif] [--resume] --out DIR
 
+The friction coefficients not given take the committed feet identification's
+(`studies.foot.identify.prediction_friction`, docs/decisions/070-identify-feet.md: today 0.3 on
+both faces, the sourced range's end, flagged in summary.json's sources); without that file, exit 2.
+
 Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
 friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
 ePSAs act between the hubs through their axial law (the paper's prototype statics, eqs. 19-24;
@@ -52,10 +56,10 @@ from softcrawl.console import progress
 from softcrawl.geometry.foot_meshers import FOOT_MESHERS
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS
 from softcrawl.studies.crawl.schedule import SCHEDULES
-from softcrawl.studies.foot.study import FOOT_FRICTION  # the declaration: light
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
+IDENTIFIED = "the committed feet identification (results/identify/feet/feet.json)"
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
 
 
@@ -82,10 +86,10 @@ def register(subparsers) -> None:
                minimum=0.0, min_open=True, maximum=100.0)  # fmt: skip
     add_number(p, "--cycle-time", help="cycle time of the inflate preset", unit="s", default=2.0,
                minimum=0.0, min_open=True, maximum=1e4)  # fmt: skip
-    add_number(p, "--mu-smooth", help="friction of the smooth face and rim",
-               default=FOOT_FRICTION["mu_smooth"],
+    # Default: the committed identification (issue 29 step 9, docs/decisions/070-identify-feet.md).
+    add_number(p, "--mu-smooth", help="friction of the smooth face and rim", default_text=IDENTIFIED,
                minimum=0.0, maximum=5.0)  # fmt: skip
-    add_number(p, "--mu-grooved", help="friction of the grooved face", default=FOOT_FRICTION["mu_grooved"],
+    add_number(p, "--mu-grooved", help="friction of the grooved face", default_text=IDENTIFIED,
                minimum=0.0, maximum=5.0)  # fmt: skip
     add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4",
                minimum=1, maximum=200, integer=True)  # fmt: skip
@@ -132,6 +136,7 @@ def run(args) -> int:
     from softcrawl.studies.crawl.schedule import preset, read_csv
 
     mesh = mesh_settings(args)  # before any folder is made
+    friction = friction_settings(args)  # before any folder is made
     if args.backward:
         from softcrawl.geometry.design import RobotDesign  # lazy: the command's help stays light
         from softcrawl.studies.crawl.flipped import check_pipe  # lazy: loads the solver
@@ -145,8 +150,8 @@ def run(args) -> int:
     setup = CrawlSetup(
         **mesh,
         pipe_diameter=args.pipe_diameter,
-        mu_smooth=args.mu_smooth,
-        mu_grooved=args.mu_grooved,
+        mu_smooth=friction["mu_smooth"],
+        mu_grooved=friction["mu_grooved"],
         feet=feet,
         insert_steps=4 if args.quick else 8,
         steps=steps,
@@ -165,6 +170,7 @@ def run(args) -> int:
         store=store,
         resumed=resumed,
         insertion_cache=args.insertion_cache,
+        friction_source=friction["source"],
     )
     print(summary["text"])
     if animation is not None:
@@ -193,6 +199,27 @@ def checkpoint(store, resume: bool):
     else:
         print(f"crawl: resuming from {resumed.describe()} in {store.folder}")
     return resumed
+
+
+def friction_settings(args) -> dict:
+    """mu_smooth, mu_grooved and their source: the options given, the committed identification
+    for those not given (`studies.foot.identify.prediction_friction`; exit 2 when it is missing)."""
+    from softcrawl.studies.crawl.files import FRICTION_SOURCE
+    from softcrawl.studies.foot.identify import IdentificationMissing, prediction_friction
+
+    given = {"mu_smooth": args.mu_smooth, "mu_grooved": args.mu_grooved}
+    if None not in given.values():
+        return given | {"source": "--mu-smooth and --mu-grooved: " + FRICTION_SOURCE}
+    try:
+        identified = prediction_friction()
+    except IdentificationMissing as exc:
+        raise exc.renamed(next(k for k, v in given.items() if v is None).replace("_", "-")) from None
+    out = {k: (identified[k] if v is None else v) for k, v in given.items()}
+    given_names = [k for k, v in given.items() if v is not None]
+    source = identified["source"]
+    if given_names:
+        source += f"; {given_names[0]} given: {given[given_names[0]]:g}"
+    return out | {"source": source}
 
 
 def mesh_settings(args) -> dict:

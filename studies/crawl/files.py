@@ -33,10 +33,8 @@ from softcrawl.studies.sweeps.tables import write_csv
 
 MATERIAL = "rubber-70a"
 MATERIAL_SOURCE = "Shore 70A rubber of the foot study (results/foot/README.md)"
-FRICTION_SOURCE = (
-    "softcrawl.studies.foot.contact_studies.FOOT_FRICTION: assumed (dry rubber on a smooth pipe); "
-    "the paper gives no coefficient"
-)
+#: The friction's source when the caller gives the coefficients (the crawl study's grid, an option).
+FRICTION_SOURCE = "given by the caller (dry rubber on a smooth pipe: 0.3-0.9); the paper gives no coefficient"
 
 
 def write_pipe(path: Path, pipe, z0: float, z1: float, n: int = 96) -> Path:
@@ -201,13 +199,15 @@ def run_and_write(
     resumed=None,
     precision: int = 32,
     insertion_cache=False,
+    friction_source: str = FRICTION_SOURCE,
 ):
     """Mesh, build, run and write (module docstring); returns (CrawlResult, summary dict).
     `progress(line)` is called with one line per converged state. `store` (`resume.CrawlStore`):
     each converged state is written to it, and it is cleared once the files are written;
     `resumed` (its `load()`): the run continues from that state; `precision`: the VTU floats;
     `insertion_cache`: True (the default folder) or a folder: the insertion is taken from
-    (or written to) the cache of inserted states (`studies.crawl.insertion`); False: computed."""
+    (or written to) the cache of inserted states (`studies.crawl.insertion`); False: computed;
+    `friction_source`: where the setup's mu come from, for summary.json."""
     folder.mkdir(parents=True, exist_ok=True)
     design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
     law = solid_law(get_material(MATERIAL), hyperelastic_only=True)
@@ -237,7 +237,7 @@ def run_and_write(
         "setup": dataclasses.asdict(setup),
         "quick": quick,
         "schedule": {"name": schedule.name, "source": schedule.source, "cycle_s": schedule.cycle_s},
-        "sources": {"axial_law": cm.law.source, "material": MATERIAL_SOURCE, "friction": FRICTION_SOURCE},
+        "sources": {"axial_law": cm.law.source, "material": MATERIAL_SOURCE, "friction": friction_source},
         "comparison": cmp,
         "strides_mm": result.strides,
         "cycles": list(result.cycles),

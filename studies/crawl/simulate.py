@@ -26,7 +26,7 @@ from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
 from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
 from softcrawl.studies.crawl.outputs import CrawlResult
 from softcrawl.studies.crawl.schedule import Schedule, ScheduleError, preset, read_csv
-from softcrawl.studies.foot.contact_studies import FOOT_FRICTION
+from softcrawl.studies.foot.identify import prediction_friction
 
 #: Pipe inner diameters (mm, both open) the crawl accepts, as `softcrawl crawl`: the hub is 48 mm
 #: across, the skirt tip 78 mm.
@@ -53,8 +53,8 @@ def simulate_crawl(
     pressure_kpa: float = 100.0,
     cycle_time_s: float = 2.0,
     cycles: int = 1,
-    mu_smooth: float = FOOT_FRICTION["mu_smooth"],
-    mu_grooved: float = FOOT_FRICTION["mu_grooved"],
+    mu_smooth: float | None = None,
+    mu_grooved: float | None = None,
     feet: str = "paper",
     quick: bool = False,
     steps: int = 4,
@@ -69,6 +69,8 @@ def simulate_crawl(
 ) -> CrawlResult:
     """The robot's two grooved feet crawling in a rigid pipe of `pipe_diameter` mm for `cycles`
     cycles of the pressure schedule (kPa) -> `CrawlResult` (`strides`, per-cycle speed, states).
+    `mu_smooth`, `mu_grooved`: None takes the committed feet identification's
+    (`studies.foot.identify.prediction_friction`, docs/decisions/070-identify-feet.md);
     `feet`: "paper" (skirts lean back), "backward" (both flipped: grooved faces on the wall,
     `studies.crawl.flipped`), "symmetric" (front mirrored);
     `material`: the feet's rubber, a preset name or a `Material`; `insertion_cache`: True (the
@@ -78,6 +80,10 @@ def simulate_crawl(
            max_open=True, unit="mm", error=ScheduleError)  # fmt: skip
     if feet == "backward":
         check_pipe(float(pipe_diameter), RobotDesign().foot, ScheduleError)
+    if mu_smooth is None or mu_grooved is None:
+        identified = prediction_friction()
+        mu_smooth = identified["mu_smooth"] if mu_smooth is None else mu_smooth
+        mu_grooved = identified["mu_grooved"] if mu_grooved is None else mu_grooved
     for name, value in (("mu_smooth", mu_smooth), ("mu_grooved", mu_grooved)):
         number(value, name, minimum=0.0, maximum=5.0, error=ScheduleError)
     number(cycles, "cycles", minimum=1, maximum=100, integer=True, error=ScheduleError)

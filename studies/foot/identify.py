@@ -25,16 +25,23 @@ F(hi)] is reported as out of range with its residual at the nearer end, never cl
 Everything else the paper measured (Table 2's speeds, Fig. 21's statements) is a held-out check:
 this module reads only `softcrawl.paper.FRICTION_N` (tests/studies/foot/test_identify_feet.py
 fails if the identification touches Table 2 or Fig. 21).
+
+The predictions read the committed identification (`prediction_friction`): `softcrawl crawl` and
+`softcrawl.simulate_crawl` take their default mu_smooth and mu_grooved from it (issue 29 step 9),
+at `COMMITTED` in the source tree (the README's editable install), or at the file that the
+environment variable `ENV` names.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import os
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from softcrawl.errors import InputError
 from softcrawl.materials import get_material, shore_a_to_youngs
 from softcrawl.paper import FRICTION_N
 
@@ -58,6 +65,14 @@ TARGET_N = {
 }
 SHORE_A = 70.0
 MATERIAL = "rubber-70a"
+#: The committed identification (`softcrawl study identify-feet --out results/`), relative to the
+#: source tree: the prediction commands read it. `ENV` names another file.
+COMMITTED = Path(__file__).resolve().parents[2] / "results" / "identify" / "feet" / "feet.json"
+ENV = "SOFTCRAWL_FEET"
+
+
+class IdentificationMissing(InputError):
+    """No identification file where a prediction looks for one."""
 
 
 @dataclass(frozen=True)
@@ -188,3 +203,30 @@ def load(path) -> FeetIdentification:
     data = json.loads(Path(path).read_text())
     fits = tuple(MuFit(**(f | {"solves": tuple(map(tuple, f["solves"]))})) for f in data.pop("fits"))
     return FeetIdentification(**(data | {"fits": fits, "mu_range": tuple(data["mu_range"])}))
+
+
+def committed_path() -> Path:
+    """The identification file the predictions read: $SOFTCRAWL_FEET, else `COMMITTED`."""
+    return Path(os.environ[ENV]) if os.environ.get(ENV) else COMMITTED
+
+
+def prediction_friction(path=None) -> dict:
+    """The friction coefficients a prediction uses by default, from the identification at `path`
+    (None: `committed_path()`): {"mu_smooth", "mu_grooved", "source"}, the source naming the file's
+    verdict per face (identified, or the sourced range's nearer end, `prediction_mu`)."""
+    path = Path(path) if path is not None else committed_path()
+    if not path.is_file():
+        raise IdentificationMissing(
+            "mu_smooth",
+            f"no feet identification at {path}: run `softcrawl study identify-feet --out results/`, "
+            f"set {ENV}, or give both friction coefficients",
+        )
+    ident = load(path)
+    out, notes = {}, []
+    for face in ("smooth", "grooved"):
+        mu, how = ident.prediction_mu(face)
+        out[f"mu_{face}"] = mu
+        notes.append(f"mu_{face} = {mu:g}: {how.split(' (')[0]}")
+    record = "docs/decisions/070-identify-feet.md"
+    out["source"] = f"the committed feet identification ({record}): {'; '.join(notes)}"
+    return out
