@@ -92,6 +92,11 @@ TABLE2_MM_S = {
 #: Section VII-D), N: the resistance of the one foot that slides (docs/decisions/062-crawl-reconciliation.md).
 FRICTION_N = {"forward": 15.3, "backward": 16.9}
 
+# -- The feet against hardness and angle (Section VII-C, Fig. 21; held-out checks) -----------------
+#: Fig. 21's first statement: "greater than 10 mm/s" in the 70 mm pipe, 2 s cycles, over Shore
+#: 50A-70A and foot angles 30-120 deg, mm/s.
+FIG21_MIN_SPEED_MM_S = 10.0
+
 
 def table2(diameter: float, direction: str) -> float | None:
     """Table 2's speed (mm/s) in the pipe of `diameter` mm, "forward" or "backward"; None for a

@@ -20,4 +20,17 @@ STUDIES = (
         "diameter and friction coefficient (studies/crawl/crawl_study.py), "
         "DIR/crawl/rubber-70a[-quick]/; shown in the review's crawl section.",
     ),
+    Study(
+        name="predict-crawl",
+        summary="Table 2 predicted with the identified feet, forward and backward (no re-fit)",
+        run="softcrawl.studies.crawl.prediction:run_request",
+        folder="predict-crawl",
+        default_material=None,
+        figure="prediction.png",
+        tables=("prediction.md", "prediction.csv"),
+        replot="softcrawl.studies.crawl.prediction:replot_folder",
+        help="predict-crawl: Table 2's forward and backward speeds at 55-75 mm predicted with the "
+        "committed feet identification, never re-fitted; crawls it does not find under DIR are run "
+        "(resumable), DIR/predict-crawl/rubber-70a/ (studies/crawl/prediction.py).",
+    ),
 )
