@@ -15,7 +15,7 @@ normal is constant.
 Both are frozen dataclasses; `with_radius` gives a shrunk or grown copy of the cylinder, which is
 how the staged insertion of `fem.contact_stages` moves the wall. The cylinder is the straight pipe
 of any axis (a vertical pipe is the same wall); the elbow, two legs and a torus section behind the
-same `project`, is `fem.pipe_surfaces.ElbowPipe`.
+same `project`, is `fem.pipe_surfaces.ElbowPipe`; a bellows-like pipe `fem.corrugated_pipe.CorrugatedPipe`.
 """
 
 from __future__ import annotations
