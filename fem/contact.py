@@ -31,25 +31,21 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcrawl.fem.contact_law import committed_stick, evaluate
+from softcrawl.fem.corrugated_pipe import CorrugatedPipe
 from softcrawl.fem.discretisation import Discretisation, element_first
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.neohooke import cofactor3
-from softcrawl.fem.rigid_surfaces import CylinderWall, Plane
+from softcrawl.fem.pipe_surfaces import ElbowPipe
+from softcrawl.fem.rigid_surfaces import CylinderWall, Plane, positive
 
-
-def _positive(value, parameter: str) -> float:
-    try:
-        ok = np.isfinite(float(value)) and float(value) > 0
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise SolverInputError(parameter, f"must be a positive number, got {value!r}")
-    return float(value)
+#: The rigid surfaces a contact term accepts: each gives project(x) -> (gap, normal, curvature).
+SURFACES = (Plane, CylinderWall, ElbowPipe, CorrugatedPipe)
 
 
 @dataclass(frozen=True)
 class ContactSpec:
-    """Boundary `tags` of the body against a rigid `surface` (`Plane` or `CylinderWall`).
+    """Boundary `tags` of the body against a rigid `surface` (`SURFACES`: `Plane`, `CylinderWall`,
+    `ElbowPipe`, `CorrugatedPipe`).
 
     penalty: eps_N, normal penalty (MPa/mm: pressure per mm of penetration);
     tangential_penalty: eps_T (MPa/mm), default eps_N; mu: Coulomb coefficient (>= 0);
@@ -63,7 +59,7 @@ class ContactSpec:
     """
 
     tags: tuple[str, ...]
-    surface: Plane | CylinderWall
+    surface: Plane | CylinderWall | ElbowPipe | CorrugatedPipe
     penalty: float
     mu: float = 0.0
     tangential_penalty: float | None = None
@@ -78,11 +74,13 @@ class ContactSpec:
         if not tags:
             raise SolverInputError("contact.tags", "give at least one boundary tag")
         object.__setattr__(self, "tags", tags)
-        if not isinstance(self.surface, (Plane, CylinderWall)):
-            raise SolverInputError("contact.surface", "must be a Plane or a CylinderWall")
-        object.__setattr__(self, "penalty", _positive(self.penalty, "contact.penalty"))
+        if not isinstance(self.surface, SURFACES):
+            raise SolverInputError(
+                "contact.surface", "must be a Plane, a CylinderWall, an ElbowPipe or a CorrugatedPipe"
+            )
+        object.__setattr__(self, "penalty", positive(self.penalty, "contact.penalty"))
         if self.tangential_penalty is not None:
-            eps_t = _positive(self.tangential_penalty, "contact.tangential_penalty")
+            eps_t = positive(self.tangential_penalty, "contact.tangential_penalty")
             object.__setattr__(self, "tangential_penalty", eps_t)
         check_mu(self.mu)
         object.__setattr__(self, "mu", float(self.mu))

@@ -13,7 +13,9 @@ normal is constant.
   it is never in contact for R > 0 (its gap is R).
 
 Both are frozen dataclasses; `with_radius` gives a shrunk or grown copy of the cylinder, which is
-how the staged insertion of `fem.contact_stages` moves the wall.
+how the staged insertion of `fem.contact_stages` moves the wall. The cylinder is the straight pipe
+of any axis (a vertical pipe is the same wall); the elbow, two legs and a torus section behind the
+same `project`, is `fem.pipe_surfaces.ElbowPipe`; a bellows-like pipe `fem.corrugated_pipe.CorrugatedPipe`.
 """
 
 from __future__ import annotations
@@ -25,18 +27,31 @@ import numpy as np
 from softcrawl.fem.errors import SolverInputError
 
 
-def _unit(v, parameter: str) -> np.ndarray:
+def unit3(v, parameter: str) -> np.ndarray:
+    """A finite, non-zero 3-vector, normalised; `SolverInputError` naming `parameter` otherwise."""
     v = np.asarray(v, dtype=float).reshape(-1)
     if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
         raise SolverInputError(parameter, f"must be a finite, non-zero 3-vector, got {v!r}")
     return v / np.linalg.norm(v)
 
 
-def _point(v, parameter: str) -> np.ndarray:
+def point3(v, parameter: str) -> np.ndarray:
+    """A finite 3-vector; `SolverInputError` naming `parameter` otherwise."""
     v = np.asarray(v, dtype=float).reshape(-1)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise SolverInputError(parameter, f"must be a finite 3-vector, got {v!r}")
     return v
+
+
+def positive(value, parameter: str) -> float:
+    """A finite number > 0, as float; `SolverInputError` naming `parameter` otherwise."""
+    try:
+        ok = np.isfinite(float(value)) and float(value) > 0
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise SolverInputError(parameter, f"must be a positive number, got {value!r}")
+    return float(value)
 
 
 @dataclass(frozen=True)
@@ -48,8 +63,8 @@ class Plane:
     _n: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        object.__setattr__(self, "point", tuple(_point(self.point, "contact.surface.point")))
-        n = _unit(self.normal, "contact.surface.normal")
+        object.__setattr__(self, "point", tuple(point3(self.point, "contact.surface.point")))
+        n = unit3(self.normal, "contact.surface.normal")
         object.__setattr__(self, "normal", tuple(n))
         object.__setattr__(self, "_n", n)
 
@@ -69,17 +84,9 @@ class CylinderWall:
     _a: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        try:
-            ok = np.isfinite(float(self.radius)) and float(self.radius) > 0
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
-            raise SolverInputError(
-                "contact.surface.radius", f"must be a positive number, got {self.radius!r}"
-            )
-        object.__setattr__(self, "radius", float(self.radius))
-        object.__setattr__(self, "centre", tuple(_point(self.centre, "contact.surface.centre")))
-        a = _unit(self.axis, "contact.surface.axis")
+        object.__setattr__(self, "radius", positive(self.radius, "contact.surface.radius"))
+        object.__setattr__(self, "centre", tuple(point3(self.centre, "contact.surface.centre")))
+        a = unit3(self.axis, "contact.surface.axis")
         object.__setattr__(self, "axis", tuple(a))
         object.__setattr__(self, "_a", a)
 

@@ -17,7 +17,7 @@ the statics (the robot climbs against g).
 `Pipe` is the one description of a pipe's geometry: the analytic planner measures against its
 centreline, and the FE foot and crawl studies (`studies.foot.model`, `studies.crawl`) build their
 rigid wall (`fem.rigid_surfaces.CylinderWall`, a straight pipe on the z axis) and its VTU from its
-`radius`.
+`radius`. The FE elbow wall (`fem.pipe_surfaces.ElbowPipe`) uses this frame by default.
 """
 
 from __future__ import annotations

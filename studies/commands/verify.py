@@ -1,9 +1,10 @@
 """`softcrawl verify [--json [FILE]] [--case NAME ...]`: the solver against closed-form solutions.
 
-Runs the verification cases of `fem.verification` and `fem.contact_verification` on coarse
-meshes (about a minute and a half in all on two cores), prints each case's error, tolerance and
-pass/fail (with -v each case's details), and with --json writes them as JSON (on stdout, the
-table then on stderr, or into FILE). Exit code 0 when every case passes, 1 otherwise.
+Runs the verification cases of `fem.verification`, `fem.contact_verification` and
+`fem.pipe_verification` on coarse meshes (about a minute and a half in all on two cores), prints
+each case's error, tolerance and pass/fail (with -v each case's details), and with --json writes
+them as JSON (on stdout, the table then on stderr, or into FILE). Exit code 0 when every case
+passes, 1 otherwise.
 """
 
 from __future__ import annotations
@@ -15,11 +16,13 @@ import time
 
 
 def _cases() -> dict:
-    """The solver cases (`fem.verification`) and the contact cases (`fem.contact_verification`)."""
+    """The solver cases (`fem.verification`) and the contact cases (`fem.contact_verification`, and
+    the elbow's in `fem.pipe_verification`)."""
     from softcrawl.fem.contact_verification import CASES as CONTACT
+    from softcrawl.fem.pipe_verification import CASES as PIPE
     from softcrawl.fem.verification import CASES
 
-    return {**CASES, **CONTACT}
+    return {**CASES, **CONTACT, **PIPE}
 
 
 def register(subparsers) -> None:

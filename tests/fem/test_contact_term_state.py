@@ -124,7 +124,12 @@ def test_the_spec_smoothing_and_slip_band_reach_the_law():
     "field, value, parameter, detail",
     [
         ("tags", (), "contact.tags", "give at least one boundary tag"),
-        ("surface", "plane", "contact.surface", "must be a Plane or a CylinderWall"),
+        (
+            "surface",
+            "plane",
+            "contact.surface",
+            "must be a Plane, a CylinderWall, an ElbowPipe or a CorrugatedPipe",
+        ),
         ("penalty", 0.0, "contact.penalty", "must be a positive number, got 0.0"),
         ("penalty", float("nan"), "contact.penalty", "must be a positive number, got nan"),
         ("penalty", "stiff", "contact.penalty", "must be a positive number, got 'stiff'"),
