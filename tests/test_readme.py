@@ -22,7 +22,7 @@ README = ROOT / "README.md"
 #: The pages whose ```bash examples are run: the README and the docs pages its examples moved to.
 DOCS = (README, ROOT / "docs" / "results.md", ROOT / "docs" / "sweeps.md")
 #: Commands of the documented examples that take minutes (run with -m slow).
-SLOW = ("--search bfs", "identify-feet")
+SLOW = ("--search bfs", "identify-feet", "crawl --quick")
 
 
 def _examples(page: Path = README) -> list[tuple[str, str]]:
