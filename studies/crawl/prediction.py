@@ -85,11 +85,15 @@ def setup_for(diameter: float, direction: str, mu_smooth: float, mu_grooved: flo
 
 
 def _same_setup(summary: dict, setup: CrawlSetup) -> bool:
-    """The stored run is this setup's (the wall-time budget is not part of the physics)."""
+    """The stored run is this setup's (the wall-time budget is not part of the physics). A field
+    that the stored run predates counts as its default (runs stored before it existed had it)."""
     stored = dict(summary.get("setup", {}))
+    if not stored:
+        return False
     wanted = asdict(setup)
+    defaults = asdict(CrawlSetup())
     stored.pop("max_wall_s", None), wanted.pop("max_wall_s", None)
-    return stored == wanted
+    return all(stored.get(k, defaults[k]) == v for k, v in wanted.items()) and set(stored) <= set(wanted)
 
 
 def prediction_row(summary: dict, direction: str, source: str) -> Prediction:

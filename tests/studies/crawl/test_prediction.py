@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 import math
 import shutil
-from dataclasses import asdict
+from dataclasses import asdict, replace
 
 import pytest
 
@@ -90,3 +90,16 @@ def test_runs_are_found_in_the_crawl_study_or_computed_with_the_identified_mu(tm
     assert "forward: goal not met" in text and "| 55 | forward | 2.000 | 17.4 | -88.5 % |" in text
     png = prediction.plot_prediction(rows, results, folder / "prediction.png")
     assert png.stat().st_size > 10_000 and len(written) == 3
+
+
+def test_a_stored_run_matches_only_its_own_setup():
+    setup = prediction.setup_for(60.0, "backward", 0.3, 0.3)
+    stored = _summary(60.0, "backward", [0.0, -1.0])
+    assert prediction._same_setup(stored, setup)
+    older = json.loads(json.dumps(stored))
+    del older["setup"]["thickness_layers"]  # a run stored before the field existed had its default
+    assert prediction._same_setup(older, setup)
+    assert not prediction._same_setup(older, replace(setup, thickness_layers=4))
+    assert not prediction._same_setup(stored, prediction.setup_for(60.0, "forward", 0.3, 0.3))
+    assert not prediction._same_setup(stored, prediction.setup_for(60.0, "backward", 0.3, 0.5))
+    assert not prediction._same_setup({"setup": {}}, setup)
