@@ -11,10 +11,11 @@ the prototype's axial law. For every pipe D in Table 2 (55-75 mm), two crawls of
                mu_grooved on the grooved face (it does not touch);
     backward:  both feet flipped (`studies.crawl.flipped`, record 067), the grooved face on the wall.
 
-A run is taken from a folder that already holds it, when its summary.json's setup is this one
-(the crawl study's point DIR/crawl/rubber-70a/points/D..-mu../ for the forward crawls when both
-mu are equal; DIR/predict-crawl/rubber-70a/{forward,backward}-D../ otherwise), and computed there
-when not, resumable from its checkpoints (`studies.crawl.resume`).
+A run is taken from a folder that already holds it, when its summary.json's setup is this one:
+with equal mu on both faces, the crawl study's point DIR/crawl/rubber-70a/points/D..-mu../
+(forward) or a committed crawl DIR/crawl/{forward,backward}-D-mu..-2cycles/ (`softcrawl crawl`,
+results/crawl/README.md); else DIR/predict-crawl/rubber-70a/{forward,backward}-D../, where it is
+computed when missing, resumable from its checkpoints (`studies.crawl.resume`).
 
 Compared, per run, in the direction of travel s = +1 (forward) or -1 (backward):
 
@@ -165,11 +166,13 @@ def _run(setup: CrawlSetup, folder: Path, progress) -> dict:
 def find_or_run(
     results: Path, out: Path, setup: CrawlSetup, direction: str, progress=None
 ) -> tuple[dict, Path]:
-    """The run of `setup`: the crawl study's point, or out/DIRECTION-D.., computed when missing."""
+    """The run of `setup`: found (module docstring), or computed into out/DIRECTION-D..."""
     candidates = [out / f"{direction}-D{setup.pipe_diameter:g}"]
-    if direction == "forward" and setup.mu_smooth == setup.mu_grooved:
-        point = f"D{setup.pipe_diameter:g}-mu{setup.mu_smooth:g}"
-        candidates.insert(0, results / "crawl" / MATERIAL / "points" / point)
+    if setup.mu_smooth == setup.mu_grooved:
+        d, mu = f"{setup.pipe_diameter:g}", f"{setup.mu_smooth:g}"
+        candidates.insert(0, results / "crawl" / f"{direction}-{d}-mu{mu}-{CYCLES}cycles")
+        if direction == "forward":
+            candidates.insert(0, results / "crawl" / MATERIAL / "points" / f"D{d}-mu{mu}")
     for folder in candidates:
         path = folder / "summary.json"
         if path.is_file():

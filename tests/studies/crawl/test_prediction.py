@@ -69,6 +69,9 @@ def test_runs_are_found_in_the_crawl_study_or_computed_with_the_identified_mu(tm
     other = results / "crawl" / "rubber-70a" / "points" / "D60-mu0.3"
     other.mkdir(parents=True)  # another setup (one cycle): not this prediction's run
     (other / "summary.json").write_text(json.dumps(_summary(60.0, "forward", [1.0]) | {"setup": {}}))
+    committed = results / "crawl" / "backward-70-mu0.3-2cycles"  # a committed softcrawl crawl run
+    committed.mkdir(parents=True)
+    (committed / "summary.json").write_text(json.dumps(_summary(70.0, "backward", [-9.2, -0.1])))
     ran = []
 
     def fake_run(setup, folder, progress):
@@ -79,10 +82,11 @@ def test_runs_are_found_in_the_crawl_study_or_computed_with_the_identified_mu(tm
     monkeypatch.setattr(prediction, "_run", fake_run)
     rows, inputs = prediction.predict(results)
     assert inputs["mu_smooth"] == 0.3 and "outside" in inputs["mu_smooth_is"]
-    assert len(rows) == 10 and len(ran) == 9  # every run but the crawl study's D55 point
+    assert len(rows) == 10 and len(ran) == 8  # every run but the crawl study's D55 point and backward 70
     assert rows[0].source == "crawl/rubber-70a/points/D55-mu0.3" and rows[0].speed_mm_s == 2.0
     assert {r[1] for r in ran} == {"paper", "backward"} and all(r[2:4] == (0.3, 0.3) for r in ran)
-    assert ("forward-D60" in {r[4] for r in ran}) and ("backward-D70" in {r[4] for r in ran})
+    assert ("forward-D60" in {r[4] for r in ran}) and ("backward-D65" in {r[4] for r in ran})
+    assert rows[7].source == "crawl/backward-70-mu0.3-2cycles" and rows[7].speed_mm_s == pytest.approx(0.05)
     folder = tmp_path / "out"
     written = prediction.write_tables(rows, inputs, folder)
     assert [r.speed_mm_s for r in prediction.read_rows(folder)] == [r.speed_mm_s for r in rows]
