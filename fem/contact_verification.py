@@ -61,6 +61,8 @@ def press_test(pressure=0.3, penalty=100.0, tolerance=5e-3, smoothing=0.0) -> Ca
         mesh, MATERIAL, dirichlet=bcs, dead_loads={"z1": (0, 0, -pressure * a * a)}, contacts=[spec]
     )
     res = run_stages(model, [Stage("press", factor=1.0, steps=2)], penetration_tol=1e-12, max_augment=8)
+    if not res.converged:
+        return CaseResult("contact-press", np.inf, tolerance, {"message": res.message})
     term = model.contacts[0]
     st = term.state(res.x)
     p_err = float(np.abs(st.pressure / pressure - 1).max())

@@ -18,8 +18,9 @@ from softcrawl.fem.rigid_surfaces import CylinderWall, Plane
 REAL_RUN_STAGES = cv.run_stages
 
 
-def _record(monkeypatch, solve):
-    """run_stages replaced: with `solve` the real one, else a failure at the undeformed state."""
+def _record(monkeypatch, solve, converged=False, residuals=((1.0,),)):
+    """run_stages replaced: with `solve` the real one, else a scripted result at the undeformed
+    state, one "drag" step per sequence of `residuals`."""
     calls = []
 
     def run_stages(model, stages, **kw):
@@ -27,8 +28,8 @@ def _record(monkeypatch, solve):
             res = REAL_RUN_STAGES(model, stages, **kw)
         else:
             x = model.initial_state()
-            step = SimpleNamespace(stage="scripted", iterations=[1], residuals=[1.0], x=x)
-            res = StagedResult((step,), False, "scripted", 0.0, 0, 0.0, 0.0, x)
+            steps = [SimpleNamespace(stage="drag", iterations=[1], residuals=list(r), x=x) for r in residuals]
+            res = StagedResult(tuple(steps), converged, "scripted", 0.0, 0, 0.0, 0.0, x)
         calls.append((model, stages, kw, res))
         return res
 
@@ -78,11 +79,35 @@ STAGES = {
 
 @pytest.mark.filterwarnings("ignore:invalid value encountered:RuntimeWarning")
 @pytest.mark.parametrize("case", list(STAGES))
-def test_each_case_asks_for_its_stages(monkeypatch, case):
+def test_each_case_asks_for_its_stages_and_fails_when_they_fail(monkeypatch, case):
     calls = _record(monkeypatch, solve=False)
-    cv.CASES[case]()
+    r = cv.CASES[case]()
     [(_, stages, kw, _)] = calls
     assert (stages, kw) == STAGES[case]
+    assert (r.name, r.error, r.passed) == (case, np.inf, False)
+    tolerance = {"contact-area": 1e-8, "contact-newton": 1.0}.get(case, 5e-3)
+    assert r.tolerance == tolerance
+    if case in ("contact-press", "contact-area", "contact-newton"):  # drag and stick keep their details
+        assert r.details == {"message": "scripted"}
+
+
+@pytest.mark.filterwarnings("ignore:invalid value encountered:RuntimeWarning")
+@pytest.mark.parametrize(
+    "last, error",
+    [
+        ([1e-1, 1e-2, 1e-4, 1e-8], 1.8 / 2.0),  # quadratic: passes
+        ([1e-1, 1e-2, 1e-3, 1e-4], 1.8),  # linear: fails, 1.8 / 1
+        ([1e-1, 1e-2, 1e-2, 1e-4], np.inf),  # order 0 (a stall)
+        ([1e-3, 1e-4, 1e-3, 1e-6], np.inf),  # a negative order
+    ],
+)
+def test_the_newton_error_is_the_tolerance_over_the_last_order(monkeypatch, last, error):
+    _record(monkeypatch, solve=False, converged=True, residuals=([1e-1, 1e-3, 1e-9], last))
+    r = cv.newton_test()
+    assert r.details["orders"] == [pytest.approx(3.0), cv.convergence_order(last)]
+    assert r.details["order_last_increment"] == cv.convergence_order(last)
+    assert r.details["residuals_last"] == last
+    assert (r.error, r.tolerance) == (pytest.approx(error, rel=1e-12), 1.0)
 
 
 def test_the_press_case_is_a_quarter_block_under_a_dead_load_on_a_plane(monkeypatch):
