@@ -17,8 +17,10 @@ r"""Verification cases of the contact term (`fem.contact`) against closed forms 
 - contact-hertz: plane-strain line contact of an elastic cylinder (radius R, compressible
   Neo-Hookean at small load) on a frictionless rigid plane, pushed by a rigid displacement of a
   small inner hole. Hertz: for the force per length F' (from the solution), the half width
-  a = sqrt(4 F' R / (pi E*)) and the peak pressure p0 = 2 F' / (pi a), E* = E / (1 - nu^2).
-  Error: the FE peak pressure against p0 (a graded mesh of ~a/10 near the contact).
+  a = sqrt(4 F' R / (pi E*)) and the peak pressure p0 = 2 F' / (pi a), E* = E / (1 - nu^2)
+  (`hertz_line_contact`, `plane_strain_modulus`). Error: the FE peak pressure against p0 (cells
+  of 0.08 mm near the contact, about a/7; `hertz_result` compares a solved state of
+  `hertz_model`, so the comparison is tested without the 10-30 s solve).
 - contact-area: the quarter block of contact-press (reference base A0 = 1.5 x 1 mm) stretched
   laterally by lam = 1.2 in x and y (prescribed normal displacements of its outer faces) and
   pressed by a dead force p A0 on a frictionless plane. The state is homogeneous, F = diag(lam,
@@ -121,24 +123,19 @@ def area_test(pressure=0.15, stretch=1.2, penalty=100.0, tolerance=1e-8) -> Case
     )
 
 
-def _drag_block(mu, pressure, penalty, drag=None, shear=None, smoothing=0.0, slip_band=0.0):
-    """The block 2 x 1 x 1 (half: y >= 0), follower pressure on z1, on the plane z = 0."""
+def _drag_block(penalty, drag, smoothing, slip_band):
+    """The block 2 x 1 x 1 (half: y >= 0) on the plane z = 0, frictionless until a stage sets mu;
+    its top z1 a chamber (the follower pressure) moved by (drag, 0) in x and y at load factor 1."""
     mesh = box((2.0, 1.0, 1.0), (4, 2, 2))
-    spec = ContactSpec(("z0",), Plane(), penalty=penalty, mu=mu, smoothing=smoothing, slip_band=slip_band)
-    bcs = [Dirichlet.symmetry("y0", 1)]
-    if drag is not None:
-        bcs.append(Dirichlet("z1", (0, 1), (drag, 0.0)))
-    dead = {"z1": (shear, 0.0, 0.0)} if shear is not None else None
-    model = SolidModel(
-        mesh, MATERIAL, dirichlet=bcs, chambers=ChamberSpec(("z1",)), contacts=[spec], dead_loads=dead
-    )
-    return model
+    spec = ContactSpec(("z0",), Plane(), penalty=penalty, smoothing=smoothing, slip_band=slip_band)
+    bcs = [Dirichlet.symmetry("y0", 1), Dirichlet("z1", (0, 1), (drag, 0.0))]
+    return SolidModel(mesh, MATERIAL, dirichlet=bcs, chambers=ChamberSpec(("z1",)), contacts=[spec])
 
 
 def drag_test(
     mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, tolerance=5e-3, smoothing=0.0, slip_band=0.0
 ) -> CaseResult:
-    model = _drag_block(0.0, pressure, penalty, drag=drag, smoothing=smoothing, slip_band=slip_band)
+    model = _drag_block(penalty, drag, smoothing, slip_band)
     stages = [
         Stage("press", pressure=pressure, steps=2),
         Stage("drag", factor=1.0, friction={0: mu}, steps=4),
@@ -236,7 +233,7 @@ def hertz_line_contact(force_per_length: float, radius: float, e_star: float) ->
 HERTZ_THICKNESS = 0.5
 
 
-def hertz_model(radius=10.0, hole=2.0, approach=0.06, fine=0.08, penalty=100.0, smoothing=0.0) -> SolidModel:
+def hertz_model(radius, hole, approach, fine, penalty, smoothing) -> SolidModel:
     """The quarter ring of `_hertz_mesh` (P2) on the plane y = -radius, which it touches at
     x = 0; the hole moved rigidly by (0, -approach) at load factor 1; x = 0 a symmetry plane."""
     mesh = _hertz_mesh(radius, hole, HERTZ_THICKNESS, fine)

@@ -109,8 +109,8 @@ def test_the_hertz_mesh_is_a_quarter_ring_graded_towards_the_contact_point():
     assert count == {"outer": 2 * 29, "inner": 2 * 29, "sym": 2 * 24, "z0": 2 * 29 * 24, "z1": 2 * 29 * 24}
 
 
-def _ring(fine=0.5, **kw):
-    return cv.hertz_model(fine=fine, **kw)
+def _ring(radius=10.0, hole=2.0, approach=0.06, fine=0.5, penalty=100.0, smoothing=0.0):
+    return cv.hertz_model(radius, hole, approach, fine, penalty, smoothing)
 
 
 def test_the_hertz_model_touches_the_plane_at_the_contact_point_and_moves_the_hole():

@@ -20,7 +20,8 @@ REAL_RUN_STAGES = cv.run_stages
 
 def _record(monkeypatch, solve, converged=False, residuals=((1.0,),)):
     """run_stages replaced: with `solve` the real one, else a scripted result at the undeformed
-    state, one "drag" step per sequence of `residuals`."""
+    state, one "drag" step per sequence of `residuals`, step k with k + 1 Uzawa solves of
+    k + 1 Newton iterations each."""
     calls = []
 
     def run_stages(model, stages, **kw):
@@ -28,7 +29,10 @@ def _record(monkeypatch, solve, converged=False, residuals=((1.0,),)):
             res = REAL_RUN_STAGES(model, stages, **kw)
         else:
             x = model.initial_state()
-            steps = [SimpleNamespace(stage="drag", iterations=[1], residuals=list(r), x=x) for r in residuals]
+            steps = [
+                SimpleNamespace(stage="drag", iterations=[k + 1] * (k + 1), residuals=list(r), x=x)
+                for k, r in enumerate(residuals)
+            ]
             res = StagedResult(tuple(steps), converged, "scripted", 0.0, 0, 0.0, 0.0, x)
         calls.append((model, stages, kw, res))
         return res
@@ -82,8 +86,11 @@ STAGES = {
 def test_each_case_asks_for_its_stages_and_fails_when_they_fail(monkeypatch, case):
     calls = _record(monkeypatch, solve=False)
     r = cv.CASES[case]()
-    [(_, stages, kw, _)] = calls
+    [(model, stages, kw, _)] = calls
     assert (stages, kw) == STAGES[case]
+    assert model.contacts[0].spec.penalty == 100.0  # eps_N of every documented case
+    if case == "contact-drag":  # dragged by 0.5 mm, 8 x the stick limit shear strain mu p / mu_solid
+        assert np.allclose(_fixed(model)[1][0, _on(model, "z1")], 0.5)
     assert (r.name, r.error, r.passed) == (case, np.inf, False)
     tolerance = {"contact-area": 1e-8, "contact-newton": 1.0}.get(case, 5e-3)
     assert r.tolerance == tolerance
@@ -145,6 +152,11 @@ def test_the_area_case_stretches_the_quarter_block_laterally(monkeypatch):
     assert np.allclose(u[0, _on(model, "x1")], 0.1 * 1.5) and np.allclose(u[1, _on(model, "y1")], 0.1 * 1.0)
     assert np.all(u[0, _on(model, "x0")] == 0.0) and np.all(u[1, _on(model, "y0")] == 0.0)
     assert r.tolerance == 1e-8
+
+
+def test_the_press_case_reports_the_uzawa_solves_of_its_last_sub_step(monkeypatch):
+    _record(monkeypatch, solve=False, converged=True, residuals=((1.0,), (1.0,), (1.0,)))
+    assert cv.press_test().details["uzawa_solves"] == [3, 3, 3]
 
 
 @pytest.mark.filterwarnings("ignore:invalid value encountered:RuntimeWarning")
