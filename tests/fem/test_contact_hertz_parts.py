@@ -109,6 +109,18 @@ def test_the_hertz_mesh_is_a_quarter_ring_graded_towards_the_contact_point():
     assert count == {"outer": 2 * 29, "inner": 2 * 29, "sym": 2 * 24, "z0": 2 * 29 * 24, "z1": 2 * 29 * 24}
 
 
+def test_the_hertz_mesh_and_its_surfaces_scale_with_the_ring():
+    """The ring scaled by 1e-4 (R = 1 um) is the same mesh scaled, with the same facets on each
+    surface: the tagging tolerances scale with R (an absolute one of 1e-8 or 1e-6 mm would take
+    the first cells, 8 nm thick here, into the symmetry plane and the outer surface)."""
+    big = cv._hertz_mesh(10.0, 2.0, 0.5, 0.08)
+    small = cv._hertz_mesh(1e-3, 2e-4, 5e-5, 8e-6)
+    assert np.allclose(small.p * 1e4, big.p, rtol=0.0, atol=1e-13)
+    assert set(small.boundaries) == set(big.boundaries)
+    for name, facets in big.boundaries.items():
+        assert np.array_equal(np.sort(small.boundaries[name]), np.sort(facets)), name
+
+
 def _ring(radius=10.0, hole=2.0, approach=0.06, fine=0.5, penalty=100.0, smoothing=0.0):
     return cv.hertz_model(radius, hole, approach, fine, penalty, smoothing)
 

@@ -91,6 +91,8 @@ def test_each_case_asks_for_its_stages_and_fails_when_they_fail(monkeypatch, cas
     assert model.contacts[0].spec.penalty == 100.0  # eps_N of every documented case
     if case == "contact-drag":  # dragged by 0.5 mm, 8 x the stick limit shear strain mu p / mu_solid
         assert np.allclose(_fixed(model)[1][0, _on(model, "z1")], 0.5)
+    if case == "contact-newton":  # a wall of radius 20 mm
+        assert model.contacts[0].spec.surface.radius == 20.0
     assert (r.name, r.error, r.passed) == (case, np.inf, False)
     tolerance = {"contact-area": 1e-8, "contact-newton": 1.0}.get(case, 5e-3)
     assert r.tolerance == tolerance
