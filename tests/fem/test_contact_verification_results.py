@@ -93,7 +93,7 @@ def test_convergence_order_by_hand(residuals, order):
 
 
 def test_the_drag_block_carries_its_contact_and_drag_settings():
-    model = cv._drag_block(0.0, 0.2, 100.0, drag=0.5, smoothing=0.01, slip_band=0.05)
+    model = cv._drag_block(100.0, 0.5, 0.01, 0.05)
     spec = model.contacts[0].spec
     assert (spec.penalty, spec.smoothing, spec.slip_band, spec.mu) == (100.0, 0.01, 0.05, 0.0)
     X = model.mesh.p
