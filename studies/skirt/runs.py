@@ -2,10 +2,16 @@ r"""`softcrawl study skirt`: the squeezed skirt's stability against the mesh (`s
 
 For each mesh of the ladder (sectors around the axis x cells through the skirt) one point:
   1. the inserted state in the 60 mm pipe: directly (`model.insert`, the foot study's path) on
-     meshes of `SOURCE_SECTORS` or listed in `DIRECT`, else carried from the insertion on the
-     `SOURCE_SECTORS` mesh with the same cells (`map_axisymmetric`) and settled by Newton;
+     source meshes (`model.source_sectors`) or those listed in `DIRECT`, else carried from the
+     insertion on the source mesh with the same cells (`map_axisymmetric`) and settled by Newton;
+     the carried, settled state is kept in DIR/.../states/ (not committed) so that a run stopped
+     in step 2 resumes after the settle;
   2. its insertion force (N), unstable-mode count neg(K) - neg(K_pp), lowest eigenvalues and the
-     lobe count of each unstable mode, and the closest approach of the skirt to itself;
+     lobe count of each unstable mode, and the closest approach of the skirt to itself. The count
+     is taken on the whole tangent on the meshes of `FULL_COUNT` (the points committed before the
+     cyclic counter existed), else one circumferential harmonic at a time (`fem.cyclic`, the same
+     count: the state and the mesh are invariant under a sector rotation), which also gives the
+     unstable count and the lowest eigenvalue per harmonic n = 0..N/2;
   3. on meshes in `SEEDED` with an unstable mode: the lowest mode seeded into the geometry
      (`SEED_MM`) and the insertion followed again: force, unstable count, the rim's wrinkle
      (half the spread of its deformed radius around a ring) and lobe count, and the gap.
@@ -19,6 +25,7 @@ from __future__ import annotations
 import json
 import resource
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -46,6 +53,8 @@ DIRECT = ((48, 3),)
 SEEDED = ((48, 3),)
 QUICK_SEEDED = ((48, 3),)
 N_LOBES_REPORTED = 12  # unstable modes whose lobe count is listed
+#: Meshes whose count is taken on the whole tangent (`fem.stability`); the others by harmonic.
+FULL_COUNT = ((48, 3), (24, 3), (96, 3), (96, 4))
 
 
 def _peak_mb() -> float:
@@ -68,13 +77,24 @@ def rim_wrinkle(model, x, reference) -> float:
     return float(max(0.5 * np.ptp(r[ring.reshape(-1) == k]) for k in np.unique(ring)))
 
 
-def describe_state(model, x, design, reference=None) -> dict:
+def describe_state(model, x, design, reference=None, cyclic_sectors: int | None = None) -> dict:
     """Force, stability and gap of an equilibrium (the module docstring's item 2); lobes and
-    rings are counted on `reference` (the perfect foot's nodes; default the model's own)."""
+    rings are counted on `reference` (the perfect foot's nodes; default the model's own); the
+    count by harmonic when `cyclic_sectors` is given (the mesh's sectors)."""
     reference = model.nodes if reference is None else reference
     t0 = time.perf_counter()
     release_factorisations()
-    st = sm.state_stability(model, x)
+    extra = {"counter": "whole tangent"}
+    if cyclic_sectors:
+        st, cs = sm.cyclic_state_stability(model, x, cyclic_sectors)
+        extra = {
+            "counter": "by harmonic",
+            "circulant_error": cs.circulant_error,
+            "unstable_by_harmonic": {str(h.n): h.n_unstable for h in cs.harmonics if h.n_unstable},
+            "lowest_by_harmonic": [float(h.eigenvalues[0]) for h in cs.harmonics],
+        }
+    else:
+        st = sm.state_stability(model, x)
     lobes = [int(np.argmax(sm.lobe_spectrum(reference, sm.mode_field(model, st.modes[:, i]))))
              for i in range(min(st.n_unstable, N_LOBES_REPORTED, st.modes.shape[1]))]  # fmt: skip
     lowest = sm.mode_field(model, st.modes[:, 0])
@@ -98,16 +118,56 @@ def describe_state(model, x, design, reference=None) -> dict:
         "gap_search_mm": sm.GAP_SEARCH_MM,
         "stability_s": time.perf_counter() - t0,
         "_mode": lowest,
-    }
+    } | extra
 
 
 def _insert_source(cells: int, material, design, pipe, sources: dict):
     """The inserted state on the `SOURCE_SECTORS` mesh with `cells` cells: (model, x, result),
     computed once per run (kept in `sources`)."""
     if cells not in sources:
-        model = sm.build_model(sm.foot_mesh(design, sm.SOURCE_SECTORS, cells), material, design)
+        model = sm.build_model(sm.foot_mesh(design, sm.source_sectors(cells), cells), material, design)
         sources[cells] = (model, sm.insert(model, design, pipe, INSERT_STEPS))
     return sources[cells]
+
+
+@dataclass(frozen=True)
+class Settled:
+    """A carried, settled state as `states/` keeps it (the fields of a StagedResult used here)."""
+
+    converged: bool
+    message: str
+    newton_iterations: int
+    x: np.ndarray | None
+    wall_s: float = 0.0  # source insertion and settle (s)
+    peak_rss_mb: float = 0.0  # of the process that settled it
+    reused: bool = False  # read from states/, computed by an earlier run
+
+
+def carried_state(sectors, cells, model, material, design, pipe, sources, states) -> Settled:
+    """The inserted state of the source mesh carried to `model` and settled; read from
+    `states`/S<sectors>-C<cells>.npz when an earlier run kept it, else computed and kept there."""
+    file = None if states is None else Path(states) / f"{point_name(sectors, cells)}.npz"
+    if file is not None and file.exists():
+        z = np.load(file)
+        fields = {
+            k: z[k].item() for k in ("converged", "message", "newton_iterations", "wall_s", "peak_rss_mb")
+        }
+        return Settled(**fields, x=z["x"], reused=True)
+    t0 = time.perf_counter()
+    src_model, src = _insert_source(cells, material, design, pipe, sources)
+    if not src.converged:
+        return Settled(
+            False, f"the {sm.source_sectors(cells)}-sector source did not converge: {src.message}", 0, None
+        )
+    release_factorisations()
+    res = sm.settle(model, pipe, sm.map_axisymmetric(src_model, src.x, model))
+    wall = time.perf_counter() - t0
+    out = Settled(bool(res.converged), res.message, int(res.newton_iterations), res.x, wall, _peak_mb())
+    if file is not None and out.converged:
+        file.parent.mkdir(parents=True, exist_ok=True)
+        keys = ("converged", "message", "newton_iterations", "x", "wall_s", "peak_rss_mb")
+        np.savez(file, **{k: getattr(out, k) for k in keys})
+    return out
 
 
 def run_point(
@@ -120,9 +180,10 @@ def run_point(
     seeded: bool,
     direct: bool,
     progress=False,
+    states=None,
 ) -> dict:
     t0 = time.perf_counter()
-    if sectors == sm.SOURCE_SECTORS:
+    if sectors == sm.source_sectors(cells):
         model, res = _insert_source(cells, material, design, pipe, sources)
         mesh, path = model.mesh, "inserted"
     else:
@@ -131,23 +192,25 @@ def run_point(
         if direct:
             res, path = sm.insert(model, design, pipe, INSERT_STEPS), "inserted"
         else:
-            src_model, src = _insert_source(cells, material, design, pipe, sources)
-            if not src.converged:
-                message = f"the {sm.SOURCE_SECTORS}-sector source did not converge: {src.message}"
-                return {"sectors": sectors, "cells": cells, "converged": False, "message": message}
-            release_factorisations()
-            res = sm.settle(model, pipe, sm.map_axisymmetric(src_model, src.x, model))
-            path = f"carried from {sm.SOURCE_SECTORS} sectors, settled"
+            res = carried_state(sectors, cells, model, material, design, pipe, sources, states)
+            path = f"carried from {sm.source_sectors(cells)} sectors, settled"
     row = {"sectors": sectors, "cells": cells, "n_dofs": int(model.n_dofs), "path": path}
     row |= {
         "converged": bool(res.converged),
         "message": res.message,
         "newton_iterations": res.newton_iterations,
     }
+    if isinstance(res, Settled) and res.reused:
+        row |= {
+            "state_kept_from_earlier_run": True,
+            "settle_wall_s": res.wall_s,
+            "settle_peak_rss_mb": res.peak_rss_mb,
+        }
     if not res.converged:
         return row | {"wall_s": time.perf_counter() - t0, "peak_rss_mb": _peak_mb()}
     x = res.x
-    info = describe_state(model, x, design)
+    by_harmonic = (sectors, cells) not in FULL_COUNT
+    info = describe_state(model, x, design, cyclic_sectors=sectors if by_harmonic else None)
     mode = info.pop("_mode")
     row |= info
     if progress:
@@ -194,7 +257,9 @@ def run_skirt(out, *, material=None, quick: bool = False, ladder=None, progress:
             continue
         if progress:
             print(f"skirt: {s} sectors x {c} cells ...", flush=True)
-        row = run_point(s, c, law, design, pipe, sources, (s, c) in seeded, (s, c) in DIRECT, progress)
+        row = run_point(
+            s, c, law, design, pipe, sources, (s, c) in seeded, (s, c) in DIRECT, progress, folder / "states"
+        )
         jsonio.write(path, row)
         write_outputs(folder, full)
         if progress:
