@@ -33,6 +33,7 @@ import numpy as np
 from softcrawl import jsonio
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.fem.linsolve import release_factorisations
+from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.design import FootDesign
 from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
@@ -145,29 +146,38 @@ class Settled:
 
 def carried_state(sectors, cells, model, material, design, pipe, sources, states) -> Settled:
     """The inserted state of the source mesh carried to `model` and settled; read from
-    `states`/S<sectors>-C<cells>.npz when an earlier run kept it, else computed and kept there."""
+    `states`/S<sectors>-C<cells>.npz when an earlier run kept it, else computed and kept there.
+    The contact terms are part of the state: the kept file holds their augmented-Lagrangian
+    multipliers, and a state read back puts them and the pipe's wall into `model`'s contacts (a
+    fresh model's wall is clear of the tip: no contact, no contact stiffness)."""
     file = None if states is None else Path(states) / f"{point_name(sectors, cells)}.npz"
     if file is not None and file.exists():
         z = np.load(file)
-        fields = {
-            k: z[k].item() for k in ("converged", "message", "newton_iterations", "wall_s", "peak_rss_mb")
-        }
-        return Settled(**fields, x=z["x"], reused=True)
+        keys = ("converged", "message", "newton_iterations", "wall_s", "peak_rss_mb")
+        for i, contact in enumerate(model.contacts):
+            contact.set_surface(CylinderWall(pipe.radius))
+            contact.multiplier = z[f"multiplier_{i}"]
+        return Settled(**{k: z[k].item() for k in keys}, x=z["x"], reused=True)
     t0 = time.perf_counter()
     src_model, src = _insert_source(cells, material, design, pipe, sources)
     if not src.converged:
-        return Settled(
-            False, f"the {sm.source_sectors(cells)}-sector source did not converge: {src.message}", 0, None
-        )
+        message = f"the {sm.source_sectors(cells)}-sector source did not converge: {src.message}"
+        return Settled(False, message, 0, None)
     release_factorisations()
     res = sm.settle(model, pipe, sm.map_axisymmetric(src_model, src.x, model))
     wall = time.perf_counter() - t0
     out = Settled(bool(res.converged), res.message, int(res.newton_iterations), res.x, wall, _peak_mb())
     if file is not None and out.converged:
-        file.parent.mkdir(parents=True, exist_ok=True)
-        keys = ("converged", "message", "newton_iterations", "x", "wall_s", "peak_rss_mb")
-        np.savez(file, **{k: getattr(out, k) for k in keys})
+        keep_state(file, out, model)
     return out
+
+
+def keep_state(file, state: Settled, model) -> None:
+    """Write `state` and the multipliers of `model`'s contact terms to `file` (npz)."""
+    Path(file).parent.mkdir(parents=True, exist_ok=True)
+    keys = ("converged", "message", "newton_iterations", "x", "wall_s", "peak_rss_mb")
+    multipliers = {f"multiplier_{i}": c.multiplier for i, c in enumerate(model.contacts)}
+    np.savez(file, **{k: getattr(state, k) for k in keys}, **multipliers)
 
 
 def run_point(

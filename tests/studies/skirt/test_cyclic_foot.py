@@ -66,10 +66,27 @@ def test_the_study_describes_a_state_by_harmonic(foot_state):
     assert row["lowest_eigenvalues"][0] == pytest.approx(min(row["lowest_by_harmonic"]))
 
 
-def test_a_kept_state_is_read_back_not_recomputed(tmp_path):
-    x = np.arange(5.0)
-    keys = dict(converged=True, message="ok", newton_iterations=6, x=x, wall_s=12.5, peak_rss_mb=100.0)
-    np.savez(tmp_path / "S96-C6.npz", **keys)
-    got = runs.carried_state(96, 6, None, None, None, None, {}, tmp_path)  # nothing to compute with
+class _Contact:
+    multiplier = None
+    surface = None
+
+    def set_surface(self, surface):
+        self.surface = surface
+
+
+class _Model:
+    contacts = (_Contact(), _Contact())
+
+
+def test_a_kept_state_is_read_back_with_its_contact_multipliers_and_wall(tmp_path):
+    kept = runs.Settled(True, "ok", 6, np.arange(5.0), 12.5, 100.0)
+    source = _Model()
+    source.contacts[0].multiplier, source.contacts[1].multiplier = np.ones(3), np.full(4, 2.0)
+    runs.keep_state(tmp_path / "S96-C6.npz", kept, source)
+    model = type("M", (), {"contacts": (_Contact(), _Contact())})()
+    pipe = type("P", (), {"radius": 30.0})()
+    got = runs.carried_state(96, 6, model, None, None, pipe, {}, tmp_path)  # nothing to compute with
     assert got.reused and got.converged and got.newton_iterations == 6 and got.wall_s == 12.5
-    np.testing.assert_array_equal(got.x, x)
+    np.testing.assert_array_equal(got.x, kept.x)
+    np.testing.assert_array_equal(model.contacts[1].multiplier, np.full(4, 2.0))
+    assert model.contacts[0].surface.radius == 30.0
