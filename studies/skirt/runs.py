@@ -144,14 +144,24 @@ class Settled:
     reused: bool = False  # read from states/, computed by an earlier run
 
 
+def kept_file(states, sectors: int, cells: int) -> Path | None:
+    """Where a carried, settled state is kept (None: states are not kept)."""
+    return None if states is None else Path(states) / f"{point_name(sectors, cells)}.npz"
+
+
+def _is_kept(states, sectors: int, cells: int) -> bool:
+    file = kept_file(states, sectors, cells)
+    return file is not None and file.exists()
+
+
 def carried_state(sectors, cells, model, material, design, pipe, sources, states) -> Settled:
     """The inserted state of the source mesh carried to `model` and settled; read from
     `states`/S<sectors>-C<cells>.npz when an earlier run kept it, else computed and kept there.
     The contact terms are part of the state: the kept file holds their augmented-Lagrangian
     multipliers, and a state read back puts them and the pipe's wall into `model`'s contacts (a
     fresh model's wall is clear of the tip: no contact, no contact stiffness)."""
-    file = None if states is None else Path(states) / f"{point_name(sectors, cells)}.npz"
-    if file is not None and file.exists():
+    file = kept_file(states, sectors, cells)
+    if _is_kept(states, sectors, cells):
         z = np.load(file)
         keys = ("converged", "message", "newton_iterations", "wall_s", "peak_rss_mb")
         for i, contact in enumerate(model.contacts):
@@ -197,6 +207,8 @@ def run_point(
         model, res = _insert_source(cells, material, design, pipe, sources)
         mesh, path = model.mesh, "inserted"
     else:
+        if not direct and not _is_kept(states, sectors, cells):
+            _insert_source(cells, material, design, pipe, sources)  # before the fine model: a lower peak
         mesh = sm.foot_mesh(design, sectors, cells)
         model = sm.build_model(mesh, material, design)
         if direct:
