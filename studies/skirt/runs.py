@@ -25,7 +25,7 @@ from __future__ import annotations
 import json
 import resource
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -122,12 +122,23 @@ def describe_state(model, x, design, reference=None, cyclic_sectors: int | None 
     } | extra
 
 
-def _insert_source(cells: int, material, design, pipe, sources: dict):
-    """The inserted state on the `SOURCE_SECTORS` mesh with `cells` cells: (model, x, result),
-    computed once per run (kept in `sources`)."""
+def insert_source(cells: int, material, design, pipe, sources: dict, states=None):
+    """The inserted state on the source mesh (`model.source_sectors`) with `cells` cells:
+    (model, result), computed once per run (kept in `sources`) and, with `states`, kept on disk
+    like the carried states (`carried_state`), so a later run starts from it."""
     if cells not in sources:
-        model = sm.build_model(sm.foot_mesh(design, sm.source_sectors(cells), cells), material, design)
-        sources[cells] = (model, sm.insert(model, design, pipe, INSERT_STEPS))
+        sectors = sm.source_sectors(cells)
+        model = sm.build_model(sm.foot_mesh(design, sectors, cells), material, design)
+        if _is_kept(states, sectors, cells):
+            sources[cells] = (model, _read_kept(kept_file(states, sectors, cells), model, pipe))
+        else:
+            t0 = time.perf_counter()
+            res = sm.insert(model, design, pipe, INSERT_STEPS)
+            out = Settled(bool(res.converged), res.message, int(res.newton_iterations), res.x)
+            out = replace(out, wall_s=time.perf_counter() - t0, peak_rss_mb=_peak_mb())
+            if states is not None and out.converged:
+                keep_state(kept_file(states, sectors, cells), out, model)
+            sources[cells] = (model, out)
     return sources[cells]
 
 
@@ -162,14 +173,9 @@ def carried_state(sectors, cells, model, material, design, pipe, sources, states
     fresh model's wall is clear of the tip: no contact, no contact stiffness)."""
     file = kept_file(states, sectors, cells)
     if _is_kept(states, sectors, cells):
-        z = np.load(file)
-        keys = ("converged", "message", "newton_iterations", "wall_s", "peak_rss_mb")
-        for i, contact in enumerate(model.contacts):
-            contact.set_surface(CylinderWall(pipe.radius))
-            contact.multiplier = z[f"multiplier_{i}"]
-        return Settled(**{k: z[k].item() for k in keys}, x=z["x"], reused=True)
+        return _read_kept(file, model, pipe)
     t0 = time.perf_counter()
-    src_model, src = _insert_source(cells, material, design, pipe, sources)
+    src_model, src = insert_source(cells, material, design, pipe, sources, states)
     if not src.converged:
         message = f"the {sm.source_sectors(cells)}-sector source did not converge: {src.message}"
         return Settled(False, message, 0, None)
@@ -180,6 +186,15 @@ def carried_state(sectors, cells, model, material, design, pipe, sources, states
     if file is not None and out.converged:
         keep_state(file, out, model)
     return out
+
+
+def _read_kept(file, model, pipe) -> Settled:
+    z = np.load(file)
+    keys = ("converged", "message", "newton_iterations", "wall_s", "peak_rss_mb")
+    for i, contact in enumerate(model.contacts):
+        contact.set_surface(CylinderWall(pipe.radius))
+        contact.multiplier = z[f"multiplier_{i}"]
+    return Settled(**{k: z[k].item() for k in keys}, x=z["x"], reused=True)
 
 
 def keep_state(file, state: Settled, model) -> None:
@@ -204,11 +219,13 @@ def run_point(
 ) -> dict:
     t0 = time.perf_counter()
     if sectors == sm.source_sectors(cells):
-        model, res = _insert_source(cells, material, design, pipe, sources)
+        model, res = insert_source(cells, material, design, pipe, sources, states)
         mesh, path = model.mesh, "inserted"
     else:
         if not direct and not _is_kept(states, sectors, cells):
-            _insert_source(cells, material, design, pipe, sources)  # before the fine model: a lower peak
+            insert_source(
+                cells, material, design, pipe, sources, states
+            )  # before the fine model: a lower peak
         mesh = sm.foot_mesh(design, sectors, cells)
         model = sm.build_model(mesh, material, design)
         if direct:
