@@ -45,6 +45,7 @@ from skfem import MeshTet2
 
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.cyclic import CyclicStability, cyclic_stability, cyclic_symmetry
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.fem.stability import Stability, stability
 from softcrawl.geometry.foot_meshers import mesh_foot_with
@@ -60,6 +61,9 @@ from softcrawl.studies.foot.model import (
 #: Sectors of the mesh on which the axisymmetric inserted state is computed before it is carried
 #: to a finer one (the fewest at which the contact faces' quadrature works, `studies.crawl.mesh`).
 SOURCE_SECTORS = 24
+#: ... except with these cells through the skirt: 24 sectors x 6 cells gives cells too flat for
+#: the curved P2 facets' quadrature (`fem.discretisation.Discretisation.facet_basis` refuses it).
+SOURCE_SECTORS_BY_CELLS = {6: 32}
 #: Largest nodal displacement (mm) of the seeded mode: half the imperfection the first review
 #: tried with cos(n theta) shapes (0.1 mm), 1/60 of the skirt's thickness.
 SEED_MM = 0.05
@@ -69,6 +73,11 @@ APART_MM = 4.5
 GAP_SEARCH_MM = 6.0
 SKIRT_TAGS = ("front", "back", "rim")
 TOL_MATCH = 1e-6  # mm: two nodes at the same (rho, z)
+
+
+def source_sectors(cells: int) -> int:
+    """Sectors of the mesh whose insertion is carried to finer ones with `cells` cells."""
+    return SOURCE_SECTORS_BY_CELLS.get(cells, SOURCE_SECTORS)
 
 
 def foot_mesh(design, sectors: int, cells: int) -> MeshTet2:
@@ -118,6 +127,32 @@ def normal_force(model, x) -> float:
 def state_stability(model, x) -> Stability:
     _, K = model.residual_and_tangent(x, 0.0, 0.0)
     return stability(K, model.free_dofs, model.n_u)
+
+
+def cyclic_state_stability(model, x, sectors: int) -> tuple[Stability, CyclicStability]:
+    """`state_stability` by cyclic symmetry (`fem.cyclic`: the same count, one harmonic at a time),
+    and the per-harmonic result. The Stability's eigenvalues are the lowest found over all
+    harmonics, each as often as it occurs in the whole mesh (twice for 0 < n < N/2: the waves
+    Re and Im of omega^{n s} phi), with their modes on the free displacement dofs; every
+    negative one is there, then the lowest positive ones found, up to the count + 4."""
+    _, K = model.residual_and_tangent(x, 0.0, 0.0)
+    pv = model.space.pressure_vertex if model.n_p else None
+    sym = cyclic_symmetry(model.nodes, sectors, model.free_dofs, model.n_u, pv)
+    cs = cyclic_stability(K, sym)
+    iu = np.flatnonzero(np.asarray(model.free_dofs) < model.n_u)
+    found = sorted((float(lam), h.n, i) for h in cs.harmonics for i, lam in enumerate(h.eigenvalues))
+    lams, modes = [], []
+    for lam, n, i in found:
+        if len(lams) >= cs.n_unstable + 4:
+            break
+        h = cs.harmonics[n]
+        for part in ("real", "imag")[: h.multiplicity]:
+            lams.append(lam)
+            modes.append(sym.mode_on_free_dofs(h.modes[:, i], n, part)[iu])
+    st = Stability(
+        cs.n_unstable, cs.tangent, cs.pressure_block, np.array(lams), np.column_stack(modes), cs.asymmetry
+    )
+    return st, cs
 
 
 def mode_field(model, vector: np.ndarray) -> np.ndarray:

@@ -2,10 +2,16 @@ r"""`softcrawl study skirt`: the squeezed skirt's stability against the mesh (`s
 
 For each mesh of the ladder (sectors around the axis x cells through the skirt) one point:
   1. the inserted state in the 60 mm pipe: directly (`model.insert`, the foot study's path) on
-     meshes of `SOURCE_SECTORS` or listed in `DIRECT`, else carried from the insertion on the
-     `SOURCE_SECTORS` mesh with the same cells (`map_axisymmetric`) and settled by Newton;
+     source meshes (`model.source_sectors`) or those listed in `DIRECT`, else carried from the
+     insertion on the source mesh with the same cells (`map_axisymmetric`) and settled by Newton;
+     the carried, settled state is kept in DIR/.../states/ (not committed) so that a run stopped
+     in step 2 resumes after the settle;
   2. its insertion force (N), unstable-mode count neg(K) - neg(K_pp), lowest eigenvalues and the
-     lobe count of each unstable mode, and the closest approach of the skirt to itself;
+     lobe count of each unstable mode, and the closest approach of the skirt to itself. The count
+     is taken on the whole tangent on the meshes of `FULL_COUNT` (the points committed before the
+     cyclic counter existed), else one circumferential harmonic at a time (`fem.cyclic`, the same
+     count: the state and the mesh are invariant under a sector rotation), which also gives the
+     unstable count and the lowest eigenvalue per harmonic n = 0..N/2;
   3. on meshes in `SEEDED` with an unstable mode: the lowest mode seeded into the geometry
      (`SEED_MM`) and the insertion followed again: force, unstable count, the rim's wrinkle
      (half the spread of its deformed radius around a ring) and lobe count, and the gap.
@@ -19,6 +25,7 @@ from __future__ import annotations
 import json
 import resource
 import time
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +33,7 @@ import numpy as np
 from softcrawl import jsonio
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.fem.linsolve import release_factorisations
+from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.design import FootDesign
 from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
@@ -46,6 +54,8 @@ DIRECT = ((48, 3),)
 SEEDED = ((48, 3),)
 QUICK_SEEDED = ((48, 3),)
 N_LOBES_REPORTED = 12  # unstable modes whose lobe count is listed
+#: Meshes whose count is taken on the whole tangent (`fem.stability`); the others by harmonic.
+FULL_COUNT = ((48, 3), (24, 3), (96, 3), (96, 4))
 
 
 def _peak_mb() -> float:
@@ -68,13 +78,24 @@ def rim_wrinkle(model, x, reference) -> float:
     return float(max(0.5 * np.ptp(r[ring.reshape(-1) == k]) for k in np.unique(ring)))
 
 
-def describe_state(model, x, design, reference=None) -> dict:
+def describe_state(model, x, design, reference=None, cyclic_sectors: int | None = None) -> dict:
     """Force, stability and gap of an equilibrium (the module docstring's item 2); lobes and
-    rings are counted on `reference` (the perfect foot's nodes; default the model's own)."""
+    rings are counted on `reference` (the perfect foot's nodes; default the model's own); the
+    count by harmonic when `cyclic_sectors` is given (the mesh's sectors)."""
     reference = model.nodes if reference is None else reference
     t0 = time.perf_counter()
     release_factorisations()
-    st = sm.state_stability(model, x)
+    extra = {"counter": "whole tangent"}
+    if cyclic_sectors:
+        st, cs = sm.cyclic_state_stability(model, x, cyclic_sectors)
+        extra = {
+            "counter": "by harmonic",
+            "circulant_error": cs.circulant_error,
+            "unstable_by_harmonic": {str(h.n): h.n_unstable for h in cs.harmonics if h.n_unstable},
+            "lowest_by_harmonic": [float(h.eigenvalues[0]) for h in cs.harmonics],
+        }
+    else:
+        st = sm.state_stability(model, x)
     lobes = [int(np.argmax(sm.lobe_spectrum(reference, sm.mode_field(model, st.modes[:, i]))))
              for i in range(min(st.n_unstable, N_LOBES_REPORTED, st.modes.shape[1]))]  # fmt: skip
     lowest = sm.mode_field(model, st.modes[:, 0])
@@ -98,16 +119,90 @@ def describe_state(model, x, design, reference=None) -> dict:
         "gap_search_mm": sm.GAP_SEARCH_MM,
         "stability_s": time.perf_counter() - t0,
         "_mode": lowest,
-    }
+    } | extra
 
 
-def _insert_source(cells: int, material, design, pipe, sources: dict):
-    """The inserted state on the `SOURCE_SECTORS` mesh with `cells` cells: (model, x, result),
-    computed once per run (kept in `sources`)."""
+def insert_source(cells: int, material, design, pipe, sources: dict, states=None):
+    """The inserted state on the source mesh (`model.source_sectors`) with `cells` cells:
+    (model, result), computed once per run (kept in `sources`) and, with `states`, kept on disk
+    like the carried states (`carried_state`), so a later run starts from it."""
     if cells not in sources:
-        model = sm.build_model(sm.foot_mesh(design, sm.SOURCE_SECTORS, cells), material, design)
-        sources[cells] = (model, sm.insert(model, design, pipe, INSERT_STEPS))
+        sectors = sm.source_sectors(cells)
+        model = sm.build_model(sm.foot_mesh(design, sectors, cells), material, design)
+        if _is_kept(states, sectors, cells):
+            sources[cells] = (model, _read_kept(kept_file(states, sectors, cells), model, pipe))
+        else:
+            t0 = time.perf_counter()
+            res = sm.insert(model, design, pipe, INSERT_STEPS)
+            out = Settled(bool(res.converged), res.message, int(res.newton_iterations), res.x)
+            out = replace(out, wall_s=time.perf_counter() - t0, peak_rss_mb=_peak_mb())
+            if states is not None and out.converged:
+                keep_state(kept_file(states, sectors, cells), out, model)
+            sources[cells] = (model, out)
     return sources[cells]
+
+
+@dataclass(frozen=True)
+class Settled:
+    """A carried, settled state as `states/` keeps it (the fields of a StagedResult used here)."""
+
+    converged: bool
+    message: str
+    newton_iterations: int
+    x: np.ndarray | None
+    wall_s: float = 0.0  # source insertion and settle (s)
+    peak_rss_mb: float = 0.0  # of the process that settled it
+    reused: bool = False  # read from states/, computed by an earlier run
+
+
+def kept_file(states, sectors: int, cells: int) -> Path | None:
+    """Where a carried, settled state is kept (None: states are not kept)."""
+    return None if states is None else Path(states) / f"{point_name(sectors, cells)}.npz"
+
+
+def _is_kept(states, sectors: int, cells: int) -> bool:
+    file = kept_file(states, sectors, cells)
+    return file is not None and file.exists()
+
+
+def carried_state(sectors, cells, model, material, design, pipe, sources, states) -> Settled:
+    """The inserted state of the source mesh carried to `model` and settled; read from
+    `states`/S<sectors>-C<cells>.npz when an earlier run kept it, else computed and kept there.
+    The contact terms are part of the state: the kept file holds their augmented-Lagrangian
+    multipliers, and a state read back puts them and the pipe's wall into `model`'s contacts (a
+    fresh model's wall is clear of the tip: no contact, no contact stiffness)."""
+    file = kept_file(states, sectors, cells)
+    if _is_kept(states, sectors, cells):
+        return _read_kept(file, model, pipe)
+    t0 = time.perf_counter()
+    src_model, src = insert_source(cells, material, design, pipe, sources, states)
+    if not src.converged:
+        message = f"the {sm.source_sectors(cells)}-sector source did not converge: {src.message}"
+        return Settled(False, message, 0, None)
+    release_factorisations()
+    res = sm.settle(model, pipe, sm.map_axisymmetric(src_model, src.x, model))
+    wall = time.perf_counter() - t0
+    out = Settled(bool(res.converged), res.message, int(res.newton_iterations), res.x, wall, _peak_mb())
+    if file is not None and out.converged:
+        keep_state(file, out, model)
+    return out
+
+
+def _read_kept(file, model, pipe) -> Settled:
+    z = np.load(file)
+    keys = ("converged", "message", "newton_iterations", "wall_s", "peak_rss_mb")
+    for i, contact in enumerate(model.contacts):
+        contact.set_surface(CylinderWall(pipe.radius))
+        contact.multiplier = z[f"multiplier_{i}"]
+    return Settled(**{k: z[k].item() for k in keys}, x=z["x"], reused=True)
+
+
+def keep_state(file, state: Settled, model) -> None:
+    """Write `state` and the multipliers of `model`'s contact terms to `file` (npz)."""
+    Path(file).parent.mkdir(parents=True, exist_ok=True)
+    keys = ("converged", "message", "newton_iterations", "x", "wall_s", "peak_rss_mb")
+    multipliers = {f"multiplier_{i}": c.multiplier for i, c in enumerate(model.contacts)}
+    np.savez(file, **{k: getattr(state, k) for k in keys}, **multipliers)
 
 
 def run_point(
@@ -120,34 +215,41 @@ def run_point(
     seeded: bool,
     direct: bool,
     progress=False,
+    states=None,
 ) -> dict:
     t0 = time.perf_counter()
-    if sectors == sm.SOURCE_SECTORS:
-        model, res = _insert_source(cells, material, design, pipe, sources)
+    if sectors == sm.source_sectors(cells):
+        model, res = insert_source(cells, material, design, pipe, sources, states)
         mesh, path = model.mesh, "inserted"
     else:
+        if not direct and not _is_kept(states, sectors, cells):
+            insert_source(
+                cells, material, design, pipe, sources, states
+            )  # before the fine model: a lower peak
         mesh = sm.foot_mesh(design, sectors, cells)
         model = sm.build_model(mesh, material, design)
         if direct:
             res, path = sm.insert(model, design, pipe, INSERT_STEPS), "inserted"
         else:
-            src_model, src = _insert_source(cells, material, design, pipe, sources)
-            if not src.converged:
-                message = f"the {sm.SOURCE_SECTORS}-sector source did not converge: {src.message}"
-                return {"sectors": sectors, "cells": cells, "converged": False, "message": message}
-            release_factorisations()
-            res = sm.settle(model, pipe, sm.map_axisymmetric(src_model, src.x, model))
-            path = f"carried from {sm.SOURCE_SECTORS} sectors, settled"
+            res = carried_state(sectors, cells, model, material, design, pipe, sources, states)
+            path = f"carried from {sm.source_sectors(cells)} sectors, settled"
     row = {"sectors": sectors, "cells": cells, "n_dofs": int(model.n_dofs), "path": path}
     row |= {
         "converged": bool(res.converged),
         "message": res.message,
         "newton_iterations": res.newton_iterations,
     }
+    if isinstance(res, Settled) and res.reused:
+        row |= {
+            "state_kept_from_earlier_run": True,
+            "settle_wall_s": res.wall_s,
+            "settle_peak_rss_mb": res.peak_rss_mb,
+        }
     if not res.converged:
         return row | {"wall_s": time.perf_counter() - t0, "peak_rss_mb": _peak_mb()}
     x = res.x
-    info = describe_state(model, x, design)
+    by_harmonic = (sectors, cells) not in FULL_COUNT
+    info = describe_state(model, x, design, cyclic_sectors=sectors if by_harmonic else None)
     mode = info.pop("_mode")
     row |= info
     if progress:
@@ -194,7 +296,9 @@ def run_skirt(out, *, material=None, quick: bool = False, ladder=None, progress:
             continue
         if progress:
             print(f"skirt: {s} sectors x {c} cells ...", flush=True)
-        row = run_point(s, c, law, design, pipe, sources, (s, c) in seeded, (s, c) in DIRECT, progress)
+        row = run_point(
+            s, c, law, design, pipe, sources, (s, c) in seeded, (s, c) in DIRECT, progress, folder / "states"
+        )
         jsonio.write(path, row)
         write_outputs(folder, full)
         if progress:

@@ -88,3 +88,13 @@ def test_the_inserted_foot_on_48_sectors_has_unstable_waves_at_the_mesh_scale(fo
     corner = int(np.argmax(np.linalg.norm(lowest, axis=0)))
     assert np.hypot(*model.nodes[:2, corner]) == pytest.approx(design.tip_radius - 1.5, abs=0.01)  # B1
     assert sm.self_gap(model, res.x).gap > 1.0
+    # by harmonic (docs/decisions/074-cyclic-stability.md): the same pivots, and the modes of L
+    # lobes in harmonic 48 - L, the lowest in n = 24
+    by_n, cs = sm.cyclic_state_stability(model, res.x, 48)
+    assert (by_n.tangent.negative, by_n.pressure_block.negative) == (
+        st.tangent.negative,
+        st.pressure_block.negative,
+    )
+    unstable = [h.n for h in cs.harmonics if h.n_unstable]
+    assert min(cs.harmonics, key=lambda h: h.eigenvalues[0]).n == 24
+    assert unstable == list(range(24 - (st.n_unstable - 1) // 2, 25))
