@@ -164,9 +164,10 @@ def _run(setup: CrawlSetup, folder: Path, progress) -> dict:
 
 
 def find_or_run(
-    results: Path, out: Path, setup: CrawlSetup, direction: str, progress=None
-) -> tuple[dict, Path]:
-    """The run of `setup`: found (module docstring), or computed into out/DIRECTION-D..."""
+    results: Path, out: Path, setup: CrawlSetup, direction: str, progress=None, compute: bool = True
+) -> tuple[dict | None, Path]:
+    """The run of `setup`: found (module docstring), or computed into out/DIRECTION-D..; with
+    `compute` False, (None, that folder) for a run not found."""
     candidates = [out / f"{direction}-D{setup.pipe_diameter:g}"]
     if setup.mu_smooth == setup.mu_grooved:
         d, mu = f"{setup.pipe_diameter:g}", f"{setup.mu_smooth:g}"
@@ -179,11 +180,23 @@ def find_or_run(
             summary = json.loads(path.read_text())
             if _same_setup(summary, setup):
                 return summary, folder
+    if not compute:
+        return None, candidates[-1]
     return _run(setup, candidates[-1], progress), candidates[-1]
 
 
-def predict(results: Path, progress=None) -> tuple[list[Prediction], dict]:
-    """Every Table 2 crawl with the identification under `results` (module docstring)."""
+def missing_row(setup: CrawlSetup, direction: str) -> Prediction:
+    """A run that was not computed: NaN speeds, not converged, source "not computed"."""
+    nan = math.nan
+    d = setup.pipe_diameter
+    return Prediction(d, direction, setup.mu_smooth, setup.mu_grooved, False, nan, nan, nan,
+                      table2(d, direction), nan, d != FIT_DIAMETER, "not computed")  # fmt: skip
+
+
+def predict(results: Path, progress=None, compute: bool = True) -> tuple[list[Prediction], dict]:
+    """Every Table 2 crawl with the identification under `results` (module docstring); with
+    `compute` False, the runs not found are rows "not computed" instead of being run (a table of
+    what exists, e.g. while the missing runs are computed elsewhere)."""
     ident = load_identification(results / "identify" / "feet" / "feet.json")
     (mu_s, how_s), (mu_g, how_g) = ident.prediction_mu("smooth"), ident.prediction_mu("grooved")
     out = results / NAME / MATERIAL
@@ -191,8 +204,11 @@ def predict(results: Path, progress=None) -> tuple[list[Prediction], dict]:
     for d in PIPE_DIAMETERS_MM:
         for direction in DIRECTIONS:
             setup = setup_for(d, direction, mu_s, mu_g)
-            summary, folder = find_or_run(results, out, setup, direction, progress)
-            rows.append(prediction_row(summary, direction, folder.relative_to(results).as_posix()))
+            summary, folder = find_or_run(results, out, setup, direction, progress, compute)
+            if summary is None:
+                rows.append(missing_row(setup, direction))
+            else:
+                rows.append(prediction_row(summary, direction, folder.relative_to(results).as_posix()))
     inputs = {"mu_smooth": mu_s, "mu_smooth_is": how_s, "mu_grooved": mu_g, "mu_grooved_is": how_g}
     return rows, inputs
 

@@ -107,3 +107,13 @@ def test_a_stored_run_matches_only_its_own_setup():
     assert not prediction._same_setup(stored, prediction.setup_for(60.0, "forward", 0.3, 0.3))
     assert not prediction._same_setup(stored, prediction.setup_for(60.0, "backward", 0.3, 0.5))
     assert not prediction._same_setup({"setup": {}}, setup)
+
+
+def test_without_computing_the_missing_runs_are_rows_not_computed(tmp_path):
+    results = tmp_path / "results"
+    (results / "identify" / "feet").mkdir(parents=True)
+    shutil.copy(identify.COMMITTED, results / "identify" / "feet" / "feet.json")
+    rows, _ = prediction.predict(results, compute=False)
+    assert len(rows) == 10 and all(r.source == "not computed" and not r.converged for r in rows)
+    assert math.isnan(rows[0].speed_mm_s) and rows[0].table2_mm_s == 17.4
+    assert not prediction.goal(rows)["forward"]["met"]
