@@ -62,6 +62,7 @@ def _fig21(ax, rows: list[dict]) -> None:
     ax.axhline(FIG21_MIN_SPEED_MM_S, color="k", ls="--", lw=1, label=label)
     ax.set(xlabel="foot angle (deg)", ylabel="forward speed, 70 mm pipe (mm/s)", xlim=(20, 130))
     if not rows:
+        ax.set_ylim(0.0, 3 * FIG21_MIN_SPEED_MM_S)
         ax.text(0.5, 0.5, "feet study not run under this results folder\n(softcrawl study feet)",
                 ha="center", va="center", transform=ax.transAxes)  # fmt: skip
         ax.set_title("Fig. 21's statements")
@@ -70,5 +71,6 @@ def _fig21(ax, rows: list[dict]) -> None:
     for material in sorted({r["material"] for r in rows}):
         pts = sorted((float(r["angle"]), float(r["speed_mm_s"])) for r in rows if r["material"] == material)
         ax.plot(*zip(*pts), "o-", label=material)
+    ax.set_ylim(bottom=min(0.0, ax.get_ylim()[0]))
     ax.set_title("Fig. 21's statements against the FE feet")
     ax.legend(fontsize=8)

@@ -55,6 +55,9 @@ def test_the_goal_needs_every_pipe_moving_and_every_held_out_pipe_within_30_perc
     # the fit pipe standing still: not met, although every held-out pipe is within
     still = prediction.goal(_rows((17.4, 20.1, 19.5, 0.0, 17.6)))["forward"]
     assert not still["met"] and not still["positive_everywhere"] and len(still["within_tolerance"]) == 4
+    # a stalled crawl's 1e-3 mm stride is not a speed above 0
+    assert not prediction.goal(_rows((17.4, 20.1, 19.5, 0.0005, 17.6)))["forward"]["positive_everywhere"]
+    assert prediction.goal(_rows((17.4, 20.1, 19.5, 0.006, 17.6)))["forward"]["met"]
     trend = prediction.goal(_rows((0.0, 0.0, 0.0, 3.9, 17.7)))["forward"]["trend_60_75"]
     assert trend["fe_mm_s"] == pytest.approx(17.7) and trend["table2_mm_s"] == pytest.approx(-2.5)
 
