@@ -36,6 +36,8 @@ MAX_WORKERS = 64
 MAX_TRIALS = 10_000
 #: Largest --max-memory (GB): far above any machine this runs on; a larger number is a typo.
 MAX_MEMORY_GB = 4096.0
+#: Most designs `--confirm` crawls: each is a two-cycle crawl of 20-60 min on a loaded machine.
+MAX_CONFIRM = 10
 #: Largest sampler seed: numpy's random generators take seeds below 2^32.
 MAX_SEED = 2**32 - 1
 
@@ -169,6 +171,18 @@ def _add_run_options(parser) -> None:
         integer=True,
     )
 
+    add_number(
+        parser,
+        "--confirm",
+        help="optimise-feet: crawl the N best designs at 70 mm (2 cycles, quick feet) after the search",
+        default=None,
+        default_text="none",
+        minimum=1,
+        maximum=MAX_CONFIRM,
+        integer=True,
+        metavar="N",
+    )
+
 
 def _check(args) -> None:
     """Every option checked before the sweep starts: a bad one is one line and exit code 2, not a
@@ -246,6 +260,7 @@ def _request(args: argparse.Namespace) -> StudyRequest:
         seed=args.seed,
         simulator=args.simulator,
         max_memory_gb=args.max_memory,
+        confirm=args.confirm,
     )
 
 

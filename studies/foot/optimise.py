@@ -42,9 +42,11 @@ from softcrawl.paper import PIPE_DIAMETERS_MM
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.foot.identify import load as load_identification
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S
+from softcrawl.studies.foot.optimise_confirm import confirm_best
 from softcrawl.studies.foot.optimise_evaluator import metric_columns
 from softcrawl.studies.foot.optimise_plot import front, plot_front
 from softcrawl.studies.foot.study import FEET_QUICK_TRIALS, FEET_TRIALS
+from softcrawl.studies.html import esc, figure, markdown
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.plots.style import number
 from softcrawl.studies.sweeps.search import run_search
@@ -203,7 +205,7 @@ def check_request(request: StudyRequest) -> None:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     """`softcrawl study optimise-feet` (the registry's entry point)."""
-    return run_optimise_feet(
+    outcome = run_optimise_feet(
         request.out,
         quick=request.quick,
         trials=request.trials,
@@ -214,6 +216,15 @@ def run_request(request: StudyRequest) -> StudyOutcome:
         progress=request.progress,
         simulator=request.simulator,
     )
+    if not request.confirm:
+        return outcome
+    folder = folder_of(request.out, request.quick)
+    settings = read_spec(folder)["settings"]
+    rows = confirm_best(folder, read_csv(folder / "trials.csv"), settings, request.confirm)
+    done = sum(r.get("converged") is True for r in rows)
+    line = f"confirm: {len(rows)} designs crawled at 70 mm, {done} completed (confirm.md)"
+    written = (*outcome.written, folder / "confirm.csv", folder / "confirm.md")
+    return StudyOutcome((*outcome.lines, line), written, outcome.ok, outcome.problems)
 
 
 def replot_folder(folder: Path) -> list[Path]:
@@ -225,3 +236,16 @@ def replot_folder(folder: Path) -> list[Path]:
     settings = read_spec(folder).get("settings", {})
     plot_front(mark_front(rows), folder / "pareto.png", title=_title(settings))
     return [folder / "pareto.png"]
+
+
+def report_block(folder: Path) -> str:
+    """The run's block in the design review (`softcrawl report`): command, figure, summary.md."""
+    folder = Path(folder)
+    quick = bool(read_spec(folder).get("settings", {}).get("quick"))
+    command = f"softcrawl study {NAME}" + (" --quick" if quick else "") + " --workers 2 --out results/"
+    body = [f"<h3>{esc(NAME)}: {esc(folder.name)}</h3>", f"<p>Command: <code>{esc(command)}</code></p>"]
+    if (folder / "pareto.png").exists():
+        body.append(figure(folder / "pareto.png", f"{NAME}/{folder.name}/pareto.png"))
+    if (folder / "summary.md").exists():
+        body.append(markdown((folder / "summary.md").read_text()))
+    return "".join(body)

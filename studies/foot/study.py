@@ -59,12 +59,15 @@ STUDIES = (
         summary="a foot that anchors and slides in 55-75 mm pipes (Fig. 4's margin) against its mass",
         run="softcrawl.studies.foot.optimise:run_request",
         default_material=None,
-        options=frozenset({"workers", "max_memory", "storage", "trials", "sampler", "seed", "simulator"}),
+        options=frozenset(
+            {"workers", "max_memory", "storage", "trials", "sampler", "seed", "simulator", "confirm"}
+        ),
         evaluators={"optimise-feet": "softcrawl.studies.foot.optimise_evaluator:evaluate_feet_design"},
         figure="pareto.png",
         tables=("trials.csv", "summary.md"),
         check="softcrawl.studies.foot.optimise:check_request",
         replot="softcrawl.studies.foot.optimise:replot_folder",
+        report="softcrawl.studies.foot.optimise:report_block",
         help="optimise-feet: NSGA-II over the foot angle (30-120 deg), skirt thickness (1.5-3.5 mm) and "
         "hardness (50A-70A): maximise the worst-case anchoring margin of Fig. 4 over 55-75 mm pipes "
         "(--quick: 55 and 75 mm, quick mesh) and minimise the mass (studies/foot/optimise.py); the "

@@ -101,3 +101,55 @@ def test_a_bad_search_dimension_names_itself(dimension, tmp_path):
     with pytest.raises(StudyError) as exc:
         SearchSpec("s", {"x": dimension}, str(tmp_path), 2, ("minimize",), "optimise-feet")
     assert exc.value.parameter == "space.x"
+
+
+def test_the_review_shows_the_run(tmp_path):
+    from softcrawl.studies.foot.optimise import report_block
+
+    out = _out(tmp_path)
+    assert _run(out, 3) == 0
+    html = report_block(folder_of(out, True))
+    assert "softcrawl study optimise-feet --quick --workers 2" in html and "<img" in html
+    assert "The paper's foot: margin" in html
+
+
+def test_confirm_crawls_the_best_designs_once(tmp_path, monkeypatch):
+    """The confirm stage with a fake crawl: the front's best margins first, one crawl per design,
+    the crawl given the design's foot and material, a crawl's failure a row, a rerun reads back."""
+    import types
+
+    import softcrawl.studies.crawl.model as crawl_model
+    from softcrawl.studies.foot.optimise_confirm import best_designs, confirm_best
+
+    monkeypatch.setattr(crawl_model, "CrawlSetup", lambda **kw: types.SimpleNamespace(**kw))
+    rows = [
+        {"trial": 0, "angle": "120", "skirt_thickness": "3", "hardness": "rubber-70a", "margin": "-0.5",
+         "mass_g": "18", "front": "False", "trial_status": "completed"},
+        {"trial": 1, "angle": "60", "skirt_thickness": "2", "hardness": "rubber-50a", "margin": "-0.2",
+         "mass_g": "20", "front": "True", "trial_status": "completed"},
+        {"trial": 2, "angle": "90", "skirt_thickness": "1.5", "hardness": "rubber-60a", "margin": "-0.9",
+         "mass_g": "10", "front": "True", "trial_status": "completed"},
+        {"trial": 3, "angle": "30", "skirt_thickness": "2", "hardness": "rubber-60a", "margin": "",
+         "mass_g": "", "front": "False", "trial_status": "failed"},
+    ]  # fmt: skip
+    assert [r["trial"] for r in best_designs(rows, 3)] == [1, 2, 0]
+    calls = []
+
+    def crawl(setup, folder):
+        calls.append(setup)
+        if setup.material == "rubber-60a":
+            raise RuntimeError("diverged in cycle 1")
+        return {"converged": True, "message": "", "strides_mm": "5.0;2.0", "speed_mm_s": 1.0}
+
+    settings = {"mu_smooth": 0.3, "mu_grooved": 0.3, "mu_smooth_flag": "outside the sourced range"}
+    out = confirm_best(tmp_path, rows, settings, 2, crawl=crawl)
+    assert [(c.foot.angle, c.foot.skirt_thickness, c.material) for c in calls] == [
+        (60.0, 2.0, "rubber-50a"),
+        (90.0, 1.5, "rubber-60a"),
+    ]
+    assert calls[0].pipe_diameter == 70.0 and calls[0].cycles == 2 and calls[0].sectors >= 24
+    assert out[0]["speed_mm_s"] == 1.0 and out[1]["converged"] is False and "diverged" in out[1]["message"]
+    text = (tmp_path / "confirm.md").read_text()
+    assert "diverged in cycle 1" in text and "outside the sourced range" in text
+    confirm_best(tmp_path, rows, settings, 2, crawl=crawl)
+    assert len(calls) == 2  # read back, not crawled again
