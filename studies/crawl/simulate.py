@@ -100,9 +100,10 @@ def simulate_crawl(
         sectors=sectors,
         thickness_layers=thickness_layers,
         edge_length=edge_length,
+        material=material.name if isinstance(material, Material) else str(material),
     )
     mat = material if isinstance(material, Material) else get_material(material)
-    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
+    design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
     law = solid_law(mat, hyperelastic_only=True)
     cm = build(mesh, law, design, setup)
     insertion = insertion_cache_for(insertion_cache, cm, mesh, design, law)
