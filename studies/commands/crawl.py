@@ -20,7 +20,8 @@ the robot crawls towards -z; docs/decisions/067-flipped-foot.md); --symmetric: o
 foot mirrored (the pair is symmetric under z -> -z: a check, it should not advance). The feet's
 mesh: the revolved foot (48 sectors, 3 cells through the skirt; --sectors and --layers refine
 it) or, with --mesher tetwild, pytetwild's (--edge-length; the mesh of the crawl results computed
-before the revolved one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh, 24 sectors unless
+before the revolved one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh,
+geometry.foot_meshers.quick_sectors of the foot (24 at 120 deg, 34 at 90, 42 at 60, 47 at 30) unless
 --sectors is given (2 sub-steps per schedule segment stalled where the actuator force changes
 sign, 4 pass, so --steps keeps 4).
 
@@ -213,9 +214,13 @@ def mesh_settings(args) -> dict:
     from softcrawl.studies.commands.options import CommandLineError
 
     if args.mesher == "revolved":
+        from softcrawl.geometry.foot_design import FootDesign  # lazy: the command's help stays light
+        from softcrawl.geometry.foot_meshers import quick_sectors  # lazy: as above
+
+        quick = quick_sectors(FootDesign(angle=args.foot_angle))
         if args.edge_length is not None:
             raise CommandLineError("mesh-size", "refines the tetwild feet: add --mesher tetwild")
-        sectors = args.sectors if args.sectors is not None else (QUICK_SECTORS if args.quick else None)
+        sectors = args.sectors if args.sectors is not None else (quick if args.quick else None)
         return {"mesher": "revolved", "sectors": sectors, "thickness_layers": args.layers}
     for name, value in (("sectors", args.sectors), ("layers", args.layers)):
         if value is not None:

@@ -58,3 +58,13 @@ def test_run_and_write_builds_the_setups_foot_and_rubber(tmp_path, monkeypatch):
 def test_the_summary_names_the_rubbers_source():
     assert files.material_source("rubber-70a") == files.MATERIAL_SOURCE
     assert "50A" in files.material_source("rubber-50a")
+
+
+@pytest.mark.parametrize(("angle", "sectors"), [(120.0, 24), (90.0, 34), (60.0, 42), (30.0, 47)])
+def test_quick_crawls_take_the_least_sectors_each_angle_builds(angle, sectors):
+    """`crawl --quick --foot-angle A` meshes at `quick_sectors` (record 066: 24 fails below 120 deg)."""
+    from softcrawl.studies.cli import build_parser
+    from softcrawl.studies.commands.crawl import mesh_settings
+
+    args = build_parser().parse_args(["crawl", "--quick", "--foot-angle", f"{angle:g}", "--out", "x"])
+    assert mesh_settings(args)["sectors"] == sectors
