@@ -31,8 +31,16 @@ from softcrawl.studies.crawl.plot import plot_crawl
 from softcrawl.studies.crawl.schedule import analytic_speed
 from softcrawl.studies.sweeps.tables import write_csv
 
+#: The feet's rubber by default (`CrawlSetup.material`).
 MATERIAL = "rubber-70a"
 MATERIAL_SOURCE = "Shore 70A rubber of the foot study (results/foot/README.md)"
+
+
+def material_source(name: str) -> str:
+    """Where the feet's rubber `name` comes from (summary.json's sources)."""
+    return MATERIAL_SOURCE if name == MATERIAL else get_material(name).source
+
+
 FRICTION_SOURCE = (
     "softcrawl.studies.foot.contact_studies.FOOT_FRICTION: assumed (dry rubber on a smooth pipe); "
     "the paper gives no coefficient"
@@ -209,8 +217,8 @@ def run_and_write(
     `insertion_cache`: True (the default folder) or a folder: the insertion is taken from
     (or written to) the cache of inserted states (`studies.crawl.insertion`); False: computed."""
     folder.mkdir(parents=True, exist_ok=True)
-    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
-    law = solid_law(get_material(MATERIAL), hyperelastic_only=True)
+    design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
+    law = solid_law(get_material(setup.material), hyperelastic_only=True)
     cm = build(mesh, law, design, setup)
     insertion = insertion_cache_for(insertion_cache, cm, mesh, design, law)
     series = None
@@ -237,7 +245,11 @@ def run_and_write(
         "setup": dataclasses.asdict(setup),
         "quick": quick,
         "schedule": {"name": schedule.name, "source": schedule.source, "cycle_s": schedule.cycle_s},
-        "sources": {"axial_law": cm.law.source, "material": MATERIAL_SOURCE, "friction": FRICTION_SOURCE},
+        "sources": {
+            "axial_law": cm.law.source,
+            "material": material_source(setup.material),
+            "friction": FRICTION_SOURCE,
+        },
         "comparison": cmp,
         "strides_mm": result.strides,
         "cycles": list(result.cycles),

@@ -62,6 +62,10 @@ CASES: list[tuple[str, str]] = [
     ("crawl --backward --symmetric --out OUT", "symmetric"),
     ("crawl --backward --pipe-diameter 51 --out OUT", "pipe-diameter"),  # the flipped feet need > 52 mm
     ("crawl --out FILE", "out"),
+    ("crawl --foot-angle 29 --out OUT", "foot-angle"),
+    ("crawl --foot-angle 121 --out OUT", "foot-angle"),
+    ("crawl --material rubber-90a --out OUT", "material"),
+    ("crawl --material abs --out OUT", "material"),
     ("study crawl --material ecoflex-00-50 --out OUT", "material"),
     ("study crawl --workers 0 --out OUT", "workers"),
     ("study rings --workers 0 --out OUT", "workers"),
