@@ -153,3 +153,15 @@ def test_confirm_crawls_the_best_designs_once(tmp_path, monkeypatch):
     assert "diverged in cycle 1" in text and "outside the sourced range" in text
     confirm_best(tmp_path, rows, settings, 2, crawl=crawl)
     assert len(calls) == 2  # read back, not crawled again
+
+
+def test_the_confirm_setup_is_the_crawls():
+    """The confirm stage builds the crawl's own `CrawlSetup` with the design's foot and rubber."""
+    from softcrawl.studies.crawl.model import CrawlSetup
+    from softcrawl.studies.foot.optimise_confirm import crawl_setup
+
+    row = {"angle": "60", "skirt_thickness": "2.25", "hardness": "rubber-50a"}
+    setup = crawl_setup(row, {"mu_smooth": 0.3, "mu_grooved": 0.3})
+    assert isinstance(setup, CrawlSetup) and setup.material == "rubber-50a"
+    assert (setup.foot.angle, setup.foot.skirt_thickness, setup.sectors) == (60.0, 2.25, 42)
+    assert (setup.pipe_diameter, setup.cycles, setup.insert_steps) == (70.0, 2, 4)
