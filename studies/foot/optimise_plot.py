@@ -47,7 +47,8 @@ def plot_front(rows: Sequence[Mapping[str, Any]], path: str | Path, *, title: st
     for hardness, colour in COLOURS.items():
         pts = [(number(r["mass_g"]), number(r["margin"])) for r in done if r.get("hardness") == hardness]
         if pts:
-            ax.scatter(*zip(*pts), s=24, color=colour, zorder=2, label=hardness.replace("rubber-", "Shore "))
+            label = f"Shore {hardness.split('-')[1].upper()}"
+            ax.scatter(*zip(*pts), s=24, color=colour, zorder=2, label=label)
     points = [(number(r["mass_g"]), number(r["margin"])) for r in done]
     best = front(points)
     if len(best) > 1:
