@@ -39,10 +39,9 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.paper import PIPE_DIAMETERS_MM
-from softcrawl.studies.declaration import StudyRequest
+from softcrawl.studies.declaration import StudyRequest, resolve
 from softcrawl.studies.foot.identify import load as load_identification
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S
-from softcrawl.studies.foot.optimise_confirm import confirm_best
 from softcrawl.studies.foot.optimise_evaluator import metric_columns
 from softcrawl.studies.foot.optimise_plot import front, plot_front
 from softcrawl.studies.foot.study import FEET_QUICK_TRIALS, FEET_TRIALS
@@ -54,6 +53,9 @@ from softcrawl.studies.sweeps.spec import SearchSpec, StudyError, read_spec
 from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
 NAME = "optimise-feet"
+#: The confirm stage (`--confirm N`), by name: it crawls, and the crawl imports the foot's modules,
+#: so an import from here would close a cycle between the two features.
+CONFIRM = "softcrawl.studies.crawl.confirm_feet:confirm_best"
 EVALUATOR = "optimise-feet"  # its registry name (studies/foot/study.py)
 HARDNESS = ("rubber-50a", "rubber-60a", "rubber-70a")
 SPACE = {
@@ -221,7 +223,7 @@ def run_request(request: StudyRequest) -> StudyOutcome:
         return outcome
     folder = folder_of(request.out, request.quick)
     settings = read_spec(folder)["settings"]
-    rows = confirm_best(folder, read_csv(folder / "trials.csv"), settings, request.confirm)
+    rows = resolve(CONFIRM)(folder, read_csv(folder / "trials.csv"), settings, request.confirm)
     done = sum(r.get("converged") is True for r in rows)
     line = f"confirm: {len(rows)} designs crawled at 70 mm, {done} completed (confirm.md)"
     written = (*outcome.written, folder / "confirm.csv", folder / "confirm.md")

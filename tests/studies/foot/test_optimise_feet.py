@@ -118,10 +118,10 @@ def test_confirm_crawls_the_best_designs_once(tmp_path, monkeypatch):
     the crawl given the design's foot and material, a crawl's failure a row, a rerun reads back."""
     import types
 
-    import softcrawl.studies.crawl.model as crawl_model
-    from softcrawl.studies.foot.optimise_confirm import best_designs, confirm_best
+    import softcrawl.studies.crawl.confirm_feet as confirm_feet
+    from softcrawl.studies.crawl.confirm_feet import best_designs, confirm_best
 
-    monkeypatch.setattr(crawl_model, "CrawlSetup", lambda **kw: types.SimpleNamespace(**kw))
+    monkeypatch.setattr(confirm_feet, "CrawlSetup", lambda **kw: types.SimpleNamespace(**kw))
     rows = [
         {"trial": 0, "angle": "120", "skirt_thickness": "3", "hardness": "rubber-70a", "margin": "-0.5",
          "mass_g": "18", "front": "False", "trial_status": "completed"},
@@ -157,8 +157,8 @@ def test_confirm_crawls_the_best_designs_once(tmp_path, monkeypatch):
 
 def test_the_confirm_setup_is_the_crawls():
     """The confirm stage builds the crawl's own `CrawlSetup` with the design's foot and rubber."""
+    from softcrawl.studies.crawl.confirm_feet import crawl_setup
     from softcrawl.studies.crawl.model import CrawlSetup
-    from softcrawl.studies.foot.optimise_confirm import crawl_setup
 
     row = {"angle": "60", "skirt_thickness": "2.25", "hardness": "rubber-50a"}
     setup = crawl_setup(row, {"mu_smooth": 0.3, "mu_grooved": 0.3})

@@ -1,5 +1,8 @@
 r"""The confirm stage of `softcrawl study optimise-feet --confirm N`: full crawls of the N best designs.
 
+It lives with the crawl (the crawl imports the foot's modules, so the foot's optimiser reaches this
+stage by name, `studies.foot.optimise.CONFIRM`, and no import cycle forms).
+
 The search ranks designs by a proxy: one foot's resistances against the bundle's forces
 (`studies.foot.anchoring`). The crawl (`studies.crawl`) is the whole robot: two such feet on the
 prototype's axial law, cycling. So the N completed trials with the largest margin (the front's
@@ -26,7 +29,10 @@ from pathlib import Path
 
 from softcrawl.geometry.design import FootDesign
 from softcrawl.geometry.foot_meshers import quick_sectors
+from softcrawl.studies.crawl.files import run_and_write
+from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.outputs import steady_stride
+from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.plots.style import number
 from softcrawl.studies.sweeps.tables import write_csv
 
@@ -55,8 +61,6 @@ def design_stem(row: dict) -> str:
 
 def crawl_setup(row: dict, settings: dict):
     """The `CrawlSetup` of one design (module docstring): the crawl takes the foot and material."""
-    from softcrawl.studies.crawl.model import CrawlSetup  # lazy: the confirm stage alone needs the crawl
-
     design = FootDesign(angle=float(row["angle"]), skirt_thickness=float(row["skirt_thickness"]))
     return CrawlSetup(
         pipe_diameter=CONFIRM_PIPE_MM,
@@ -74,9 +78,6 @@ def crawl_setup(row: dict, settings: dict):
 
 def run_crawl(setup, folder: Path) -> dict:
     """Crawl one setup into `folder` (`studies.crawl.files.run_and_write`) -> its row's numbers."""
-    from softcrawl.studies.crawl.files import run_and_write  # lazy: as above
-    from softcrawl.studies.crawl.schedule import preset
-
     result, summary = run_and_write(setup, preset("inflate", 100.0, 2.0), folder, quick=True, vtu=False)
     return {
         "converged": result.converged,
