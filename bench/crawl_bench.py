@@ -87,8 +87,8 @@ def run_case(pipe: float, cycles: int, quick: bool, cache: str, queue) -> None:
         sectors=QUICK_SECTORS if quick else None,
     )
     t_start = time.perf_counter()
-    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
-    law = solid_law(get_material("rubber-70a"), hyperelastic_only=True)
+    design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
+    law = solid_law(get_material(setup.material), hyperelastic_only=True)
     cm = build(mesh, law, design, setup)
     insertion = InsertionCache(cm, mesh, design, law, cache)
     t_build = time.perf_counter() - t_start

@@ -38,6 +38,7 @@ OPTIONS = frozenset(
         "trials",
         "sampler",
         "seed",
+        "confirm",
     }
 )
 
@@ -61,6 +62,7 @@ class StudyRequest:
     seed: int = 0
     simulator: str | None = None
     max_memory_gb: float | None = None
+    confirm: int | None = None
 
 
 @dataclass(frozen=True)

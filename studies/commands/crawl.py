@@ -6,13 +6,16 @@ The model: docs/decisions/051-crawl-model.md.
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
                     [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric]
                     [--mesher revolved|tetwild] [--sectors N] [--layers N] [--edge-length MM]
+                    [--material rubber-70a] [--foot-angle DEG]
                     [--gif | --animation PATH.gif] [--resume] --out DIR
 
 The friction coefficients not given take the committed feet identification's
 (`studies.foot.identify.prediction_friction`, docs/decisions/070-identify-feet.md: today 0.3 on
 both faces, the sourced range's end, flagged in summary.json's sources); without that file, exit 2.
 
-Both feet (P2-P1, Shore 70A) are inserted into the pipe (frictionless, by shrinking the wall),
+Both feet (P2-P1, Shore 70A unless --material names another rubber; the paper's 120 deg skirt
+unless --foot-angle gives Fig. 21's 30-120 deg, hub thickened as `geometry.foot_design` derives
+it) are inserted into the pipe (frictionless, by shrinking the wall),
 friction is switched on, then the pressures follow the schedule (quasi-static steps). The three
 ePSAs act between the hubs through their axial law (the paper's prototype statics, eqs. 19-24;
 bending is not modelled). --backward: both feet flipped, as the paper changes the direction
@@ -21,7 +24,8 @@ the robot crawls towards -z; docs/decisions/067-flipped-foot.md); --symmetric: o
 foot mirrored (the pair is symmetric under z -> -z: a check, it should not advance). The feet's
 mesh: the revolved foot (48 sectors, 3 cells through the skirt; --sectors and --layers refine
 it) or, with --mesher tetwild, pytetwild's (--edge-length; the mesh of the crawl results computed
-before the revolved one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh, 24 sectors unless
+before the revolved one). --quick: 4 insertion steps instead of 8 and, on the revolved mesh,
+geometry.foot_meshers.quick_sectors of the foot (24 at 120 deg, 34 at 90, 42 at 60, 47 at 30) unless
 --sectors is given (2 sub-steps per schedule segment stalled where the actuator force changes
 sign, 4 pass, so --steps keeps 4).
 
@@ -54,7 +58,7 @@ import argparse
 
 from softcrawl.console import progress
 from softcrawl.geometry.foot_meshers import FOOT_MESHERS
-from softcrawl.studies.crawl.mesh import QUICK_SECTORS
+from softcrawl.studies.crawl.mesh import MAX_FOOT_ANGLE, MIN_FOOT_ANGLE, QUICK_SECTORS
 from softcrawl.studies.crawl.schedule import SCHEDULES
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
@@ -105,6 +109,12 @@ def register(subparsers) -> None:
     edge = add_number(p, "--mesh-size", help="tetwild feet: the mesh edge", unit="mm", dest="edge_length",
                       default_text="pytetwild's, 0.05 x the diagonal", minimum=1.0, maximum=20.0)  # fmt: skip
     add_alias(p, edge, "--edge-length")
+    p.add_argument(
+        "--material", default="rubber-70a", help="the feet's rubber, a preset (default rubber-70a; Fig. 21: "
+        "rubber-50a, rubber-60a, rubber-70a; see `softcrawl material list`)"
+    )  # fmt: skip
+    add_number(p, "--foot-angle", help="included angle of both feet's conical skirt", unit="deg",
+               default=120.0, minimum=MIN_FOOT_ANGLE, maximum=MAX_FOOT_ANGLE, metavar="DEG")  # fmt: skip
     p.add_argument("--quick", action="store_true", help=f"4 insertion steps, {QUICK_SECTORS} sectors")
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet flipped: grooved faces on the wall")
@@ -129,19 +139,21 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from softcrawl.studies.commands.options import CommandLineError, output_folder
-    from softcrawl.studies.crawl.files import MATERIAL, run_and_write
+    from softcrawl.geometry.foot_design import FootDesign
+    from softcrawl.studies.commands.options import CommandLineError, body_material, output_folder
+    from softcrawl.studies.crawl.files import run_and_write
     from softcrawl.studies.crawl.model import CrawlSetup
     from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
     from softcrawl.studies.crawl.schedule import preset, read_csv
 
     mesh = mesh_settings(args)  # before any folder is made
     friction = friction_settings(args)  # before any folder is made
+    body_material(args.material, "material")  # a preset the FE law takes, before any work
+    foot = FootDesign(angle=args.foot_angle)
     if args.backward:
-        from softcrawl.geometry.design import RobotDesign  # lazy: the command's help stays light
         from softcrawl.studies.crawl.flipped import check_pipe  # lazy: loads the solver
 
-        check_pipe(args.pipe_diameter, RobotDesign().foot, CommandLineError, "pipe-diameter")
+        check_pipe(args.pipe_diameter, foot, CommandLineError, "pipe-diameter")
     schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
     out = output_folder(args.out)
     animation = animation_path(args, Path(out))
@@ -153,11 +165,13 @@ def run(args) -> int:
         mu_smooth=friction["mu_smooth"],
         mu_grooved=friction["mu_grooved"],
         feet=feet,
+        foot=foot,
+        material=args.material,
         insert_steps=4 if args.quick else 8,
         steps=steps,
         cycles=args.cycles,
     )
-    store = CrawlStore(Path(out) / FOLDER, crawl_options(setup, schedule, MATERIAL))
+    store = CrawlStore(Path(out) / FOLDER, crawl_options(setup, schedule, setup.material))
     resumed = checkpoint(store, args.resume)
     print(f"crawl: {schedule.name} ({schedule.source}), {setup.cycles} cycle(s), feet {feet}; every state:")
     result, summary = run_and_write(
@@ -227,9 +241,13 @@ def mesh_settings(args) -> dict:
     from softcrawl.studies.commands.options import CommandLineError
 
     if args.mesher == "revolved":
+        from softcrawl.geometry.foot_design import FootDesign  # lazy: the command's help stays light
+        from softcrawl.geometry.foot_meshers import quick_sectors  # lazy: as above
+
+        quick = quick_sectors(FootDesign(angle=args.foot_angle))
         if args.edge_length is not None:
             raise CommandLineError("mesh-size", "refines the tetwild feet: add --mesher tetwild")
-        sectors = args.sectors if args.sectors is not None else (QUICK_SECTORS if args.quick else None)
+        sectors = args.sectors if args.sectors is not None else (quick if args.quick else None)
         return {"mesher": "revolved", "sectors": sectors, "thickness_layers": args.layers}
     for name, value in (("sectors", args.sectors), ("layers", args.layers)):
         if value is not None:

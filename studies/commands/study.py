@@ -23,7 +23,8 @@ import textwrap
 from softcrawl import console
 from softcrawl.studies import registry
 from softcrawl.studies.declaration import StudyRequest, resolve
-from softcrawl.studies.epsa.study import DEFAULT_TRIALS, QUICK_TRIALS  # the declaration: light
+from softcrawl.studies.epsa.study import DEFAULT_TRIALS, QUICK_TRIALS  # the declarations: light
+from softcrawl.studies.foot.study import FEET_QUICK_TRIALS, FEET_TRIALS
 
 # Project modules are imported inside the functions that use them: softcrawl --help stays fast.
 
@@ -35,6 +36,8 @@ MAX_WORKERS = 64
 MAX_TRIALS = 10_000
 #: Largest --max-memory (GB): far above any machine this runs on; a larger number is a typo.
 MAX_MEMORY_GB = 4096.0
+#: Most designs `--confirm` crawls: each is a two-cycle crawl of 20-60 min on a loaded machine.
+MAX_CONFIRM = 10
 #: Largest sampler seed: numpy's random generators take seeds below 2^32.
 MAX_SEED = 2**32 - 1
 
@@ -145,8 +148,8 @@ def _add_run_options(parser) -> None:
     add_number(
         parser,
         "--trials",
-        help="optimise-actuator: total trials",
-        default_text=f"{DEFAULT_TRIALS}, {QUICK_TRIALS} with --quick",
+        help="optimise-actuator and optimise-feet: total trials",
+        default_text=f"{DEFAULT_TRIALS} and {FEET_TRIALS}, --quick {QUICK_TRIALS} and {FEET_QUICK_TRIALS}",
         minimum=1,
         maximum=MAX_TRIALS,
         integer=True,
@@ -155,17 +158,29 @@ def _add_run_options(parser) -> None:
         "--sampler",
         default=None,
         choices=("nsga2", "tpe"),
-        help="optimise-actuator: optuna sampler (default nsga2)",
+        help="optimise-actuator, optimise-feet: optuna sampler (default nsga2)",
     )
     add_number(
         parser,
         "--seed",
-        help="optimise-actuator: sampler seed",
+        help="optimise-actuator, optimise-feet: sampler seed",
         default=None,
         default_text="0",
         minimum=0,
         maximum=MAX_SEED,
         integer=True,
+    )
+
+    add_number(
+        parser,
+        "--confirm",
+        help="optimise-feet: crawl the N best designs at 70 mm (2 cycles, quick feet) after the search",
+        default=None,
+        default_text="none",
+        minimum=1,
+        maximum=MAX_CONFIRM,
+        integer=True,
+        metavar="N",
     )
 
 
@@ -245,19 +260,25 @@ def _request(args: argparse.Namespace) -> StudyRequest:
         seed=args.seed,
         simulator=args.simulator,
         max_memory_gb=args.max_memory,
+        confirm=args.confirm,
     )
 
 
 #: How the evaluators call a --simulator: the robot studies' `run_cases(design, material, mesh,
 #: cases)`, the ePSA studies' `simulate_epsa(design, *, material, pressures_kpa, mesh_size, quick)`
-#: (the identify study adds end_load_n).
+#: (the identify study adds end_load_n), optimise-feet's `simulate_foot(design, pipe_diameter, *,
+#: material, mu_smooth, mu_grooved, quick, max_wall_s)`.
 _ROBOT_CALL = ((None, None, None, None), {})
 _EPSA_CALL = ((None,), {"material": None, "pressures_kpa": (), "mesh_size": None, "quick": False})
+_FOOT_CALL = ((None, 70.0), {"material": None, "mu_smooth": 0.3, "mu_grooved": 0.3, "quick": False,
+                             "max_wall_s": None})  # fmt: skip
 
 
 def _simulator_call(study) -> tuple[tuple, dict]:
     if "robot" in study.evaluators:
         return _ROBOT_CALL
+    if "optimise-feet" in study.evaluators:
+        return _FOOT_CALL
     args, kwargs = _EPSA_CALL
     return args, kwargs | ({"end_load_n": 0.0} if study.name == "identify" else {})
 

@@ -35,7 +35,7 @@ from pathlib import Path
 
 from softcrawl import jsonio
 from softcrawl.paper import PIPE_DIAMETERS_MM
-from softcrawl.studies.crawl.files import MATERIAL, run_and_write
+from softcrawl.studies.crawl.files import run_and_write
 from softcrawl.studies.crawl.mesh import QUICK_SECTORS
 from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.outputs import steady_stride
@@ -84,7 +84,7 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
     )
     folder = Path(settings["out_dir"]) / "points" / point_stem(params)
     schedule = preset("inflate", 100.0, 2.0)
-    store = CrawlStore(folder / FOLDER, crawl_options(setup, schedule, MATERIAL))
+    store = CrawlStore(folder / FOLDER, crawl_options(setup, schedule, setup.material))
     resumed = store.load()  # another version's checkpoint: a failed point naming it (CheckpointError)
     try:
         result, summary = run_and_write(

@@ -31,8 +31,16 @@ from softcrawl.studies.crawl.plot import plot_crawl
 from softcrawl.studies.crawl.schedule import analytic_speed
 from softcrawl.studies.sweeps.tables import write_csv
 
+#: The feet's rubber by default (`CrawlSetup.material`).
 MATERIAL = "rubber-70a"
 MATERIAL_SOURCE = "Shore 70A rubber of the foot study (results/foot/README.md)"
+
+
+def material_source(name: str) -> str:
+    """Where the feet's rubber `name` comes from (summary.json's sources)."""
+    return MATERIAL_SOURCE if name == MATERIAL else get_material(name).source
+
+
 #: The friction's source when the caller gives the coefficients (the crawl study's grid, an option).
 FRICTION_SOURCE = "given by the caller (dry rubber on a smooth pipe: 0.3-0.9); the paper gives no coefficient"
 
@@ -209,8 +217,8 @@ def run_and_write(
     (or written to) the cache of inserted states (`studies.crawl.insertion`); False: computed;
     `friction_source`: where the setup's mu come from, for summary.json."""
     folder.mkdir(parents=True, exist_ok=True)
-    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
-    law = solid_law(get_material(MATERIAL), hyperelastic_only=True)
+    design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
+    law = solid_law(get_material(setup.material), hyperelastic_only=True)
     cm = build(mesh, law, design, setup)
     insertion = insertion_cache_for(insertion_cache, cm, mesh, design, law)
     series = None
@@ -237,7 +245,11 @@ def run_and_write(
         "setup": dataclasses.asdict(setup),
         "quick": quick,
         "schedule": {"name": schedule.name, "source": schedule.source, "cycle_s": schedule.cycle_s},
-        "sources": {"axial_law": cm.law.source, "material": MATERIAL_SOURCE, "friction": friction_source},
+        "sources": {
+            "axial_law": cm.law.source,
+            "material": material_source(setup.material),
+            "friction": friction_source,
+        },
         "comparison": cmp,
         "strides_mm": result.strides,
         "cycles": list(result.cycles),

@@ -19,9 +19,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from softcrawl.fem.model import SolidModel
-from softcrawl.geometry.design import RobotDesign
 from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.studies.crawl.mesh import FEET
+from softcrawl.studies.crawl.mesh import separation as hub_separation
 from softcrawl.studies.foot.flip import (
     FOLD_CLEARANCE,
     RimSprings,
@@ -72,8 +72,7 @@ def folded_feet(
 ) -> tuple[np.ndarray, str]:
     """(x0, message): the crawl model's state with both feet folded (module docstring), and the
     springs' target set to it; x0 is None (the message says why) when the fold did not converge."""
-    robot = RobotDesign()
-    separation = robot.epsa.length + robot.epsa.seal_head_thickness + robot.foot.hub_thickness
+    separation = hub_separation(foot_design)
     mesh = mesh_foot_with(foot_design, **setup.mesh_options()).to_skfem(2)
     single = SolidModel(mesh, material)
     rim = single.boundary_nodes("rim")

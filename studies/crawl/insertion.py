@@ -17,6 +17,9 @@ material law (its parameters), the actuator's zero-pressure stiffness, the crawl
 Newton settings (`CRAWL_NEWTON`, `AUGMENT`, `MAX_CUTBACKS`, `GROUND_HOLD`, the contact smoothing
 and slip band), the linear solver, `FORMAT`, and the softcrawl version (`fem.checkpoint`).
 Bump `FORMAT` when the insertion's code changes without a version bump (an editable install).
+The feet's design and rubber (`CrawlSetup.foot`, `CrawlSetup.material`) reach the key through the
+mesh hash, the foot design's hash and the law's parameters, as they did when both were fixed: the
+key of every existing entry (the paper's foot in rubber-70a) keeps its meaning and its value.
 
 Use. ``run_crawl(..., insertion=InsertionCache(...))``: when the cache holds the state, the run
 continues from it exactly as `--resume` continues from a checkpoint at the end of the insertion

@@ -80,17 +80,30 @@ def two_feet(
     )
 
 
+#: Included skirt angles (deg) a crawl takes (`softcrawl crawl --foot-angle`): Fig. 21's range, over
+#: which `FootDesign` builds with its derived hub (docs/decisions/066-body-geometry.md) and the tip
+#: stays at 39 mm, so every foot touches the pipes of Table 2.
+MIN_FOOT_ANGLE, MAX_FOOT_ANGLE = 30.0, 120.0
+
 #: Sectors of the revolved feet in the --quick crawl and crawl study (82k DOFs against 164k at the
 #: default 48); their stride against the default mesh's: docs/decisions/055-crawl-revolved.md.
 QUICK_SECTORS = 24
 
 
-def crawl_mesh(mirrored: tuple[bool, bool] = (False, False), cache_dir=None, **mesh_options):
-    """(foot design, skfem MeshTet2 of the two feet) of the Table 1 robot (`geometry.design`);
-    `mesh_options` go to `geometry.foot_meshers.mesh_foot_with` (mesher, sectors, thickness_layers,
-    edge_length)."""
-    robot = RobotDesign()
-    foot = mesh_foot_with(robot.foot, cache_dir=cache_dir, **mesh_options)
-    separation = robot.epsa.length + robot.epsa.seal_head_thickness + robot.foot.hub_thickness
-    both = two_feet(foot, separation, robot.foot.hub_thickness, mirrored)
+def separation(foot_design=None) -> float:
+    """The hub-to-hub distance of the Table 1 robot (`geometry.design`) with the feet `foot_design`
+    (None: the paper's): ePSA length + seal head + the foot's hub thickness (a narrower skirt's
+    thicker hub, record 066, moves the front foot forward)."""
+    robot = RobotDesign() if foot_design is None else RobotDesign(foot=foot_design)
+    return robot.epsa.length + robot.epsa.seal_head_thickness + robot.foot.hub_thickness
+
+
+def crawl_mesh(mirrored: tuple[bool, bool] = (False, False), cache_dir=None, foot=None, **mesh_options):
+    """(foot design, skfem MeshTet2 of the two feet) of the Table 1 robot (`geometry.design`) with
+    the feet `foot` (a `FootDesign`, checked against the robot; None: the paper's); `mesh_options`
+    go to `geometry.foot_meshers.mesh_foot_with` (mesher, sectors, thickness_layers, edge_length),
+    whose mesh cache is keyed by the foot design's hash."""
+    robot = RobotDesign() if foot is None else RobotDesign(foot=foot)
+    mesh = mesh_foot_with(robot.foot, cache_dir=cache_dir, **mesh_options)
+    both = two_feet(mesh, separation(robot.foot), robot.foot.hub_thickness, mirrored)
     return robot.foot, both.to_skfem(2)

@@ -1,9 +1,10 @@
 r"""The crawl in FE: two grooved feet in a rigid pipe, coupled by the three ePSAs' axial law.
 
-Model (docs/decisions/051-crawl-model.md). Both feet are the `geometry.foot` mesh (P2-P1, Shore 70A),
-placed as on the robot (`studies.crawl.mesh`), each skirt in frictional contact with one
-rigid `CylinderWall` on the pipe axis through two terms per foot (smooth front face + rim with
-mu_smooth, grooved back face with mu_grooved, as in `studies.foot.model`). Neither foot is
+Model (docs/decisions/051-crawl-model.md). Both feet are the `geometry.foot` mesh of
+`CrawlSetup.foot` (P2-P1, the rubber `CrawlSetup.material`: Shore 70A by default), placed as on
+the robot (`studies.crawl.mesh`), each skirt in frictional contact with one rigid `CylinderWall`
+on the pipe axis through two terms per foot (smooth front face + rim with mu_smooth, grooved back
+face with mu_grooved, as in `studies.foot.model`). Neither foot is
 clamped. The hub face each foot's actuators act on is a rigid plate: its nodes share one axial
 displacement (`fem.equal_displacement.EqualDisplacement`) and its lateral displacements are held
 at 0 (the robot's axis stays on the pipe axis: the stiff ePSA bundle and rings are not modelled,
@@ -37,6 +38,7 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.equal_displacement import EqualDisplacement
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.geometry.foot_design import FootDesign
 from softcrawl.studies.crawl.flipped import FOLD_HOLD, folded_feet, rim_springs
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
@@ -68,6 +70,8 @@ class CrawlSetup:
     mu_smooth: float = 0.5
     mu_grooved: float = 0.5
     feet: str = "paper"  # "paper" (both lean back), "backward" (both flipped), "symmetric"
+    foot: FootDesign = FootDesign()  # both feet's design (the paper's: 120 deg; Fig. 21 varies the angle)
+    material: str = "rubber-70a"  # both feet's rubber, a `softcrawl.materials` preset name
     insert_steps: int = 8
     steps: int = 4  # sub-steps per schedule segment
     cycles: int = 1

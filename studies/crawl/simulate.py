@@ -7,8 +7,10 @@
 What `softcrawl crawl` does from its options (`files.run_and_write`), without the files: no
 states.csv, VTU or plot; `progress(line)` gets the command's line per converged state. The
 actuators act through the paper's prototype axial law (`schedule.AxialLaw`), so the ePSA design is
-not an input here. `quick=True`: 4 insertion steps instead of 8 and, on the revolved feet,
-`mesh.QUICK_SECTORS` sectors (about 90 s per inflate cycle on one core).
+not an input here. `foot`: both feet's `FootDesign` (None: the paper's, 120 deg); `material`: their
+rubber. `quick=True`: 4 insertion steps instead of 8 and, on the revolved feet,
+`geometry.foot_meshers.quick_sectors(foot)` sectors (24 at 120 deg: about 90 s per inflate cycle
+on one core).
 """
 
 from __future__ import annotations
@@ -17,12 +19,14 @@ from pathlib import Path
 
 from softcrawl.checks import number
 from softcrawl.geometry.design import RobotDesign
+from softcrawl.geometry.foot_design import FootDesign
+from softcrawl.geometry.foot_meshers import quick_sectors
 from softcrawl.materials import Material, get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.crawl.files import MATERIAL, progress_line
 from softcrawl.studies.crawl.flipped import check_pipe
 from softcrawl.studies.crawl.insertion import insertion_cache_for
-from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
+from softcrawl.studies.crawl.mesh import crawl_mesh
 from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
 from softcrawl.studies.crawl.outputs import CrawlResult
 from softcrawl.studies.crawl.schedule import Schedule, ScheduleError, preset, read_csv
@@ -56,6 +60,7 @@ def simulate_crawl(
     mu_smooth: float | None = None,
     mu_grooved: float | None = None,
     feet: str = "paper",
+    foot: FootDesign | None = None,
     quick: bool = False,
     steps: int = 4,
     mesher: str = "revolved",
@@ -78,8 +83,9 @@ def simulate_crawl(
     (`studies.crawl.insertion`; the same strides as a computed insertion), False to compute it."""
     number(pipe_diameter, "pipe_diameter", minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True,
            max_open=True, unit="mm", error=ScheduleError)  # fmt: skip
+    foot = RobotDesign(foot=foot).foot if foot is not None else RobotDesign().foot
     if feet == "backward":
-        check_pipe(float(pipe_diameter), RobotDesign().foot, ScheduleError)
+        check_pipe(float(pipe_diameter), foot, ScheduleError)
     if mu_smooth is None or mu_grooved is None:
         identified = prediction_friction()
         mu_smooth = identified["mu_smooth"] if mu_smooth is None else mu_smooth
@@ -92,12 +98,13 @@ def simulate_crawl(
         raise ScheduleError("feet", f"{feet!r} is not one of {', '.join(FEET)}")
     plan = crawl_schedule(schedule, gait, pressure_kpa, cycle_time_s)
     if sectors is None and quick and mesher == "revolved":
-        sectors = QUICK_SECTORS
+        sectors = quick_sectors(foot)
     setup = CrawlSetup(
         pipe_diameter=float(pipe_diameter),
         mu_smooth=float(mu_smooth),
         mu_grooved=float(mu_grooved),
         feet=feet,
+        foot=foot,
         insert_steps=4 if quick else 8,
         steps=int(steps),
         cycles=int(cycles),
@@ -106,9 +113,10 @@ def simulate_crawl(
         sectors=sectors,
         thickness_layers=thickness_layers,
         edge_length=edge_length,
+        material=material.name if isinstance(material, Material) else str(material),
     )
     mat = material if isinstance(material, Material) else get_material(material)
-    design, mesh = crawl_mesh(setup.mirrored, **setup.mesh_options())
+    design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
     law = solid_law(mat, hyperelastic_only=True)
     cm = build(mesh, law, design, setup)
     insertion = insertion_cache_for(insertion_cache, cm, mesh, design, law)

@@ -58,6 +58,18 @@ def results(study: Any) -> list[Any]:
     return [t for t in study.get_trials(deepcopy=False) if queue.classify(t) in ("completed", "failed")]
 
 
+def suggest(trial: Any, key: str, dimension: tuple[Any, ...]) -> Any:
+    """The trial's value of one dimension of the space (`SearchSpec.space`)."""
+    if dimension[0] == "categorical":
+        return trial.suggest_categorical(key, list(dimension[1]))
+    kind, low, high = dimension
+    return (
+        trial.suggest_int(key, int(low), int(high))
+        if kind == "int"
+        else trial.suggest_float(key, float(low), float(high))
+    )
+
+
 def _twin(study: Any, params: Mapping[str, Any], number: int) -> Any:
     key = point_key(params)
     for t in results(study):
@@ -77,13 +89,7 @@ class SearchWorker:
 
     def objective(self, trial: Any) -> list[float]:
         self.lock.release()
-        params = {}
-        for key, (kind, low, high) in self.spec.space.items():
-            params[key] = (
-                trial.suggest_int(key, int(low), int(high))
-                if kind == "int"
-                else trial.suggest_float(key, float(low), float(high))
-            )
+        params = {key: suggest(trial, key, dimension) for key, dimension in self.spec.space.items()}
         twin = _twin(self.study, params, trial.number)
         if twin is None:
             return run_guarded(trial, self.evaluator, params, self.spec, self.guard)

@@ -122,7 +122,8 @@ class SweepSpec:
 @dataclass(frozen=True)
 class SearchSpec:
     """An optimisation: the same storage, evaluator and failure handling as a sweep, but optuna's
-    TPE or NSGA-II sampler proposes the points. ``space``: param -> ("float"|"int", low, high).
+    TPE or NSGA-II sampler proposes the points. ``space``: param -> ("float"|"int", low, high)
+    or ("categorical", choices).
     ``initial`` points (e.g. the paper's Table 1 design) are enqueued once and evaluated first.
     ``n_trials`` is the study's total budget (finished trials, failed ones included), so a
     restarted search only tops up what is missing. ``objective_names`` name the values in the
@@ -150,10 +151,7 @@ class SearchSpec:
             raise StudyError("sampler", f"unknown sampler {self.sampler!r}; valid: {', '.join(SAMPLERS)}")
         if isinstance(self.n_trials, bool) or not isinstance(self.n_trials, int) or self.n_trials < 1:
             raise StudyError("trials", f"must be a positive integer, got {self.n_trials!r}")
-        for key, (kind, low, high) in self.space.items():
-            if kind not in ("float", "int") or not low < high:
-                raise StudyError(f"space.{key}", f"bad range {(kind, low, high)!r}")
-        object.__setattr__(self, "space", {k: tuple(v) for k, v in self.space.items()})
+        object.__setattr__(self, "space", {str(k): _dimension(k, v) for k, v in self.space.items()})
         object.__setattr__(self, "initial", tuple(dict(p) for p in self.initial))
         object.__setattr__(self, "objective_names", _names(self.objective_names, self.directions))
         object.__setattr__(self, "metric_columns", tuple(self.metric_columns))
@@ -170,6 +168,22 @@ class SearchSpec:
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
+
+
+def _dimension(key: str, value: Sequence[Any]) -> tuple[Any, ...]:
+    """One dimension of a search space: ("float" | "int", low, high) with low < high, or
+    ("categorical", (choice, ...)) with distinct str, int or float choices (optuna's
+    ``suggest_categorical``; the order is kept)."""
+    value = tuple(value)
+    if len(value) == 2 and value[0] == "categorical":
+        choices = tuple(value[1]) if isinstance(value[1], (list, tuple)) else ()
+        plain = all(isinstance(c, (str, int, float)) and not isinstance(c, bool) for c in choices)
+        if not choices or not plain or len(set(choices)) != len(choices):
+            raise StudyError(f"space.{key}", f"needs distinct str or number choices, got {value[1]!r}")
+        return ("categorical", choices)
+    if len(value) != 3 or value[0] not in ("float", "int") or not value[1] < value[2]:
+        raise StudyError(f"space.{key}", f"bad range {value!r}")
+    return value
 
 
 def _normalise(spec: SweepSpec | SearchSpec) -> None:

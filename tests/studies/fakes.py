@@ -279,3 +279,41 @@ def fake_robot_cases(design, material, mesh, cases):
         )
     return {"rows": rows, "converged": True, "message": "fake", "wall_s": 0.0, "n_dofs": 0,
             "material": {"epsa": material}}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class FakeDrag:
+    """The fields of `studies.foot.model.DragCurve` that optimise-feet reads."""
+
+    converged: bool
+    peak: float
+    limit_point: tuple | None = None
+    message: str = ""
+
+
+@dataclass(frozen=True)
+class FakeFoot:
+    """The fields of `studies.foot.model.FootResult` that optimise-feet reads."""
+
+    normal_force: float
+    forward: FakeDrag | None
+    backward: FakeDrag | None
+    message: str = ""
+    wall_s: float = 0.0
+
+
+def fake_foot(design, pipe_diameter, *, material, mu_smooth, mu_grooved, quick=False, max_wall_s=None):
+    """A foot without FE, `simulate_foot`'s call: a normal force that grows with the squeeze
+    (78 - D), the skirt's thickness and the modulus, F_fwd = mu_smooth N, F_bwd = 2 mu_grooved N
+    x angle / 120. While SOFTCRAWL_FAKE_FOOT_FAIL is set to an angle, a skirt narrower than it
+    fails to insert in the smallest pipe; a 75 mm backward drag of a 3.5 mm skirt ends past a limit
+    point (a lower bound)."""
+    youngs = 3.0 * material.mu
+    normal = youngs * design.skirt_thickness * (2.0 * design.tip_radius - pipe_diameter) / 2.0
+    fail = os.environ.get("SOFTCRAWL_FAKE_FOOT_FAIL")
+    if fail and design.angle < float(fail) and pipe_diameter < 56.0:
+        return FakeFoot(float("nan"), None, None, "stage insert: Newton did not converge (fake)")
+    f_bwd = 2.0 * mu_grooved * normal * design.angle / 120.0
+    limit = design.skirt_thickness > 3.4 and pipe_diameter > 74.0
+    backward = FakeDrag(False, f_bwd, (1.0, f_bwd), "limit point (fake)") if limit else FakeDrag(True, f_bwd)
+    return FakeFoot(normal, FakeDrag(True, mu_smooth * normal), backward, wall_s=0.01)

@@ -62,6 +62,10 @@ CASES: list[tuple[str, str]] = [
     ("crawl --backward --symmetric --out OUT", "symmetric"),
     ("crawl --backward --pipe-diameter 51 --out OUT", "pipe-diameter"),  # the flipped feet need > 52 mm
     ("crawl --out FILE", "out"),
+    ("crawl --foot-angle 29 --out OUT", "foot-angle"),
+    ("crawl --foot-angle 121 --out OUT", "foot-angle"),
+    ("crawl --material rubber-90a --out OUT", "material"),
+    ("crawl --material abs --out OUT", "material"),
     ("study crawl --material ecoflex-00-50 --out OUT", "material"),
     ("study crawl --workers 0 --out OUT", "workers"),
     ("study rings --workers 0 --out OUT", "workers"),
@@ -345,6 +349,13 @@ CASES: list[tuple[str, str]] = [
     ("study foot --simulator tests.studies.fakes:fake_simulate --out OUT", "simulator"),
     ("study chamber-radius --max-memory 0 --out OUT", "max-memory"),
     ("study chamber-radius --max-memory nan --out OUT", "max-memory"),
+    # optimise-feet (issue 29, step 7): its identification, its options
+    ("study optimise-feet --out OUT", "identification"),
+    ("study optimise-feet --confirm 0 --out OUT", "confirm"),
+    ("study optimise-feet --confirm 11 --out OUT", "confirm"),
+    ("study foot --confirm 2 --out OUT", "confirm"),
+    ("study optimise-feet --mesh-size 5 --out OUT", "mesh-size"),
+    ("study optimise-feet --simulator tests.studies.fakes:fake_simulate --out OUT", "simulator"),
     # a --simulator of the wrong signature, probed before the sweep
     ("study chamber-radius --simulator tests.studies.fakes:fake_robot_cases --out OUT", "simulator"),
     ("study rings --simulator tests.studies.fakes:fake_simulate --out OUT", "simulator"),

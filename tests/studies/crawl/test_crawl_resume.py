@@ -22,9 +22,11 @@ from softcrawl.studies.crawl.mesh import QUICK_SECTORS
 from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.resume import CrawlStore, crawl_options
 from softcrawl.studies.crawl.schedule import preset
+from softcrawl.studies.foot.identify import prediction_friction
 
 #: The setup of `softcrawl crawl --quick --cycles 1` (studies/commands/crawl.py).
-QUICK = CrawlSetup(insert_steps=4, steps=4, cycles=1, sectors=QUICK_SECTORS, thickness_layers=None)
+_MU = {k: v for k, v in prediction_friction().items() if k != "source"}  # the command's default friction
+QUICK = CrawlSetup(insert_steps=4, steps=4, cycles=1, sectors=QUICK_SECTORS, thickness_layers=None, **_MU)
 
 
 class _Link:
@@ -136,7 +138,7 @@ def _written_by(out, version=None, **options):
     "changed, line",
     [
         ({"cycles": 3}, "written with cycles = 3, this run has 1"),
-        ({"mu_smooth": 0.3}, "written with mu_smooth = 0.3, this run has 0.5"),
+        ({"mu_smooth": 0.5}, "written with mu_smooth = 0.5, this run has 0.3"),
         ({"version": "0.0.1"}, "written by softcrawl 0.0.1, this is"),
     ],
 )
@@ -170,7 +172,19 @@ def _no_solve(*args, **kwargs):
 def test_resume_without_a_checkpoint_starts_from_the_beginning_and_says_so(tmp_path, capsys, monkeypatch):
     seen = {}
 
-    def fake_run(setup, schedule, folder, *, quick, progress, store, resumed, precision=32, insertion_cache):
+    def fake_run(
+        setup,
+        schedule,
+        folder,
+        *,
+        quick,
+        progress,
+        store,
+        resumed,
+        precision=32,
+        insertion_cache,
+        friction_source="",
+    ):
         seen.update(setup=setup, store=store, resumed=resumed, insertion_cache=insertion_cache)
         return SimpleNamespace(converged=True), {"text": "done"}
 
