@@ -61,6 +61,8 @@ def test_quick_is_a_smaller_grid_of_one_cycle_and_replots_byte_for_byte(tmp_path
     png = (folder / "feet.png").read_bytes()
     assert feet_study.replot_folder(folder) == [folder / "feet.png"]
     assert (folder / "feet.png").read_bytes() == png
+    html = feet_study.report_block(folder)  # the design review's block
+    assert "softcrawl study feet --quick" in html and "rises with angle at 70A" in html and "<img" in html
 
 
 def test_a_point_that_raises_is_a_failure_with_its_reason(tmp_path):
@@ -114,9 +116,10 @@ def test_rising_with_angle_flips_at_one_step_of_70a_only():
     rising = {(70.0, a): a / 10.0 for a in (120.0, 90.0, 60.0, 30.0)}
     others = {(50.0, a): 20.0 - a / 10.0 for a in (120.0, 90.0, 60.0, 30.0)}  # falls: not 70A
     assert fs.rises_with_angle(_rows(rising | others)).verdict == "holds"
-    flat = rising | {(70.0, 90.0): 6.0 + fs.SPEED_RESOLUTION_MM_S}  # 60 -> 90 rises by the resolution
+    # 60 -> 90 deg rises by exactly the resolution (0.0 -> 0.01 mm/s): not "increases"
+    flat = rising | {(70.0, 30.0): -1.0, (70.0, 60.0): 0.0, (70.0, 90.0): fs.SPEED_RESOLUTION_MM_S}
     assert fs.rises_with_angle(_rows(flat)).verdict == "fails"
-    just = rising | {(70.0, 90.0): 6.0 + 2 * fs.SPEED_RESOLUTION_MM_S}
+    just = flat | {(70.0, 90.0): 2 * fs.SPEED_RESOLUTION_MM_S}
     assert fs.rises_with_angle(_rows(just)).verdict == "holds"
     assert fs.rises_with_angle(_rows(rising | {(70.0, 60.0): None})).verdict == "undecided"
     assert fs.rises_with_angle(_rows(rising | {(70.0, 120.0): 0.0})).verdict == "fails"
