@@ -57,6 +57,7 @@ from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.foot.identify import load
 from softcrawl.studies.html import esc, figure, markdown
 from softcrawl.studies.outcome import StudyOutcome
+from softcrawl.studies.sweeps.faults import SweepStopped
 from softcrawl.studies.sweeps.memory import OutOfMemory
 from softcrawl.studies.sweeps.spec import (
     Evaluation,
@@ -165,7 +166,7 @@ def evaluate_feet(params: dict, fixed: dict, settings: dict) -> Evaluation:
     folder = Path(settings["out_dir"]) / "points" / point_stem(params)
     simulate = load_callable(settings.get("simulate", SIMULATE), parameter="simulator")
     folder.mkdir(parents=True, exist_ok=True)
-    run = simulate(setup, preset("inflate", PRESSURE_KPA, FIG21_CYCLE_S), folder, bool(settings.get("quick")))
+    run = simulate(setup, _schedule(), folder, bool(settings.get("quick")))
     strides = [float(s) for s in run["strides_mm"]]
     nan = float("nan")
     steady = strides[1] if len(strides) > 1 else (strides[0] if strides and setup.cycles == 1 else nan)
@@ -210,7 +211,11 @@ def run_feet_study(
         metric_names=("speed_mm_s",),
     )
     jsonio.write(folder / "spec.json", spec.to_dict())
-    table = run_sweep(spec, workers=workers, progress=progress, retry=retry)
+    try:
+        table = run_sweep(spec, workers=workers, progress=progress, retry=retry)
+    except SweepStopped:  # stopped (a signal, the storage): the tables of what is done, then the stop
+        write_study_outputs(spec, folder)
+        raise
     return write_study_outputs(spec, folder, table)
 
 
@@ -219,7 +224,11 @@ def point_rows(spec, folder: Path) -> list[dict]:
     rows = []
     for params in spec.points():
         path = folder / "points" / f"feet-{point_stem(params)}.json"
-        data = json.loads(path.read_text()) if path.exists() else {"params": params, "message": "not run"}
+        data = (
+            json.loads(path.read_text())
+            if path.exists()
+            else {"params": params, "message": _not_run(params, spec, folder)}
+        )
         done = data.get("converged") and data.get("steady_stride_mm") == data.get("steady_stride_mm")
         status = "completed" if done else ("failed" if path.exists() else "missing")
         rows.append(
@@ -228,6 +237,25 @@ def point_rows(spec, folder: Path) -> list[dict]:
             | {k: spec.settings[k] for k in ("mu_smooth", "mu_grooved")}
         )
     return rows
+
+
+def _not_run(params: dict, spec, folder: Path) -> str:
+    """Why a point has no result: never started, or stopped with a checkpoint to resume from."""
+    setup = point_setup(params, spec.settings)
+    store = CrawlStore(
+        folder / "points" / point_stem(params) / FOLDER, crawl_options(setup, _schedule(), setup.material)
+    )
+    last = store.latest_summary() if store.checkpoints.states() else {}
+    if not last:
+        return "not run"
+    return (
+        f"stopped before its cycles ended, resumable from its last converged state: {last['states']} states, "
+        f"stage {last.get('stage')!r} at t = {last.get('time_s', float('nan')):.3g} s"
+    )
+
+
+def _schedule():
+    return preset("inflate", PRESSURE_KPA, FIG21_CYCLE_S)
 
 
 def _cell(value, fmt: str) -> str:
