@@ -3,6 +3,8 @@ Fig. 21's 10 mm/s, with both statements' verdicts in the title (`studies.crawl.f
 
 from __future__ import annotations
 
+import textwrap
+
 from softcrawl.paper import FIG21_ANGLE_DEG, FIG21_MIN_SPEED_MM_S, FIG21_PIPE_MM
 from softcrawl.studies.crawl.feet_statements import verdicts
 from softcrawl.studies.plots.style import pyplot, save
@@ -25,7 +27,7 @@ def plot_feet(rows, path, friction: str = ""):
     ax.axhline(
         FIG21_MIN_SPEED_MM_S, color="k", ls="--", lw=1, label=f"Fig. 21: > {FIG21_MIN_SPEED_MM_S:g} mm/s"
     )
-    ax.axvspan(*FIG21_ANGLE_DEG, color="0.9", zorder=0)
+    ax.axvspan(*FIG21_ANGLE_DEG, color="0.92", zorder=0, label="Fig. 21's angles")
     ax.set(
         xlabel="foot angle (deg, included angle of the skirt)",
         ylabel="steady crawl speed (mm/s)",
@@ -33,10 +35,8 @@ def plot_feet(rows, path, friction: str = ""):
     )
     ax.set_ylim(bottom=min(0.0, ax.get_ylim()[0]), top=max(ax.get_ylim()[1], 1.2 * FIG21_MIN_SPEED_MM_S))
     title = [f"FE crawl, {FIG21_PIPE_MM:g} mm pipe, inflate 100 kPa, 2 s cycles"]
-    title += [v.text() for v in verdicts(rows)]
-    if friction:
-        title.append(friction)
-    ax.set_title("\n".join(title), fontsize=6.5)
+    title += [v.text() for v in verdicts(rows)] + ([friction] if friction else [])
+    ax.set_title("\n".join(textwrap.fill(line, 120) for line in title), fontsize=6.5)
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     return save(fig, path)

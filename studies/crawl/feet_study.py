@@ -49,7 +49,6 @@ from softcrawl.studies.crawl.crawl_study import anchoring_slip_ratio
 from softcrawl.studies.crawl.feet_plot import plot_feet
 from softcrawl.studies.crawl.feet_statements import verdicts
 from softcrawl.studies.crawl.files import run_and_write
-from softcrawl.studies.crawl.mesh import QUICK_SECTORS
 from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
 from softcrawl.studies.crawl.schedule import preset
@@ -231,8 +230,10 @@ def point_rows(spec, folder: Path) -> list[dict]:
         )
         done = data.get("converged") and data.get("steady_stride_mm") == data.get("steady_stride_mm")
         status = "completed" if done else ("failed" if path.exists() else "missing")
+        setup = point_setup(params, spec.settings)
         rows.append(
             {"shore_a": params["shore_a"], "angle_deg": params["angle_deg"], "status": status}
+            | {"sectors": setup.sectors, "hub_thickness_mm": setup.foot.hub_thickness}
             | {k: v for k, v in data.items() if k != "params"}
             | {k: spec.settings[k] for k in ("mu_smooth", "mu_grooved")}
         )
@@ -271,23 +272,33 @@ def mu_text(settings: dict) -> str:
     )
 
 
+def mu_short(settings: dict) -> str:
+    """The friction line of the figure: both mu and the head of their flags."""
+    flags = {settings[f"mu_{f}_flag"].split(":")[0] for f in ("smooth", "grooved")}
+    return (
+        f"mu_smooth = {settings['mu_smooth']:g}, mu_grooved = {settings['mu_grooved']:g} "
+        f"({'; '.join(sorted(flags))}; {settings['identification']})"
+    )
+
+
 def write_markdown(rows, settings: dict, path: Path) -> Path:
     """summary.md: the table, the friction, the statements' verdicts and the failures."""
     cycles = int(settings.get("cycles", 2))
     lines = [
         f"Fig. 21's test in FE: {FIG21_PIPE_MM:g} mm pipe, inflate {PRESSURE_KPA:g} kPa, {FIG21_CYCLE_S:g} s "
-        f"cycles, {cycles} cycle(s), feet revolved at {QUICK_SECTORS} sectors.",
+        f"cycles, {cycles} cycle(s); the revolved feet at quick_sectors(angle) sectors, 3 cells through "
+        "the skirt.",
         "",
         f"Friction: {mu_text(settings)}.",
         "",
-        "| hardness | angle (deg) | hub (mm) | status | first stride (mm) | steady stride (mm) "
+        "| hardness | angle (deg) | hub (mm) | sectors | status | first stride (mm) | steady stride (mm) "
         "| speed (mm/s) | FE friction (N) | anchoring slip ratio | wall (s) |",
-        "|" + "---|" * 10,
+        "|" + "---|" * 11,
     ]
     for r in rows:
         lines.append(
             f"| {r['shore_a']:g}A | {r['angle_deg']:g} | {_cell(r.get('hub_thickness_mm'), '.2f')} "
-            f"| {r['status']} "
+            f"| {r['sectors']} | {r['status']} "
             f"| {_cell(r.get('first_stride_mm'), '.3f')} | {_cell(r.get('steady_stride_mm'), '.3f')} "
             f"| {_cell(r.get('speed_mm_s'), '.3f')} | {_cell(r.get('fe_friction_n'), '.2f')} "
             f"| {_cell(r.get('anchoring_slip_ratio'), '.3f')} | {_cell(r.get('wall_s'), '.0f')} |"
@@ -329,7 +340,7 @@ def write_study_outputs(spec, folder: Path, table=()) -> StudyOutcome:
     written = [
         write_csv(rows, folder / "feet.csv"),
         write_markdown(rows, spec.settings, folder / "summary.md"),
-        plot_feet(rows, folder / "feet.png", mu_text(spec.settings)),
+        plot_feet(rows, folder / "feet.png", mu_short(spec.settings)),
     ]
     lines = [
         f"{r['shore_a']:g}A, {r['angle_deg']:g} deg: {r['status']}; first stride "
@@ -368,7 +379,7 @@ def replot_folder(folder: Path) -> list[Path]:
     """feet.png from the stored point files."""
     folder = Path(folder)
     spec = sweep_spec_from_file(folder)
-    return [plot_feet(point_rows(spec, folder), folder / "feet.png", mu_text(spec.settings))]
+    return [plot_feet(point_rows(spec, folder), folder / "feet.png", mu_short(spec.settings))]
 
 
 def report_block(folder: Path) -> str:
