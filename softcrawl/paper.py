@@ -92,14 +92,24 @@ TABLE2_MM_S = {
 #: Section VII-D), N: the resistance of the one foot that slides (docs/decisions/062-crawl-reconciliation.md).
 FRICTION_N = {"forward": 15.3, "backward": 16.9}
 
-# -- The feet against hardness and angle (Section VII-C, Fig. 21; held-out checks) -----------------
-#: Fig. 21's first statement: "greater than 10 mm/s" in the 70 mm pipe, 2 s cycles, over Shore
-#: 50A-70A and foot angles 30-120 deg, mm/s.
-FIG21_MIN_SPEED_MM_S = 10.0
-
 
 def table2(diameter: float, direction: str) -> float | None:
     """Table 2's speed (mm/s) in the pipe of `diameter` mm, "forward" or "backward"; None for a
     diameter the paper did not test."""
     row = TABLE2_MM_S.get(round(float(diameter), 6))
     return None if row is None else row[0 if direction == "forward" else 1]
+
+
+# -- Foot selection (Section VII-C, Fig. 21) -------------------------------------------------------
+#: Fig. 21's test: horizontal crawl in the 70 mm pipe, 2 s cycles, feet of several hardnesses and
+#: angles. The figure's curves are not printed; its two statements are, and are checked as stated
+#: (`studies.crawl.feet_statements`). Held out: no identification reads them.
+FIG21_PIPE_MM = 70.0
+FIG21_CYCLE_S = 2.0
+#: "A desired crawling speed, that is, greater than 10 mm/s, can be obtained using material
+#: hardness between 50A and 70A (shore) and foot angle between 30 and 120 deg."
+FIG21_MIN_SPEED_MM_S = 10.0
+FIG21_HARDNESS_SHORE_A = (50.0, 70.0)
+FIG21_ANGLE_DEG = (30.0, 120.0)
+#: "With 70A hardness, the crawling speed of the robot increases with the increase in the foot angle."
+FIG21_RISING_SHORE_A = 70.0

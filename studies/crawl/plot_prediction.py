@@ -20,12 +20,12 @@ COLOURS = {"forward": "C0", "backward": "C3"}
 
 
 def fig21_rows(results: Path) -> list[dict]:
-    """The feet study's points under `results` (hardness, angle, speed), or [] where it has not run:
-    every DIR/feet/*/feet.csv."""
+    """The feet study's completed points under `results` (material, angle_deg, speed_mm_s), or []
+    where it has not run: every DIR/feet/*/feet.csv (`studies.crawl.feet_study`)."""
     rows = []
     for table in sorted((Path(results) / "feet").glob("*/feet.csv")):
         with open(table, newline="") as fh:
-            rows += list(csv.DictReader(fh))
+            rows += [r for r in csv.DictReader(fh) if r.get("status") == "completed"]
     return rows
 
 
@@ -69,7 +69,8 @@ def _fig21(ax, rows: list[dict]) -> None:
         ax.legend(fontsize=8)
         return
     for material in sorted({r["material"] for r in rows}):
-        pts = sorted((float(r["angle"]), float(r["speed_mm_s"])) for r in rows if r["material"] == material)
+        mine = (r for r in rows if r["material"] == material)
+        pts = sorted((float(r["angle_deg"]), float(r["speed_mm_s"])) for r in mine)
         ax.plot(*zip(*pts), "o-", label=material)
     ax.set_ylim(bottom=min(0.0, ax.get_ylim()[0]))
     ax.set_title("Fig. 21's statements against the FE feet")

@@ -1,5 +1,6 @@
-"""The crawl study, declared for the registry (`studies.registry`): stride and anchoring of the FE
-crawl (two feet, the ePSAs' axial law) over pipe diameter and friction coefficient."""
+"""The crawl studies, declared for the registry (`studies.registry`): stride and anchoring of the FE
+crawl (two feet, the ePSAs' axial law) over pipe diameter and friction coefficient; its speed over
+the feet's hardness and angle (paper Fig. 21)."""
 
 from softcrawl.studies.declaration import Study
 
@@ -19,6 +20,22 @@ STUDIES = (
         help="crawl: stride and anchoring of the FE crawl (two feet, the ePSAs' axial law) over pipe "
         "diameter and friction coefficient (studies/crawl/crawl_study.py), "
         "DIR/crawl/rubber-70a[-quick]/; shown in the review's crawl section.",
+    ),
+    Study(
+        name="feet",
+        summary="speed of the FE crawl over the feet's hardness and angle (Fig. 21)",
+        run="softcrawl.studies.crawl.feet_study:run_request",
+        default_material="rubber-70a",
+        options=frozenset({"workers", "max_memory", "storage", "retry_failed"}),
+        evaluators={"feet": "softcrawl.studies.crawl.feet_study:evaluate_feet"},
+        figure="feet.png",
+        tables=("feet.csv", "summary.md"),
+        replot="softcrawl.studies.crawl.feet_study:replot_folder",
+        report="softcrawl.studies.crawl.feet_study:report_block",
+        check="softcrawl.studies.crawl.feet_study:check_request",
+        help="feet: the FE crawl's speed in the 70 mm pipe over hardness 50A-70A x foot angle 30-120 deg, "
+        "with the identified friction, against Fig. 21's two statements (studies/crawl/feet_study.py), "
+        "DIR/feet/D70[-quick]/.",
     ),
     Study(
         name="predict-crawl",

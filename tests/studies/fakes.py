@@ -317,3 +317,25 @@ def fake_foot(design, pipe_diameter, *, material, mu_smooth, mu_grooved, quick=F
     limit = design.skirt_thickness > 3.4 and pipe_diameter > 74.0
     backward = FakeDrag(False, f_bwd, (1.0, f_bwd), "limit point (fake)") if limit else FakeDrag(True, f_bwd)
     return FakeFoot(normal, FakeDrag(True, mu_smooth * normal), backward, wall_s=0.01)
+
+
+def fake_feet_crawl(setup, schedule, folder, quick):
+    """`study feet`'s per-point crawl, instant: a made-up speed rising with angle and hardness; the
+    50A, 30 deg foot "diverges" in its second cycle. Each call appends "SHORE,ANGLE" to
+    FOLDER/../calls.log (the tests count the evaluations)."""
+    shore = float(setup.material.split("-")[1][:-1])
+    angle = setup.foot.angle
+    with open(Path(folder).parent / "calls.log", "a") as handle:
+        handle.write(f"{shore:g},{angle:g}\n")
+    stride = 20.0 + angle / 10.0 + (shore - 50.0) / 5.0
+    strides = [stride + 1.0, stride][: setup.cycles]
+    if shore == 50.0 and angle == 30.0:
+        return {"converged": False, "message": "cycle 2: Newton diverged", "strides_mm": strides[:1]}
+    return {"converged": True, "message": "done", "strides_mm": strides, "fe_friction_n": 5.0, "wall_s": 1.0}
+
+
+def raising_feet_crawl(setup, schedule, folder, quick):
+    """Like `fake_feet_crawl`, but the 50A, 60 deg point raises (as a mesh that cannot be built does)."""
+    if setup.material == "rubber-50a" and setup.foot.angle == 60.0:
+        raise RuntimeError("made-up: the contact faces cannot be built")
+    return fake_feet_crawl(setup, schedule, folder, quick)

@@ -68,6 +68,9 @@ CASES: list[tuple[str, str]] = [
     ("crawl --material abs --out OUT", "material"),
     ("study crawl --material ecoflex-00-50 --out OUT", "material"),
     ("study crawl --workers 0 --out OUT", "workers"),
+    ("study feet --material rubber-50a --out OUT", "material"),  # the hardness is the study's grid
+    ("study feet --out OUT", "out"),  # no identified friction in OUT/identify/feet
+    ("study feet --trials 3 --out OUT", "trials"),
     ("study rings --workers 0 --out OUT", "workers"),
     ("study workspace --material unobtainium --out OUT", "material"),
     ("mesh epsa --mesh-size nan --out OUT", "mesh-size"),
