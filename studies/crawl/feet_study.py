@@ -9,7 +9,7 @@ that a stopped run has decided as much of statement 2 as it could. --quick: S in
 {120, 60} deg, one cycle.
 
 Friction: not chosen here. mu_smooth and mu_grooved are the identification's
-(`studies.foot.identify.load(OUT/identify/feet/feet.json).prediction_mu(face)`, `softcrawl study
+(`studies.foot.identify.prediction_friction(OUT/identify/feet/feet.json)`, `softcrawl study
 identify-feet`), with their flag ("identified", or "outside the sourced range: its nearer end");
 every output states both. They are kept in spec.json, so a resumed study uses the same values.
 
@@ -53,7 +53,7 @@ from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
 from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.declaration import StudyRequest
-from softcrawl.studies.foot.identify import load
+from softcrawl.studies.foot.identify import prediction_friction
 from softcrawl.studies.html import esc, figure, markdown
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.faults import SweepStopped
@@ -96,18 +96,9 @@ def friction(out) -> dict:
     path = Path(out) / IDENTIFICATION
     if not path.exists():
         raise StudyError("out", f"{path} is missing: run softcrawl study identify-feet --out {out} first")
-    ident = load(path)
-    (smooth, smooth_flag), (grooved, grooved_flag) = (
-        ident.prediction_mu("smooth"),
-        ident.prediction_mu("grooved"),
-    )
-    return {
-        "mu_smooth": smooth,
-        "mu_smooth_flag": smooth_flag,
-        "mu_grooved": grooved,
-        "mu_grooved_flag": grooved_flag,
-        "identification": IDENTIFICATION.as_posix(),
-    }
+    found = prediction_friction(path)
+    keys = ("mu_smooth", "mu_smooth_flag", "mu_grooved", "mu_grooved_flag")
+    return {k: found[k] for k in keys} | {"identification": IDENTIFICATION.as_posix()}
 
 
 def point_setup(params: dict, settings: dict) -> CrawlSetup:

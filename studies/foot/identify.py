@@ -212,8 +212,9 @@ def committed_path() -> Path:
 
 def prediction_friction(path=None) -> dict:
     """The friction coefficients a prediction uses by default, from the identification at `path`
-    (None: `committed_path()`): {"mu_smooth", "mu_grooved", "source"}, the source naming the file's
-    verdict per face (identified, or the sourced range's nearer end, `prediction_mu`)."""
+    (None: `committed_path()`): {"mu_smooth", "mu_grooved", "mu_smooth_flag", "mu_grooved_flag",
+    "source"}: each flag is `prediction_mu`'s verdict for its face (identified, or the sourced
+    range's nearer end), the source names both."""
     path = Path(path) if path is not None else committed_path()
     if not path.is_file():
         raise IdentificationMissing(
@@ -226,6 +227,7 @@ def prediction_friction(path=None) -> dict:
     for face in ("smooth", "grooved"):
         mu, how = ident.prediction_mu(face)
         out[f"mu_{face}"] = mu
+        out[f"mu_{face}_flag"] = how
         notes.append(f"mu_{face} = {mu:g}: {how.split(' (')[0]}")
     record = "docs/decisions/070-identify-feet.md"
     out["source"] = f"the committed feet identification ({record}): {'; '.join(notes)}"

@@ -21,7 +21,7 @@ over the design variables (`SPACE`), with their sources:
 
 The tip stays at 39 mm (the prototype's 78 mm maximum: every foot of Fig. 21 reached the 70 mm
 wall, record 066). The friction coefficients are the identified ones
-(`studies.foot.identify.load(OUT/identify/feet/feet.json).prediction_mu`), flagged in every
+(`studies.foot.identify.prediction_friction(OUT/identify/feet/feet.json)`), flagged in every
 output: today both are the sourced range's lower end, 0.3, because the measurement lies outside
 the range (record 070). Pipes: 55, 60, 65, 70 and 75 mm (`softcrawl.paper.PIPE_DIAMETERS_MM`);
 --quick: 55 and 75 mm only (the extremes, where the slide and the hold inequalities are
@@ -40,7 +40,7 @@ from pathlib import Path
 from softcrawl import jsonio
 from softcrawl.paper import PIPE_DIAMETERS_MM
 from softcrawl.studies.declaration import StudyRequest, resolve
-from softcrawl.studies.foot.identify import load as load_identification
+from softcrawl.studies.foot.identify import prediction_friction
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S
 from softcrawl.studies.foot.optimise_evaluator import metric_columns
 from softcrawl.studies.foot.optimise_plot import front, plot_front
@@ -87,9 +87,8 @@ def identified_mu(out) -> dict:
             "identification",
             f"{path} is missing: run softcrawl study identify-feet --out {out} first (record 070)",
         )
-    feet = load_identification(path)
-    (mu_s, flag_s), (mu_g, flag_g) = feet.prediction_mu("smooth"), feet.prediction_mu("grooved")
-    return {"mu_smooth": mu_s, "mu_grooved": mu_g, "mu_smooth_flag": flag_s, "mu_grooved_flag": flag_g}
+    friction = prediction_friction(path)
+    return {k: friction[k] for k in ("mu_smooth", "mu_grooved", "mu_smooth_flag", "mu_grooved_flag")}
 
 
 def search_spec(out, *, quick=False, trials=None, sampler="nsga2", seed=0, storage=None, simulator=None):

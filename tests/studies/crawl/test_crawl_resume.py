@@ -25,7 +25,7 @@ from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.foot.identify import prediction_friction
 
 #: The setup of `softcrawl crawl --quick --cycles 1` (studies/commands/crawl.py).
-_MU = {k: v for k, v in prediction_friction().items() if k != "source"}  # the command's default friction
+_MU = {k: prediction_friction()[k] for k in ("mu_smooth", "mu_grooved")}  # the command's default friction
 QUICK = CrawlSetup(insert_steps=4, steps=4, cycles=1, sectors=QUICK_SECTORS, thickness_layers=None, **_MU)
 
 
