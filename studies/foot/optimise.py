@@ -19,13 +19,19 @@ over the design variables (`SPACE`), with their sources:
   hardness         rubber-50a / rubber-60a / rubber-70a: Fig. 21's range, moduli from Gent's
                                 Shore-A relation (`softcrawl.materials`, record 001), not fitted.
 
+The feet's rubber is therefore a design variable, not an input: `softcrawl study optimise-feet`
+refuses --material (exit 2, one line naming it), as every study declared with no default material
+does (`studies.commands.study`); before, the option was accepted and silently ignored.
+
 The tip stays at 39 mm (the prototype's 78 mm maximum: every foot of Fig. 21 reached the 70 mm
 wall, record 066). The friction coefficients are the identified ones
 (`studies.foot.identify.prediction_friction(OUT/identify/feet/feet.json)`), flagged in every
 output: today both are the sourced range's lower end, 0.3, because the measurement lies outside
-the range (record 070). Pipes: 55, 60, 65, 70 and 75 mm (`softcrawl.paper.PIPE_DIAMETERS_MM`);
---quick: 55 and 75 mm only (the extremes, where the slide and the hold inequalities are
-tightest) on the quick foot mesh (`studies.foot.simulate`: 24+ sectors, 2 mm drags).
+the range (record 070). They were identified on the Shore-70A feet (rubber-70a) and are applied
+unchanged to the 50A and 60A designs: a stated assumption, not a measurement. Pipes: 55, 60, 65,
+70 and 75 mm (`softcrawl.paper.PIPE_DIAMETERS_MM`); --quick: 55 and 75 mm only (the extremes,
+where the slide and the hold inequalities are tightest) on the quick foot mesh
+(`studies.foot.simulate`: 24+ sectors, 2 mm drags).
 
 The paper's foot (120 deg, 3 mm, 70A) is enqueued as the first trial. Outputs in
 DIR/optimise-feet/rubber[-quick]/: spec.json, trials.csv (one row per trial: status and failure

@@ -354,6 +354,12 @@ CASES: list[tuple[str, str]] = [
     ("study chamber-radius --max-memory nan --out OUT", "max-memory"),
     # optimise-feet (issue 29, step 7): its identification, its options
     ("study optimise-feet --out OUT", "identification"),
+    # a study that takes no material (its declaration's default_material None) refuses --material:
+    # optimise-feet's hardness is a design variable, the others read or scan theirs
+    ("study optimise-feet --material rubber-50a --out OUT", "material"),
+    ("study identify-feet --material rubber-70a --out OUT", "material"),
+    ("study predict-crawl --material rubber-70a --out OUT", "material"),
+    ("study paper-material --material ecoflex-00-50 --out OUT", "material"),
     ("study optimise-feet --confirm 0 --out OUT", "confirm"),
     ("study optimise-feet --confirm 11 --out OUT", "confirm"),
     ("study foot --confirm 2 --out OUT", "confirm"),
