@@ -64,6 +64,16 @@ class StudyRequest:
     max_memory_gb: float | None = None
     confirm: int | None = None
 
+    def sweep_options(self) -> dict[str, Any]:
+        """storage, workers, progress and retry: the sweep engine's options (`run_sweep`), which a
+        sweep study's runner passes through, e.g. ``run_crawl_study(out, quick=..., **these)``."""
+        return {
+            "storage": self.storage,
+            "workers": self.workers,
+            "progress": self.progress,
+            "retry": self.retry,
+        }
+
 
 @dataclass(frozen=True)
 class Study:

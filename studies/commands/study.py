@@ -77,7 +77,7 @@ def register(subparsers) -> None:
         "--material",
         default=None,
         help="silicone of the ePSA body, the feet's rubber or the robot's silicone, by study (default: "
-        f"{_material_defaults()}); see `softcrawl material list`",
+        f"{_material_defaults()}; the other studies take none); see `softcrawl material list`",
     )
     parser.add_argument(
         "--storage",
@@ -195,6 +195,10 @@ def _check(args) -> None:
 
     study = registry.get(args.name)
     _applies(args, study)
+    if args.material is not None and study.default_material is None:  # silently ignored before
+        raise StudyError(
+            "material", f"--material does not apply to study {study.name}: it takes no material (see --help)"
+        )
     args.workers = 1 if args.workers is None else args.workers
     args.sampler = args.sampler or "nsga2"
     args.seed = 0 if args.seed is None else args.seed

@@ -234,14 +234,7 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     """`softcrawl study crawl` (the registry's entry point)."""
-    return run_crawl_study(
-        request.out,
-        quick=request.quick,
-        storage=request.storage,
-        workers=request.workers,
-        progress=request.progress,
-        retry=request.retry,
-    )
+    return run_crawl_study(request.out, quick=request.quick, **request.sweep_options())
 
 
 def check_request(request: StudyRequest) -> None:

@@ -9,7 +9,7 @@ that a stopped run has decided as much of statement 2 as it could. --quick: S in
 {120, 60} deg, one cycle.
 
 Friction: not chosen here. mu_smooth and mu_grooved are the identification's
-(`studies.foot.identify.prediction_friction(OUT/identify/feet/feet.json)`, `softcrawl study
+(`studies.foot.identify.study_friction(OUT)`: OUT/identify/feet/feet.json, `softcrawl study
 identify-feet`), with their flag ("identified", or "outside the sourced range: its nearer end");
 every output states both. They are kept in spec.json, so a resumed study uses the same values.
 
@@ -53,7 +53,7 @@ from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
 from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.declaration import StudyRequest
-from softcrawl.studies.foot.identify import prediction_friction
+from softcrawl.studies.foot.identify import STUDY_FILE, study_friction
 from softcrawl.studies.html import esc, figure, markdown
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.faults import SweepStopped
@@ -79,7 +79,6 @@ PRESSURE_KPA = 100.0
 #: converged state in the reason) instead of holding a worker for the rest of the study.
 WALL_S = 3600.0
 SIMULATE = "softcrawl.studies.crawl.feet_study:crawl_point"
-IDENTIFICATION = Path("identify") / "feet" / "feet.json"
 
 
 def material_of(shore_a: float) -> str:
@@ -93,12 +92,9 @@ def point_stem(params: dict) -> str:
 
 def friction(out) -> dict:
     """The identified mu of both faces and their flags, read from OUT/identify/feet/feet.json."""
-    path = Path(out) / IDENTIFICATION
-    if not path.exists():
-        raise StudyError("out", f"{path} is missing: run softcrawl study identify-feet --out {out} first")
-    found = prediction_friction(path)
+    found = study_friction(out)
     keys = ("mu_smooth", "mu_smooth_flag", "mu_grooved", "mu_grooved_flag")
-    return {k: found[k] for k in keys} | {"identification": IDENTIFICATION.as_posix()}
+    return {k: found[k] for k in keys} | {"identification": STUDY_FILE.as_posix()}
 
 
 def point_setup(params: dict, settings: dict) -> CrawlSetup:
@@ -349,14 +345,7 @@ def write_study_outputs(spec, folder: Path, table=()) -> StudyOutcome:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     """`softcrawl study feet` (the registry's entry point)."""
-    return run_feet_study(
-        request.out,
-        quick=request.quick,
-        storage=request.storage,
-        workers=request.workers,
-        progress=request.progress,
-        retry=request.retry,
-    )
+    return run_feet_study(request.out, quick=request.quick, **request.sweep_options())
 
 
 def check_request(request: StudyRequest) -> None:

@@ -30,6 +30,10 @@ look-up to the write, so a second worker asking for the same insertion waits for
 instead of computing it again. Newton iterations of the insertion are carried in the result (the
 path's effort, so the counts stay comparable with a cold run); its times are not (this run did
 not spend them). `hit` says which happened.
+
+Size and pruning. One entry is one checkpoint state and its manifest: 2.06 MB for the quick feet.
+Nothing prunes the cache (an entry of another softcrawl version is never read again): deleting
+`insertion_dir()`, or an entry, while no crawl runs costs only the recomputation (the README).
 """
 
 from __future__ import annotations

@@ -45,7 +45,7 @@ from softcrawl.studies.crawl.plot_prediction import plot_prediction
 from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
 from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.declaration import StudyRequest
-from softcrawl.studies.foot.identify import prediction_friction
+from softcrawl.studies.foot.identify import study_friction
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.tables import write_csv
 
@@ -201,7 +201,7 @@ def predict(results: Path, progress=None, compute: bool = True) -> tuple[list[Pr
     """Every Table 2 crawl with the identification under `results` (module docstring); with
     `compute` False, the runs not found are rows "not computed" instead of being run (a table of
     what exists, e.g. while the missing runs are computed elsewhere)."""
-    found = prediction_friction(results / "identify" / "feet" / "feet.json")
+    found = study_friction(results)
     (mu_s, how_s), (mu_g, how_g) = ((found[f"mu_{f}"], found[f"mu_{f}_flag"]) for f in ("smooth", "grooved"))
     out = results / NAME / MATERIAL
     rows = []

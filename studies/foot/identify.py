@@ -30,6 +30,8 @@ The predictions read the committed identification (`prediction_friction`): `soft
 `softcrawl.simulate_crawl` take their default mu_smooth and mu_grooved from it (issue 29 step 9),
 at `COMMITTED` in the source tree (the README's editable install), or at the file that the
 environment variable `ENV` names.
+The studies read the one under their --out folder (`study_friction`). Either way a missing file
+is one error, `IdentificationMissing`: exit 2 with one line naming the parameter.
 """
 
 from __future__ import annotations
@@ -69,6 +71,9 @@ MATERIAL = "rubber-70a"
 #: source tree: the prediction commands read it. `ENV` names another file.
 COMMITTED = Path(__file__).resolve().parents[2] / "results" / "identify" / "feet" / "feet.json"
 ENV = "SOFTCRAWL_FEET"
+#: Where `softcrawl study identify-feet --out DIR` writes the identification, under DIR: the studies
+#: that read it (feet, optimise-feet, predict-crawl) look for it there (`study_friction`).
+STUDY_FILE = Path("identify") / "feet" / "feet.json"
 
 
 class IdentificationMissing(InputError):
@@ -232,3 +237,15 @@ def prediction_friction(path=None) -> dict:
     record = "docs/decisions/070-identify-feet.md"
     out["source"] = f"the committed feet identification ({record}): {'; '.join(notes)}"
     return out
+
+
+def study_friction(out) -> dict:
+    """`prediction_friction` of the identification under a study's --out folder (`STUDY_FILE`);
+    missing, `IdentificationMissing` naming "out", with the command that writes it."""
+    path = Path(out) / STUDY_FILE
+    try:
+        return prediction_friction(path)
+    except IdentificationMissing:
+        raise IdentificationMissing(
+            "out", f"no feet identification at {path}: run softcrawl study identify-feet --out {out} first"
+        ) from None

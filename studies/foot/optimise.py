@@ -19,13 +19,19 @@ over the design variables (`SPACE`), with their sources:
   hardness         rubber-50a / rubber-60a / rubber-70a: Fig. 21's range, moduli from Gent's
                                 Shore-A relation (`softcrawl.materials`, record 001), not fitted.
 
+The feet's rubber is therefore a design variable, not an input: `softcrawl study optimise-feet`
+refuses --material (exit 2, one line naming it), as every study declared with no default material
+does (`studies.commands.study`); before, the option was accepted and silently ignored.
+
 The tip stays at 39 mm (the prototype's 78 mm maximum: every foot of Fig. 21 reached the 70 mm
 wall, record 066). The friction coefficients are the identified ones
-(`studies.foot.identify.prediction_friction(OUT/identify/feet/feet.json)`), flagged in every
+(`studies.foot.identify.study_friction(OUT)`: OUT/identify/feet/feet.json), flagged in every
 output: today both are the sourced range's lower end, 0.3, because the measurement lies outside
-the range (record 070). Pipes: 55, 60, 65, 70 and 75 mm (`softcrawl.paper.PIPE_DIAMETERS_MM`);
---quick: 55 and 75 mm only (the extremes, where the slide and the hold inequalities are
-tightest) on the quick foot mesh (`studies.foot.simulate`: 24+ sectors, 2 mm drags).
+the range (record 070). They were identified on the Shore-70A feet (rubber-70a) and are applied
+unchanged to the 50A and 60A designs: a stated assumption, not a measurement. Pipes: 55, 60, 65,
+70 and 75 mm (`softcrawl.paper.PIPE_DIAMETERS_MM`); --quick: 55 and 75 mm only (the extremes,
+where the slide and the hold inequalities are tightest) on the quick foot mesh
+(`studies.foot.simulate`: 24+ sectors, 2 mm drags).
 
 The paper's foot (120 deg, 3 mm, 70A) is enqueued as the first trial. Outputs in
 DIR/optimise-feet/rubber[-quick]/: spec.json, trials.csv (one row per trial: status and failure
@@ -40,7 +46,7 @@ from pathlib import Path
 from softcrawl import jsonio
 from softcrawl.paper import PIPE_DIAMETERS_MM
 from softcrawl.studies.declaration import StudyRequest, resolve
-from softcrawl.studies.foot.identify import prediction_friction
+from softcrawl.studies.foot.identify import study_friction
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S
 from softcrawl.studies.foot.optimise_evaluator import metric_columns
 from softcrawl.studies.foot.optimise_plot import front, plot_front
@@ -49,7 +55,7 @@ from softcrawl.studies.html import esc, figure, markdown
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.plots.style import number
 from softcrawl.studies.sweeps.search import run_search
-from softcrawl.studies.sweeps.spec import SearchSpec, StudyError, read_spec
+from softcrawl.studies.sweeps.spec import SearchSpec, read_spec
 from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
 NAME = "optimise-feet"
@@ -67,8 +73,6 @@ PAPER_FOOT = {"angle": 120.0, "skirt_thickness": 3.0, "hardness": "rubber-70a"}
 OBJECTIVES = ("margin", "mass_g")
 DIRECTIONS = ("maximize", "minimize")
 QUICK_PIPES = (55.0, 75.0)
-#: The identification a run reads, under its --out folder (`softcrawl study identify-feet`).
-IDENTIFICATION = Path("identify") / "feet" / "feet.json"
 #: Wall-time budget of one pipe (s): four times the foot's own (`FOOT_MAX_WALL_S`). Twice it
 #: (1800 s) stopped a 57.6 deg quick design in its 55 mm backward drag at a load of 10-13 on two
 #: cores (record 072); the budget ends a stalled drag, it must not end a slow machine's.
@@ -81,13 +85,7 @@ def folder_of(out, quick: bool) -> Path:
 
 def identified_mu(out) -> dict:
     """mu_smooth, mu_grooved and their flags from OUT/identify/feet/feet.json."""
-    path = Path(out) / IDENTIFICATION
-    if not path.exists():
-        raise StudyError(
-            "identification",
-            f"{path} is missing: run softcrawl study identify-feet --out {out} first (record 070)",
-        )
-    friction = prediction_friction(path)
+    friction = study_friction(out)
     return {k: friction[k] for k in ("mu_smooth", "mu_grooved", "mu_smooth_flag", "mu_grooved_flag")}
 
 

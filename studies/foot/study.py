@@ -71,6 +71,7 @@ STUDIES = (
         help="optimise-feet: NSGA-II over the foot angle (30-120 deg), skirt thickness (1.5-3.5 mm) and "
         "hardness (50A-70A): maximise the worst-case anchoring margin of Fig. 4 over 55-75 mm pipes "
         "(--quick: 55 and 75 mm, quick mesh) and minimise the mass (studies/foot/optimise.py); the "
-        "paper's foot is the first trial; needs DIR/identify/feet/feet.json.",
+        "paper's foot is the first trial; needs DIR/identify/feet/feet.json. The rubber is a design "
+        "variable, so it takes no --material.",
     ),
 )

@@ -9,16 +9,12 @@ import numpy as np
 import pytest
 import skfem
 
-from softcrawl.fem.contact import ContactSpec
-from softcrawl.fem.contact_law import evaluate
-from softcrawl.fem.contact_stages import Stage, run_stages
-from softcrawl.fem.contact_verification import MATERIAL, convergence_order
+from softcrawl.fem.contact_verification import convergence_order
 from softcrawl.fem.corrugated_pipe import CorrugatedPipe
 from softcrawl.fem.errors import SolverInputError
-from softcrawl.fem.model import SolidModel
-from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.fem.structured import box
+from tests.fem.tiles import assert_tangent_matches_differences, press_tile
 
 CENTRE = np.array([1.0, 2.0, 3.0])
 AXIS = np.array([1.0, 2.0, -0.5]) / np.linalg.norm([1.0, 2.0, -0.5])
@@ -131,15 +127,7 @@ def test_the_contact_laws_tangent_on_the_bellows_matches_finite_differences():
     z = rng.uniform(-20, 20, 60)
     x = at(z, rng.uniform(0, 2 * np.pi, 60), BELLOWS.profile(z)[0] + rng.normal(size=60) * 0.1)
     stick = x + rng.normal(size=x.shape) * 0.02
-    args = (BELLOWS, rng.uniform(0, 0.1, 60), stick, 10.0, 7.0, 0.4)
-    st = evaluate(x, *args, True)
-    assert st.slip.sum() >= 2 and (st.active & ~st.slip).sum() >= 2 and (~st.active).sum() >= 2
-    h = 1e-6
-    for j in range(3):
-        step = np.zeros(3)
-        step[j] = h
-        num = -(evaluate(x + step, *args, False).force - evaluate(x - step, *args, False).force) / (2 * h)
-        assert np.abs(num - st.stiffness[:, :, j]).max() < 1e-7 * np.abs(st.stiffness).max()
+    assert_tangent_matches_differences(x, (BELLOWS, rng.uniform(0, 0.1, 60), stick, 10.0, 7.0, 0.4))
 
 
 def test_a_free_tile_pressed_into_a_crest():
@@ -155,15 +143,8 @@ def test_a_free_tile_pressed_into_a_crest():
     rho = pipe.profile(xi)[0] + 0.002 - zeta
     th = eta / 37.5
     mesh = replace(m2, doflocs=np.vstack([rho * np.cos(th), rho * np.sin(th), xi]))
-    spec = ContactSpec(("z0",), pipe, penalty=100.0, max_initial_penetration=0.003)
-    model = SolidModel(mesh, MATERIAL, dead_loads={"z1": (0.4, 0.0, 0.0)}, contacts=[spec])
-    res = run_stages(
-        model, [Stage("press", factor=1.0, steps=1)], penetration_tol=1e-8, options=NewtonOptions(tol=1e-11)
-    )
+    res, st, resultant, _ = press_tile(mesh, pipe, (0.4, 0.0, 0.0))
     assert res.converged, res.message
-    term = model.contacts[0]
-    st = term.state(res.x)
-    resultant = (st.normal * (st.pressure * term.dA.reshape(-1))[:, None]).sum(axis=0)
     assert st.active.mean() > 0.85  # 91.7 % measured: a few base points lift off the tight crest
     assert np.allclose(resultant, [-0.4, 0.0, 0.0], rtol=0, atol=1e-12)
     assert convergence_order(res.steps[-1].residuals) >= 1.8

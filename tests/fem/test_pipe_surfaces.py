@@ -10,14 +10,12 @@ import pytest
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.fem import pipe_verification as pv
 from softcrawl.fem.contact import ContactSpec
-from softcrawl.fem.contact_law import evaluate
-from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.contact_verification import convergence_order
 from softcrawl.fem.errors import SolverInputError
-from softcrawl.fem.model import Dirichlet, SolidModel
-from softcrawl.fem.newton import NewtonOptions
+from softcrawl.fem.model import Dirichlet
 from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from tests.fem.tiles import assert_tangent_matches_differences, press_tile
 
 R_PIPE, R_BEND, ENTRY = 10.0, 25.0, 20.0
 ELBOW = ElbowPipe(R_PIPE, R_BEND, entry=ENTRY)
@@ -239,15 +237,7 @@ def test_the_contact_laws_tangent_on_the_elbow_matches_finite_differences():
     x = x + rng.normal(size=x.shape) * 0.1
     stick = x + rng.normal(size=x.shape) * 0.02
     lam = rng.uniform(0, 0.1, x.shape[0])
-    args = (OBLIQUE, lam, stick, 10.0, 7.0, 0.4)
-    st = evaluate(x, *args, True)
-    assert st.slip.sum() >= 2 and (st.active & ~st.slip).sum() >= 2 and (~st.active).sum() >= 2
-    h = 1e-6
-    for j in range(3):
-        step = np.zeros(3)
-        step[j] = h
-        fd = -(evaluate(x + step, *args, False).force - evaluate(x - step, *args, False).force) / (2 * h)
-        assert np.abs(fd - st.stiffness[:, :, j]).max() < 1e-7 * np.abs(st.stiffness).max()
+    assert_tangent_matches_differences(x, (OBLIQUE, lam, stick, 10.0, 7.0, 0.4))
 
 
 def test_a_contact_spec_takes_the_elbow():
@@ -289,17 +279,9 @@ def test_every_point_has_a_foot_for_any_bend_angle(alpha):
 def _press_across_the_junction(hold: bool):
     """The contact-elbow tile centred on the bend's start (half on the entry leg, half on the torus),
     pressed by 0.4 N along the wall's outward normal there; `hold`: its top's axial displacement held."""
-    mesh = pv.elbow_tile(ELBOW, ENTRY)
     load = 0.4 * ELBOW.frame([ENTRY])[2][0]
-    spec = ContactSpec(("z0",), ELBOW, penalty=100.0, max_initial_penetration=0.003)
     bcs = [Dirichlet("z1", (2,), (0.0,))] if hold else []  # the default frame's axis is z
-    model = SolidModel(mesh, pv.MATERIAL, dirichlet=bcs, dead_loads={"z1": tuple(load)}, contacts=[spec])
-    res = run_stages(
-        model, [Stage("press", factor=1.0, steps=1)], penetration_tol=1e-8, options=NewtonOptions(tol=1e-11)
-    )
-    term = model.contacts[0]
-    st = term.state(res.x)
-    resultant = (st.normal * (st.pressure * term.dA.reshape(-1))[:, None]).sum(axis=0)
+    res, st, resultant, term = press_tile(pv.elbow_tile(ELBOW, ENTRY), ELBOW, load, bcs)
     before, after = ELBOW.locate(term.X)[0], ELBOW.locate(term.positions(res.x))[0]
     return res, st, resultant, load, before, after
 

@@ -135,3 +135,25 @@ def test_an_unknown_evaluator_name_is_one_line_naming_the_evaluator():
     with pytest.raises(StudyError) as err:
         load_callable("no-such-evaluator")
     assert err.value.parameter == "evaluator" and "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize(
+    "module, runner",
+    [
+        ("softcrawl.studies.crawl.crawl_study", "run_crawl_study"),
+        ("softcrawl.studies.crawl.feet_study", "run_feet_study"),
+    ],
+)
+def test_the_crawl_and_feet_studies_pass_the_sweep_options_through(module, runner, monkeypatch):
+    """Both take `StudyRequest.sweep_options()` (one home for the options a sweep passes on)."""
+    import importlib
+
+    from softcrawl.studies.declaration import StudyRequest
+
+    calls = []
+    monkeypatch.setattr(importlib.import_module(module), runner, lambda *a, **k: calls.append((a, k)))
+    options = {"storage": "sqlite:///s.db", "workers": 3, "progress": False, "retry": True}
+    request = StudyRequest(study="x", out="OUT", quick=True, **options)
+    assert request.sweep_options() == options
+    importlib.import_module(module).run_request(request)
+    assert calls == [(("OUT",), {"quick": True, **request.sweep_options()})]

@@ -353,7 +353,13 @@ CASES: list[tuple[str, str]] = [
     ("study chamber-radius --max-memory 0 --out OUT", "max-memory"),
     ("study chamber-radius --max-memory nan --out OUT", "max-memory"),
     # optimise-feet (issue 29, step 7): its identification, its options
-    ("study optimise-feet --out OUT", "identification"),
+    ("study optimise-feet --out OUT", "out"),  # no identified friction in OUT/identify/feet
+    # a study that takes no material (its declaration's default_material None) refuses --material:
+    # optimise-feet's hardness is a design variable, the others read or scan theirs
+    ("study optimise-feet --material rubber-50a --out OUT", "material"),
+    ("study identify-feet --material rubber-70a --out OUT", "material"),
+    ("study predict-crawl --material rubber-70a --out OUT", "material"),
+    ("study paper-material --material ecoflex-00-50 --out OUT", "material"),
     ("study optimise-feet --confirm 0 --out OUT", "confirm"),
     ("study optimise-feet --confirm 11 --out OUT", "confirm"),
     ("study foot --confirm 2 --out OUT", "confirm"),

@@ -38,3 +38,20 @@ def test_saved_pngs_carry_no_software_version(tmp_path):
     ax.plot([0, 1], [0, 1])
     data = save(fig, tmp_path / "a.png").read_bytes()
     assert b"matplotlib version" not in data and b"Software" not in data
+
+
+def test_replot_takes_a_study_folder_or_a_run_folder_under_results(tmp_path, capsys):
+    """`softcrawl replot results/crawl` and `results/crawl/rubber-70a-quick` redraw the runs under
+    them, and only those (they were "holds no study results", exit 2); the root still redraws all."""
+    copy = tmp_path / "results"
+    for folder in FOLDERS:
+        shutil.copytree(RESULTS / folder, copy / folder)
+    committed = _digests(copy)
+    png = copy / "crawl" / "rubber-70a-quick" / "crawl-study.png"
+    for sub in ("crawl", "crawl/rubber-70a-quick"):
+        png.unlink()
+        assert main(["replot", str(copy / sub)]) == 0
+        assert "redrew 1 figures" in capsys.readouterr().out
+        assert _digests(copy) == committed
+    (copy / "fiber-turns" / "empty").mkdir()
+    assert main(["replot", str(copy / "fiber-turns" / "empty")]) == 2

@@ -63,3 +63,21 @@ def test_a_missing_identification_is_one_line_and_exit_2(tmp_path):
     assert not (tmp_path / "out").exists()  # refused before any work
     with pytest.raises(identify.IdentificationMissing, match="mu_smooth"):
         identify.prediction_friction(tmp_path / "none.json")
+
+
+@pytest.mark.parametrize("study", ["feet", "optimise-feet", "predict-crawl"])
+def test_a_study_without_its_identification_is_the_readers_error_naming_out(study, tmp_path, capfd):
+    """The studies read OUT/identify/feet/feet.json through `identify.study_friction`: a feet.json
+    that is no file (here a folder) is the reader's `IdentificationMissing`, named "out", with the
+    command that writes it. (The studies' own exists() checks let the folder through to the reader,
+    whose line named mu_smooth and told to set SOFTCRAWL_FEET, which they do not read.)"""
+    from softcrawl.studies.cli import main
+
+    (tmp_path / "identify" / "feet" / "feet.json").mkdir(parents=True)
+    assert main(["study", study, "--out", str(tmp_path)]) == 2
+    err = capfd.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "error: out: " in err[0] and f"identify-feet --out {tmp_path}" in err[0], err
+    assert "SOFTCRAWL_FEET" not in err[0]
+    with pytest.raises(identify.IdentificationMissing) as info:
+        identify.study_friction(tmp_path)
+    assert info.value.parameter == "out"

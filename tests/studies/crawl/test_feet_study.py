@@ -9,7 +9,7 @@ import pytest
 from softcrawl.paper import FIG21_MIN_SPEED_MM_S
 from softcrawl.studies.crawl import feet_statements as fs
 from softcrawl.studies.crawl import feet_study
-from softcrawl.studies.sweeps.spec import StudyError
+from softcrawl.studies.foot.identify import IdentificationMissing
 
 FAKE = "tests.studies.fakes:fake_feet_crawl"
 IDENTIFIED = Path(__file__).parents[3] / "results" / "identify" / "feet" / "feet.json"
@@ -83,7 +83,7 @@ def test_a_point_that_raises_is_a_failure_with_its_reason(tmp_path):
 
 def test_the_friction_is_the_identifications_or_an_error(tmp_path):
     assert feet_study.friction(_out(tmp_path))["mu_grooved_flag"].startswith("outside the sourced range")
-    with pytest.raises(StudyError) as err:
+    with pytest.raises(IdentificationMissing) as err:  # the reader's error (studies.foot.identify)
         feet_study.friction(tmp_path / "empty")
     assert err.value.parameter == "out"
 

@@ -92,6 +92,16 @@ def test_the_identification_is_needed_before_any_work(tmp_path, capfd):
     assert not (tmp_path / "out" / "optimise-feet").exists()
 
 
+def test_material_is_refused_because_the_hardness_is_a_design_variable(tmp_path, capfd):
+    """--material was silently ignored (every design still took its own hardness): exit 2, one line
+    naming it, before any work, with the identification present."""
+    out = _out(tmp_path)
+    assert _run(out, 2, "--material", "rubber-50a") == 2
+    err = capfd.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--material does not apply to study optimise-feet" in err[0], err
+    assert not (out / "optimise-feet").exists()
+
+
 @pytest.mark.parametrize(
     "dimension",
     [("categorical", ()), ("categorical", ("a", "a")), ("categorical", (True, False)), ("categorical", "ab"),
