@@ -282,8 +282,8 @@ def _press_across_the_junction(hold: bool):
     load = 0.4 * ELBOW.frame([ENTRY])[2][0]
     bcs = [Dirichlet("z1", (2,), (0.0,))] if hold else []  # the default frame's axis is z
     res, st, resultant, term = press_tile(pv.elbow_tile(ELBOW, ENTRY), ELBOW, load, bcs)
-    before, after = ELBOW.locate(term.X)[0], ELBOW.locate(term.positions(res.x))[0]
-    return res, st, resultant, load, before, after
+    before, (after, s_after, *_) = ELBOW.locate(term.X)[0], ELBOW.locate(term.positions(res.x))
+    return res, st, resultant, load, before, after, s_after
 
 
 def test_a_tile_pressed_across_a_junction():
@@ -292,7 +292,7 @@ def test_a_tile_pressed_across_a_junction():
     junction costs nothing while no point crosses it. The torus half pushes the tile back towards
     the leg (u . a = sin(phi) > 0 there): 4.45e-3 N along -a measured, 1.1 % of the load, which the
     hold carries; across the pipe the contact balances the load exactly."""
-    res, st, resultant, load, before, after = _press_across_the_junction(hold=True)
+    res, st, resultant, load, before, after, _ = _press_across_the_junction(hold=True)
     assert res.converged and st.active.all()
     assert list(np.bincount(before, minlength=3)) == [48, 48, 0] and np.array_equal(before, after)
     assert convergence_order(res.steps[-1].residuals) >= 1.8
@@ -303,12 +303,18 @@ def test_a_tile_pressed_across_a_junction():
 def test_a_free_tile_slides_off_the_bend_into_the_leg():
     """Free, the frictionless tile is pushed off the torus (the load has a component down the
     bend's wall there) onto the straight leg, where sliding along the axis is neutral: every torus
-    point crosses the junction, the pressure stays continuous (the first solve needs 10 Newton
-    iterations where points cross, against 4 held), and the contact balances the whole load."""
-    res, st, resultant, load, before, after = _press_across_the_junction(hold=False)
+    point reaches the leg, the pressure stays continuous (the first solve needs 10 Newton
+    iterations where points cross, against 4 held), and the contact balances the whole load.
+
+    The push ends when the last torus point reaches the junction, so that point stops ON it
+    (measured: s - entry = 3.6e-15 mm, which `locate` may give to either piece): the test asks
+    that every point's arc length be at most the entry's, to 1e-9 mm, not that its piece index
+    be the leg's (which failed on round-off: 95 of 96). A tile that stayed across the junction
+    has points up to 1 mm past it."""
+    res, st, resultant, load, before, after, s_after = _press_across_the_junction(hold=False)
     assert res.converged and st.active.all()
     assert list(np.bincount(before, minlength=3)) == [48, 48, 0]
-    assert list(np.bincount(after, minlength=3)) == [96, 0, 0]
+    assert np.all(s_after <= ENTRY + 1e-9) and np.count_nonzero(after == 2) == 0
     assert np.allclose(resultant, -load, rtol=0, atol=1e-12)
 
 
