@@ -4,9 +4,17 @@ The paper changes the crawl's direction "by changing the initial contact surface
 both feet start flipped. Each foot is the paper's mesh (not mirrored), folded by FE as in the foot
 study (`studies.foot.flip.fold`, `studies.foot.model._flipped_stages`): its rim is rotated about
 the skirt's hinge by the flip and as much more as brings it `FOLD_CLEARANCE` inside the pipe
-wall, with its hub top held. That state of one foot is copied onto both feet of the crawl's mesh
+wall, with the hub face its actuators act on held (`mesh.attach_tag`: the rear foot's hub top, the
+front foot's hub bottom). Each foot's folded state is copied onto its foot of the crawl's mesh
 (the nodes matched by position: the rear foot where the single foot is, the front one
-`separation` ahead; the P1 pressures by their vertices), and rim springs (`flip.RimSprings` on
+`separation` ahead; the P1 pressures by their vertices), so that the copy meets the crawl's
+constraints on that face (a rigid plate: equal axial, zero lateral displacements) and is an
+equilibrium of the crawl's model up to the ground springs' share of the fold's reaction. A fold
+with the other face held is not: the front foot's actuator face, free in that fold, is deformed
+there, and its plate's penalty and lateral constraint put an imbalance of the order of the whole
+force scale into the first sub-step of the insertion, whatever its size, which no cut-back
+removes (at 55 mm the quick crawl's insertion stalled in it;
+docs/decisions/078-backward-stall.md). Rim springs (`flip.RimSprings` on
 "rear:rim" and "front:rim", `FOLD_HOLD` N/mm per dof) hold both rims there while the wall shrinks
 from clear of the folded feet to the pipe; then a "release" stage takes the springs to 0
 (`RimSprings.ramp`), and the crawl goes on as for the paper's feet (friction on, the cycles). The
@@ -20,7 +28,7 @@ from scipy.spatial import cKDTree
 
 from softcrawl.fem.model import SolidModel
 from softcrawl.geometry.foot_meshers import mesh_foot_with
-from softcrawl.studies.crawl.mesh import FEET
+from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.mesh import separation as hub_separation
 from softcrawl.studies.foot.flip import (
     FOLD_CLEARANCE,
@@ -51,44 +59,53 @@ def rim_springs() -> RimSprings:
     return RimSprings(np.zeros(0), tags=tuple(f"{foot}:rim" for foot in FEET))
 
 
-def _match(points: np.ndarray, reference: np.ndarray, shifts) -> np.ndarray:
+def _match(points: np.ndarray, reference: np.ndarray, shifts) -> tuple[np.ndarray, np.ndarray]:
     """For each of `points` (n, 3), the index of the `reference` point (m, 3) it coincides with
-    after one of the axial `shifts` (mm); every point must find one."""
+    after one of the axial `shifts` (mm), and the index of that shift; every point must find one."""
     tree = cKDTree(reference)
     best = np.full(len(points), -1)
-    for dz in shifts:
+    which = np.full(len(points), -1)
+    for k, dz in enumerate(shifts):
         dist, idx = tree.query(points - np.array([0.0, 0.0, dz]))
         hit = dist < 1e-6 * max(np.ptp(reference, axis=0).max(), 1.0)
-        best[hit] = idx[hit]
+        best[hit], which[hit] = idx[hit], k
     if np.any(best < 0):
         raise RuntimeError(
             f"flipped feet: {int(np.sum(best < 0))} nodes of the crawl mesh match no foot node"
         )
-    return best
+    return best, which
 
 
 def folded_feet(
     model: SolidModel, material, foot_design, setup, springs: RimSprings
 ) -> tuple[np.ndarray, str]:
-    """(x0, message): the crawl model's state with both feet folded (module docstring), and the
-    springs' target set to it; x0 is None (the message says why) when the fold did not converge."""
+    """(x0, message): the crawl model's state with both feet folded, each with its actuators' hub
+    face held (module docstring), and the springs' target set to it; x0 is None (the message says
+    why) when a fold did not converge."""
     separation = hub_separation(foot_design)
     mesh = mesh_foot_with(foot_design, **setup.mesh_options()).to_skfem(2)
     single = SolidModel(mesh, material)
     rim = single.boundary_nodes("rim")
     phi = fold_angle_into(foot_design, single.nodes[:, rim], setup.pipe.radius - FOLD_CLEARANCE)
-    folded = fold(mesh, material, foot_design, phi, options=FOOT_NEWTON)
-    if not folded.converged:
-        return None, folded.message
-    u1 = single.displacement(folded.x)
-    nodes = _match(model.nodes.T, single.nodes.T, (0.0, separation))
+    states, folds = [], {}
+    for foot, mirrored in zip(FEET, setup.mirrored):
+        hub = attach_tag(foot, mirrored).split(":", 1)[1]
+        if hub not in folds:
+            folds[hub] = fold(mesh, material, foot_design, phi, options=FOOT_NEWTON, hub=hub)
+        if not folds[hub].converged:
+            return None, f"{foot} foot, {hub} held: {folds[hub].message}"
+        states.append(folds[hub].x)
+    u = np.stack([single.displacement(x) for x in states])  # (foot, 3, nodes)
+    nodes, foot_of = _match(model.nodes.T, single.nodes.T, (0.0, separation))
     x0 = np.zeros(model.n_dofs)
-    x0[: model.n_u] = u1[:, nodes].T.ravel()
+    x0[: model.n_u] = u[foot_of, :, nodes].ravel()
     if model.mixed and single.mixed:
-        p1 = np.full(mesh.p.shape[1], np.nan)
-        p1[single.space.pressure_vertex] = folded.x[single.n_u :]
-        vertices = _match(model.mesh.p.T, mesh.p.T, (0.0, separation))
-        x0[model.n_u :] = p1[vertices[model.space.pressure_vertex]]
+        p1 = np.full((len(states), mesh.p.shape[1]), np.nan)
+        for k, x in enumerate(states):
+            p1[k, single.space.pressure_vertex] = x[single.n_u :]
+        vertices, foot_of_vertex = _match(model.mesh.p.T, mesh.p.T, (0.0, separation))
+        pv = model.space.pressure_vertex
+        x0[model.n_u :] = p1[foot_of_vertex[pv], vertices[pv]]
     springs.target = x0[springs.rim_dofs].copy()
     springs.stiffness = FOLD_HOLD
-    return x0, folded.message
+    return x0, "folded"

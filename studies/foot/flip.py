@@ -158,11 +158,19 @@ class Fold:
 
 
 def fold(
-    mesh, material, design, phi: float, *, steps: int = EVERT_STEPS, options: NewtonOptions | None = None
+    mesh,
+    material,
+    design,
+    phi: float,
+    *,
+    steps: int = EVERT_STEPS,
+    options: NewtonOptions | None = None,
+    hub: str = "hub_top",
 ) -> Fold:
-    """Rotate the rim about the hinge by `phi` (rad), the hub top held (module docstring, "Path")."""
+    """Rotate the rim about the hinge by `phi` (rad), the hub face `hub` held (module docstring,
+    "Path"; the crawl's front foot is held by its "hub_bottom", the face its actuators act on)."""
     opt = options or NewtonOptions()
-    held = SolidModel(mesh, material, dirichlet=[Dirichlet.fixed("hub_top"), Dirichlet.fixed("rim")])
+    held = SolidModel(mesh, material, dirichlet=[Dirichlet.fixed(hub), Dirichlet.fixed("rim")])
     rim_nodes = held.boundary_nodes("rim")
     where = np.searchsorted(held.constraints.fixed_dofs, _rim_dofs(held))
     solver = NewtonSolver(held, opt)

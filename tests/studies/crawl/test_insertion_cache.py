@@ -72,6 +72,14 @@ def test_the_key_changes_with_the_solver_settings(monkeypatch):
     assert _key() != base
 
 
+def test_the_flipped_feet_key_names_how_their_folds_are_held():
+    """Record 078: the flipped feet's folds hold each foot's actuator face; an entry computed with
+    both hub tops held must not be read for it, and the paper's feet's key keeps its value."""
+    flipped = ins.insertion_options(_cm(feet="backward"), _mesh(), FOOT, LAW)
+    assert flipped["fold_held"] == "actuator_face"
+    assert "fold_held" not in ins.insertion_options(_cm(), _mesh(), FOOT, LAW)
+
+
 def test_the_key_ignores_what_comes_after_the_insertion():
     """Friction, the cycles, their sub-steps and the wall budget do not enter the insertion."""
     base = _key()
