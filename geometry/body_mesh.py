@@ -69,7 +69,14 @@ FEET = ("rear", "front")
 
 #: A prism (W0..W5) turned so that its vertex m is W0, for m = 0..5.
 _TURN = np.array(
-    [[0, 1, 2, 3, 4, 5], [1, 2, 0, 4, 5, 3], [2, 0, 1, 5, 3, 4], [3, 4, 5, 0, 1, 2], [4, 5, 3, 1, 2, 0], [5, 3, 4, 2, 0, 1]]
+    [
+        [0, 1, 2, 3, 4, 5],
+        [1, 2, 0, 4, 5, 3],
+        [2, 0, 1, 5, 3, 4],
+        [3, 4, 5, 0, 1, 2],
+        [4, 5, 3, 1, 2, 0],
+        [5, 3, 4, 2, 0, 1],
+    ]
 )
 
 
@@ -118,7 +125,9 @@ def hub_tops(design: RobotDesign) -> dict[str, float]:
     return {"rear": 0.0, "front": e.length + e.seal_head_thickness + design.foot.hub_thickness}
 
 
-def skirt_section(design: RobotDesign, settings: BodyMeshSettings) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def skirt_section(
+    design: RobotDesign, settings: BodyMeshSettings
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The revolved foot's section without its hub block: nodes (n, 2) in (rho, z) with the hub
     top at z = 0, triangles, and the indices of the root nodes on the hub side rho = r_hub."""
     f = design.foot
@@ -165,7 +174,7 @@ def mesh_body(design: RobotDesign | None = None, settings: BodyMeshSettings | st
     cs = robot_cross_section(design, settings.robot, outline_points=settings.sectors, symmetric=True)
     if not math.isclose(cs.axis_radii[-1], f.hub_radius):
         raise DesignError("foot.hub_radius", "the body mesh needs the hub's and the rings' outline equal")
-    z = layer_levels(design, settings.robot, extra=root_z)
+    z = layer_levels(design, settings.robot, extra=tuple(root_z))
     # the robot's prisms: the section's triangles of each part between two levels
     n2 = len(cs.nodes)
     names = ["foot_rear", *(f"epsa{i}" for i in (1, 2, 3)), *(f"seal_head{i}" for i in (1, 2, 3))]
@@ -246,7 +255,9 @@ def _merge_roots(points: np.ndarray, prisms: np.ndarray, n_robot: int, scale: fl
     return points, index[prisms], int(hit.sum())
 
 
-def _tag_skirts(points, tets, region, rid, design: RobotDesign) -> dict[str, np.ndarray]:
+def _tag_skirts(
+    points: np.ndarray, tets: np.ndarray, region: np.ndarray, rid: dict, design: RobotDesign
+) -> dict[str, np.ndarray]:
     """Per foot, the skirt's boundary facets on its front, rim and back faces; every boundary facet
     of a skirt tet (not the hub's) must be one of them."""
     f = design.foot
@@ -259,8 +270,21 @@ def _tag_skirts(points, tets, region, rid, design: RobotDesign) -> dict[str, np.
         rho = np.hypot(points[mine][..., 0], points[mine][..., 1]).max(axis=1)
         in_skirt = rho > f.hub_radius + 1e-9 * f.tip_radius  # a hub facet has no vertex beyond the hub
         if np.any(in_skirt & (idx < 0)):
-            raise RuntimeError(f"body mesh: {int(np.sum(in_skirt & (idx < 0)))} skirt facets of the {foot} foot untagged")
+            raise RuntimeError(
+                f"body mesh: {int(np.sum(in_skirt & (idx < 0)))} skirt facets of the {foot} foot untagged"
+            )
         for tag in SKIRT_TAGS:
             members = [i for i, s in enumerate(segments) if s.tag == tag]
             out[f"{foot}:{tag}"] = mine[np.isin(idx, members)].astype(np.int64)
     return out
+
+
+def rotation_defect(points: np.ndarray, angle_deg: float = 120.0) -> float:
+    """The mesh's asymmetry under a rotation about the axis: the largest distance (mm) from a node's
+    image to the nearest node. 0 to round-off for a mesh with that symmetry; pass the P2 nodes
+    (vertices and edge midpoints) to see the connectivity too (a differently cut quadrilateral
+    moves an edge midpoint)."""
+    a = math.radians(angle_deg)
+    rot = np.array([[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0], [0.0, 0.0, 1.0]])
+    dist, _ = cKDTree(points).query(points @ rot.T)
+    return float(dist.max())

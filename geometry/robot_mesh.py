@@ -230,7 +230,7 @@ def _check_circle_edges(
             raise RuntimeError(f"robot cross-section: the web does not follow the circle r = {r} mm")
 
 
-def layer_levels(design: RobotDesign, settings: RobotMeshSettings, extra=()) -> np.ndarray:
+def layer_levels(design: RobotDesign, settings: RobotMeshSettings, extra: tuple = ()) -> np.ndarray:
     """The z levels: every part boundary (and the levels `extra`), each interval cut into elements
     of about axial_size."""
     e, f = design.epsa, design.foot
