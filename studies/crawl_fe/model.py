@@ -121,6 +121,11 @@ def part_kind(region: str) -> str:
     return next(k for k in ("epsa", "seal_head", "ring", "foot") if region.startswith(k))
 
 
+def part_materials(setup: CrawlSetup, silicone: str = DEFAULT_MATERIAL) -> dict[str, str]:
+    """The material (a `softcrawl.materials` name) of each part kind (module docstring)."""
+    return {"epsa": silicone, "seal_head": SEAL_MATERIAL, "ring": RING_MATERIAL, "foot": setup.material}
+
+
 def build_body(
     setup: CrawlSetup | None = None,
     mesh: BodyMeshSettings | str = "quick",
@@ -136,8 +141,8 @@ def build_body(
     settings = settings_for(design.foot, mesh) if isinstance(mesh, str) else mesh
     tagged = _with_twist_tags(mesh_body(design, settings))
     soft, body_law = solid_material(silicone)
-    parts = {"epsa": soft, "seal_head": get_material(SEAL_MATERIAL), "ring": get_material(RING_MATERIAL)}
-    parts["foot"] = get_material(setup.material)
+    parts = {kind: get_material(name) for kind, name in part_materials(setup, silicone).items()}
+    parts["epsa"] = soft
     laws, body = {}, {}
     for name in tagged.region_names.values():
         kind = part_kind(name)
