@@ -132,12 +132,14 @@ def build_body(
     *,
     silicone: str = DEFAULT_MATERIAL,
     gravity: tuple[float, float, float] | None = None,
+    design: RobotDesign | None = None,
 ) -> BodyModel:
     """The body of the module docstring in `setup`'s pipe, wall clear of the skirt tips.
     `gravity`: the acceleration in units of g (e.g. (0, 0, -1): the robot heading up a vertical
-    pipe), scaled by the load factor; None: none."""
+    pipe), scaled by the load factor; None: none. `design`: the robot (None: Table 1's); its foot
+    is replaced by `setup.foot`, so that the feet are the reduced crawl's."""
     setup = setup or CrawlSetup()
-    design = RobotDesign(foot=setup.foot)
+    design = (design or RobotDesign()).replace(foot=setup.foot)
     settings = settings_for(design.foot, mesh) if isinstance(mesh, str) else mesh
     tagged = _with_twist_tags(mesh_body(design, settings))
     soft, body_law = solid_material(silicone)
