@@ -105,7 +105,7 @@ class BodyModel:
             t.set_load(stiffness, 0.0, None if x is None else t.extension(x))
 
 
-def _with_twist_tags(tagged):
+def with_hold_tags(tagged):
     """The tagged mesh with rear_bottom's facets in x > 0 and in x < 0 as two tags (the twist hold;
     the facets touching x = 0 in neither, so that the two share no node)."""
     tris = tagged.facets["rear_bottom"]
@@ -141,7 +141,7 @@ def build_body(
     setup = setup or CrawlSetup()
     design = (design or RobotDesign()).replace(foot=setup.foot)
     settings = settings_for(design.foot, mesh) if isinstance(mesh, str) else mesh
-    tagged = _with_twist_tags(mesh_body(design, settings))
+    tagged = with_hold_tags(mesh_body(design, settings))
     soft, body_law = solid_material(silicone)
     parts = {kind: get_material(name) for kind, name in part_materials(setup, silicone).items()}
     parts["epsa"] = soft
