@@ -70,9 +70,15 @@ def record(bm: BodyModel, phase: str, x: np.ndarray) -> PipeState:
 
 
 def into_pipe(
-    bm: BodyModel, *, insert_steps: int | None = None, load_steps: int = 0, max_wall_s: float | None = None
+    bm: BodyModel,
+    *,
+    insert_steps: int | None = None,
+    load_steps: int = 0,
+    max_wall_s: float | None = None,
+    on_step=None,
 ) -> PipeRun:
-    """Insert, switch friction on, then (load_steps > 0) ramp the load factor (module docstring)."""
+    """Insert, switch friction on, then (load_steps > 0) ramp the load factor (module docstring).
+    `on_step`: called with every converged `fem.contact_stages.StagedStep` (progress lines)."""
     setup, model = bm.setup, bm.model
     t0 = time.perf_counter()
     clear = bm.design.foot.tip_radius + 0.5
@@ -107,7 +113,14 @@ def into_pipe(
             bm.set_holds(HOLD_SOFT, x)
         budget = None if max_wall_s is None else max(max_wall_s - (time.perf_counter() - t0), 1e-6)
         res = run_stages(
-            model, stages, x0=x, options=CRAWL_NEWTON, max_cutbacks=MAX_CUTBACKS, max_wall_s=budget, **AUGMENT
+            model,
+            stages,
+            x0=x,
+            options=CRAWL_NEWTON,
+            max_cutbacks=MAX_CUTBACKS,
+            max_wall_s=budget,
+            on_step=on_step,
+            **AUGMENT,
         )
         totals = [totals[0] + res.newton_iterations, totals[1] + res.assembly_s, totals[2] + res.solve_s]
         if not res.converged:
