@@ -110,27 +110,45 @@ def stiff_outline(design: RobotDesign) -> tuple[float, float]:
     return min(bores), max(outers)
 
 
-def robot_cross_section(design: RobotDesign, settings: RobotMeshSettings) -> CrossSection:
+def robot_cross_section(
+    design: RobotDesign,
+    settings: RobotMeshSettings,
+    *,
+    outline_points: int | None = None,
+    symmetric: bool = False,
+) -> CrossSection:
+    """The section of the module docstring. `outline_points`: the number of points on the outline
+    circle of rings and hubs (None: from the spacing rule below); the one-body mesh
+    (`geometry.body_mesh`) sets it to its skirts' sector count, so that the skirts' roots meet the
+    hubs node to node. `symmetric`: every circle's point count a multiple of 3 and actuator i's
+    polar section turned by psi_i - psi_1, so that the point set has the robot's three-fold
+    symmetry (the default robot mesh has neither)."""
     e = design.epsa
     R0, r0 = e.outer_radius, e.chamber_radius
     xy, tris, is_wall = cross_section(r0, R0, settings.n_around, settings.n_radial)
     n_act = len(xy)
     outer_ring = np.arange(n_act - settings.n_around, n_act)  # last ring: rho = R0
     centres = np.array(design.actuator_centres)
-    nodes = [xy + c for c in centres]
+    turn = np.arctan2(centres[:, 1], centres[:, 0]) - math.atan2(centres[0, 1], centres[0, 0])
+    rot = [np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]) for a in turn]
+    nodes = [(xy @ rot[i].T if symmetric else xy) + c for i, c in enumerate(centres)]
     act_tris = [tris + i * n_act for i in range(3)]
     radii = _axis_radii(design)
     # axis circles: spacing below the web size and comparable to the gap to the actuators, so
-    # that their chords are Delaunay edges (checked below)
+    # that their chords are Delaunay edges (checked below; the outline's chords are edges of the
+    # convex hull, hence Delaunay edges, at any spacing)
     circle_pts = []
     for r in radii:
         gap = abs(r - (design.d + R0)) if r > design.d else abs(design.d - R0 - r)
         spacing = min(settings.web_size, 1.5 * gap)
         n = max(24, math.ceil(2 * math.pi * r / spacing))
+        n = 3 * math.ceil(n / 3) if symmetric else n
+        if outline_points is not None and r == radii[-1]:
+            n = outline_points
         th = 2 * math.pi * (np.arange(n) + 0.5) / n
         circle_pts.append(np.column_stack([r * np.cos(th), r * np.sin(th)]))
     circles = np.vstack(circle_pts)
-    fill = _fill_points(design, settings, radii, centres, R0)
+    fill = _fill_points(design, settings, radii, centres, R0, symmetric)
     web_nodes = np.vstack([np.vstack([nodes[i][outer_ring] for i in range(3)]), circles, fill])
     web_index = np.r_[np.concatenate([outer_ring + i * n_act for i in range(3)]),
                       3 * n_act + np.arange(len(circles) + len(fill))]  # fmt: skip
@@ -160,13 +178,19 @@ def _areas(xy: np.ndarray, tris: np.ndarray) -> np.ndarray:
 
 
 def _fill_points(
-    design: RobotDesign, settings: RobotMeshSettings, radii: np.ndarray, centres: np.ndarray, R0: float
+    design: RobotDesign,
+    settings: RobotMeshSettings,
+    radii: np.ndarray,
+    centres: np.ndarray,
+    R0: float,
+    symmetric: bool = False,
 ) -> np.ndarray:
     """Points on concentric circles in the web, kept clear of every circle of the section."""
     h = settings.web_size
     pts = []
     for r in np.arange(radii[0] + h, radii[-1], h):
         n = max(12, math.ceil(2 * math.pi * r / h))
+        n = 3 * math.ceil(n / 3) if symmetric else n
         th = 2 * math.pi * np.arange(n) / n + (r / h) * 0.5 * (2 * math.pi / n)
         pts.append(np.column_stack([r * np.cos(th), r * np.sin(th)]))
     if not pts:
@@ -206,18 +230,19 @@ def _check_circle_edges(
             raise RuntimeError(f"robot cross-section: the web does not follow the circle r = {r} mm")
 
 
-def _layers(design: RobotDesign, settings: RobotMeshSettings) -> np.ndarray:
-    """The z levels: every part boundary, each interval cut into elements of about axial_size."""
+def layer_levels(design: RobotDesign, settings: RobotMeshSettings, extra: tuple = ()) -> np.ndarray:
+    """The z levels: every part boundary (and the levels `extra`), each interval cut into elements
+    of about axial_size."""
     e, f = design.epsa, design.foot
     L, c, ts, th = e.length, e.end_cap_thickness, e.seal_head_thickness, f.hub_thickness
-    breaks = {-th, 0.0, c, L - c, L, L + ts, L + ts + th}
+    breaks = {-th, 0.0, c, L - c, L, L + ts, L + ts + th} | {float(z) for z in extra}
     for zk in design.ring_centres_z:
         breaks |= {zk - design.ring.thickness / 2, zk + design.ring.thickness / 2}
     breaks = sorted(breaks)
     return np.unique(np.concatenate([levels(a, b, settings.axial_size) for a, b in zip(breaks, breaks[1:])]))
 
 
-def _layer_parts(design: RobotDesign, cs: CrossSection, zmid: float) -> list[tuple[str, np.ndarray]]:
+def layer_parts(design: RobotDesign, cs: CrossSection, zmid: float) -> list[tuple[str, np.ndarray]]:
     """(region name, triangle mask) of the parts present in the layer at height zmid."""
     e, r = design.epsa, design.ring
     L, c, ts = e.length, e.end_cap_thickness, e.seal_head_thickness
@@ -244,7 +269,7 @@ def mesh_robot_swept(
     design = design or RobotDesign()
     settings = MESH_PRESETS[settings] if isinstance(settings, str) else settings
     cs = robot_cross_section(design, settings)
-    z = _layers(design, settings)
+    z = layer_levels(design, settings)
     n2 = len(cs.nodes)
     tris = np.sort(cs.tris, axis=1)
     names = ["foot_rear", *(f"epsa{i}" for i in (1, 2, 3)), *(f"seal_head{i}" for i in (1, 2, 3))]
@@ -252,7 +277,7 @@ def mesh_robot_swept(
     rid = {name: i for i, name in enumerate(names, start=1)}
     tets, region = [], []
     for k in range(len(z) - 1):
-        for name, mask in _layer_parts(design, cs, 0.5 * (z[k] + z[k + 1])):
+        for name, mask in layer_parts(design, cs, 0.5 * (z[k] + z[k + 1])):
             a, b, cc = (tris[mask, i] + k * n2 for i in range(3))
             a1, b1, c1 = a + n2, b + n2, cc + n2
             tets += [np.column_stack(t) for t in ((a, b, cc, a1), (b, cc, a1, b1), (cc, a1, b1, c1))]
@@ -266,7 +291,7 @@ def mesh_robot_swept(
     v = points[tets]
     det = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
     tets[det < 0] = tets[det < 0][:, [0, 2, 1, 3]]
-    facets = _tag_facets(points, tets, design)
+    facets = tag_robot_facets(points, tets, design)
     return TaggedMesh(
         points,
         tets,
@@ -281,12 +306,12 @@ def mesh_robot_swept(
             "mesher": "swept-conforming",
             "settings": {k: getattr(settings, k) for k in ("n_around", "n_radial", "axial_size", "web_size")},
             "channel_radius_mm": design.channel_radius,
-            "curved_surfaces": curved_surface_meta(_segments(design)),
+            "curved_surfaces": curved_surface_meta(robot_segments(design)),
         },
     )
 
 
-def _segments(design: RobotDesign) -> list[RevolvedSegment]:
+def robot_segments(design: RobotDesign) -> list[RevolvedSegment]:
     e = design.epsa
     R0, r0, L, c = e.outer_radius, e.chamber_radius, e.length, e.end_cap_thickness
     out = []
@@ -296,7 +321,7 @@ def _segments(design: RobotDesign) -> list[RevolvedSegment]:
     return out
 
 
-def _tag_facets(points: np.ndarray, tets: np.ndarray, design: RobotDesign) -> dict[str, np.ndarray]:
+def tag_robot_facets(points: np.ndarray, tets: np.ndarray, design: RobotDesign) -> dict[str, np.ndarray]:
     e, f = design.epsa, design.foot
     R0, r0, L, c, ts = e.outer_radius, e.chamber_radius, e.length, e.end_cap_thickness, e.seal_head_thickness
     tol = 1e-9 * max(L, R0)

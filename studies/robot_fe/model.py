@@ -63,7 +63,7 @@ class RobotModel:
         return int(self.model.n_dofs)
 
 
-def _fiber_sheets(design: RobotDesign, kevlar) -> list:
+def fiber_sheets(design: RobotDesign, kevlar) -> list:
     """Two helix families per actuator on outer{i}, the directions of `helix_families` moved to
     the actuator's axis."""
     import math
@@ -110,7 +110,7 @@ def build_robot_model(
         laws,
         dirichlet=[Dirichlet.fixed(clamp)] if clamp else [],
         chambers=chambers,
-        fiber_sheets=_fiber_sheets(design, get_material("kevlar")),
+        fiber_sheets=fiber_sheets(design, get_material("kevlar")),
         body_forces=body or None,
     )
     names = {k: m.name for k, m in parts.items()}

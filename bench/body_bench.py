@@ -1,0 +1,85 @@
+"""The one FE body (issue 34, step 1): its size, one tangent, one Newton step, and the insertion.
+
+    python bench/body_bench.py [--mesh quick|default] [--insert] [--pipe 70] [--insert-steps 8]
+
+Printed: the mesh (vertices, tets, skirt sectors), the DOFs, the three-fold asymmetry of the P2
+nodes, the mass per part against the prototype's 70.2 g; the wall time of building the model; one
+residual-and-tangent assembly (s, nonzeros); one Newton load step at 10 kPa in every chamber with
+the wall clear of the skirts (iterations, factorisations, assembly and linear seconds); with
+`--insert`, the body put into the straight pipe (`studies.crawl_fe.pipe.into_pipe`: frictionless
+insertion, holds stiff; friction on, holds softened) with each foot's wall force and the holds'
+forces after each phase; the peak RSS at the end. Nothing is asserted (bench/, CONTRIBUTING.md).
+Run it on an idle machine with SOFTCRAWL_THREADS=1 for the record's figures
+(docs/decisions/076-one-body.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import sys
+import time
+
+import numpy as np
+
+from softcrawl.fem.newton import NewtonSolver
+from softcrawl.geometry.body_mesh import rotation_defect
+from softcrawl.studies.crawl.model import CRAWL_NEWTON, CrawlSetup
+from softcrawl.studies.crawl_fe.mass import mass_summary
+from softcrawl.studies.crawl_fe.model import build_body
+from softcrawl.studies.crawl_fe.pipe import into_pipe
+from softcrawl.units import kpa_to_mpa
+
+
+def _peak_gb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--mesh", default="quick", choices=("quick", "default"))
+    ap.add_argument("--insert", action="store_true")
+    ap.add_argument("--pipe", type=float, default=70.0)
+    ap.add_argument("--insert-steps", type=int, default=8)
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    bm = build_body(CrawlSetup(pipe_diameter=args.pipe), args.mesh)
+    m, tm = bm.model, bm.mesh
+    print(f"mesh {args.mesh}: {tm.n_nodes} vertices, {tm.n_tets} tets, {bm.settings.sectors} skirt sectors")
+    print(f"DOFs {m.n_dofs} (u {m.n_u}, p {m.n_p}); built in {time.perf_counter() - t0:.1f} s")
+    print(f"asymmetry (P2 nodes, 120 deg): {rotation_defect(np.asarray(m.nodes).T, 120.0):.2e} mm")
+    s = mass_summary(bm.design, m.mesh, bm.materials)
+    for part, p in s["parts"].items():
+        print(f"  {part:10s} {p['material']:26s} {p['volume_mm3']:10.1f} mm^3 {p['mass_g']:8.2f} g")
+    print(f"mass {s['total_g']:.2f} g (+ winding {s['winding_g']:.2f} g) against {s['prototype_g']} g")
+    x = m.initial_state()
+    P = np.full(3, kpa_to_mpa(10.0))
+    t = time.perf_counter()
+    _, K = m.residual_and_tangent(x, P, 0.0)
+    print(f"one tangent: {time.perf_counter() - t:.2f} s, {K.nnz} nonzeros", flush=True)
+    solver = NewtonSolver(m, CRAWL_NEWTON)
+    t = time.perf_counter()
+    _, rec = solver.load_step(x, P, 0.0)
+    st = solver.stats(t)
+    print(
+        f"one load step (10 kPa, wall clear): {rec.iterations} iterations, "
+        f"{st.factorizations} factorisations, assembly {st.assembly_s:.1f} s, linear {st.solve_s:.1f} s, "
+        f"wall {st.wall_s:.1f} s; peak {_peak_gb():.2f} GB",
+        flush=True,
+    )
+    if args.insert:
+        run = into_pipe(bm, insert_steps=args.insert_steps)
+        print(
+            f"into the {args.pipe:g} mm pipe: {run.message}; {run.newton_iterations} Newton iterations, "
+            f"assembly {run.assembly_s:.0f} s, linear {run.solve_s:.0f} s, wall {run.wall_s:.0f} s"
+        )
+        for state in run.states:
+            holds = max(abs(v) for v in state.holds.values())
+            normal = ", ".join(f"{k} {v:.2f} N" for k, v in state.normal.items())
+            print(f"  after {state.phase}: wall normal force {normal}; largest hold force {holds:.3g} N")
+    print(f"peak RSS {_peak_gb():.2f} GB")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,185 @@
+r"""The whole robot as one FE body in a straight pipe: the model the FE-body crawl will use (issue 34).
+
+    CrawlSetup (the reduced crawl's: pipe, feet, rubber, friction)
+      -> RobotDesign(foot=setup.foot)                      the one body geometry (record 066)
+      -> geometry.body_mesh.mesh_body                      one conforming mesh (record 076)
+      -> P2-P1 solid (fem.model), per part as `softcrawl robot` (studies.robot_fe.model):
+
+    part                     material                                       pressure field
+    ePSAs epsa1..3           the silicone (calibrated mu = 0.0638 MPa)      one P1 field per
+    seal heads, rings        ABS                                            material
+    feet (hubs and skirts)   the crawl's rubber, `setup.material`
+
+    the Kevlar winding as two fiber sheets per actuator on outer{i}; chamber i with its own
+    follower pressure; both skirts in Coulomb contact with one rigid CylinderWall on the pipe axis,
+    two terms per foot as the reduced crawl (`studies.crawl.model`): "rear:smooth" (front face
+    and rim, mu_smooth) and "rear:grooved" (back face, mu_grooved), the same for "front";
+    penalty eps_N = 10 E / h (E of the rubber, h the feet's median edge) as there. No foot is
+    clamped.
+
+Holding the rigid-body modes (`HOLDS`). A free body in a cylinder has six rigid modes; before the
+wall touches the skirts all six are free, and in a frictionless cylinder the axial translation
+and the twist about the axis stay free. Six linear springs (`fem.axial_link.AxialLink`) on mean
+displacements of hub faces hold them, and nothing else:
+
+    hold_x, hold_y, hold_z   ground links on the rear hub's bottom face (rear_bottom), u_x, u_y, u_z
+    tilt_x, tilt_y           ground links on the front hub's top face (front_top), u_x, u_y
+    twist                    an internal link on u_y between the halves x > 0 and x < 0 of
+                             rear_bottom: a rotation theta about z gives Delta = theta (xbar+ - xbar-)
+
+The front face's u_z is free (the actuators extend), and the twist link is a couple (no net
+force). A rigid motion of the body is the only one that does not strain it, so six independent
+springs on the six modes make the tangent regular with the wall clear, and they carry only the net
+force and moment of the other loads (an isostatic support). During the frictionless insertion
+they are stiff (`HOLD_STIFF`, the reduced crawl's GROUND_HOLD); when friction is switched on they
+are re-based at the inserted state (their rest extension) and softened to `HOLD_SOFT` (the
+reduced crawl's GROUND_SOFT, 1e-4 N/mm), so that friction holds the body and the holds' forces,
+reported, are ~0 (tests/studies/crawl_fe/test_holding.py shows it under the body's weight).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from softcrawl.fem.axial_link import AxialLink
+from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.model import ChamberSpec, SolidModel
+from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.geometry.body_mesh import BodyMeshSettings, mesh_body, settings_for
+from softcrawl.geometry.design import RobotDesign
+from softcrawl.materials import get_material
+from softcrawl.materials.fem_law import solid_law
+from softcrawl.studies.crawl.model import FACES, GROUND_HOLD, GROUND_SOFT, CrawlSetup
+from softcrawl.studies.epsa.model import solid_material
+from softcrawl.studies.foot.model import SLIP_BAND, SMOOTHING
+from softcrawl.studies.robot_fe.model import (
+    DEFAULT_MATERIAL,
+    G_MM_S2,
+    RING_MATERIAL,
+    SEAL_MATERIAL,
+    fiber_sheets,
+)
+
+FEET = ("rear", "front")
+HOLD_STIFF = GROUND_HOLD  # N/mm, during the frictionless insertion
+HOLD_SOFT = GROUND_SOFT  # N/mm, once friction is on
+#: (name, tag_b, tag_a or None for the ground, component) of the six holds (module docstring).
+HOLDS = (
+    ("hold_x", "rear_bottom", None, 0),
+    ("hold_y", "rear_bottom", None, 1),
+    ("hold_z", "rear_bottom", None, 2),
+    ("tilt_x", "front_top", None, 0),
+    ("tilt_y", "front_top", None, 1),
+    ("twist", "rear_bottom:+x", "rear_bottom:-x", 1),
+)
+
+
+@dataclass
+class BodyModel:
+    """The solver model of the one body, its tagged mesh, the setup and materials it was built from."""
+
+    model: SolidModel
+    mesh: object = field(repr=False)  # geometry.tagged_mesh.TaggedMesh
+    design: RobotDesign
+    setup: CrawlSetup
+    settings: BodyMeshSettings
+    materials: dict  # part kind -> material name
+    holds: dict = field(default_factory=dict)  # name -> AxialLinkTerm
+
+    @property
+    def n_dofs(self) -> int:
+        return int(self.model.n_dofs)
+
+    def contacts_of(self, foot: str) -> list:
+        return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
+
+    def hold_forces(self, x: np.ndarray) -> dict[str, float]:
+        """Each hold's force (N; the twist link's pair force) at state x."""
+        return {name: float(t.tension(x)) for name, t in self.holds.items()}
+
+    def set_holds(self, stiffness: float, x: np.ndarray | None = None) -> None:
+        """Every hold's stiffness; with `x`, re-based there (rest extension = its extension at x)."""
+        for t in self.holds.values():
+            t.set_load(stiffness, 0.0, None if x is None else t.extension(x))
+
+
+def with_hold_tags(tagged):
+    """The tagged mesh with rear_bottom's facets in x > 0 and in x < 0 as two tags (the twist hold;
+    the facets touching x = 0 in neither, so that the two share no node)."""
+    tris = tagged.facets["rear_bottom"]
+    x = tagged.points[tris][..., 0]
+    tol = 1e-9 * float(np.abs(tagged.points).max())
+    east, west = np.all(x > tol, axis=1), np.all(x < -tol, axis=1)  # no node shared
+    facets = dict(tagged.facets) | {"rear_bottom:+x": tris[east], "rear_bottom:-x": tris[west]}
+    return replace(tagged, facets=facets)
+
+
+def part_kind(region: str) -> str:
+    """The part kind of a region name: epsa, seal_head, ring or foot."""
+    return next(k for k in ("epsa", "seal_head", "ring", "foot") if region.startswith(k))
+
+
+def part_materials(setup: CrawlSetup, silicone: str = DEFAULT_MATERIAL) -> dict[str, str]:
+    """The material (a `softcrawl.materials` name) of each part kind (module docstring)."""
+    return {"epsa": silicone, "seal_head": SEAL_MATERIAL, "ring": RING_MATERIAL, "foot": setup.material}
+
+
+def build_body(
+    setup: CrawlSetup | None = None,
+    mesh: BodyMeshSettings | str = "quick",
+    *,
+    silicone: str = DEFAULT_MATERIAL,
+    gravity: tuple[float, float, float] | None = None,
+    design: RobotDesign | None = None,
+) -> BodyModel:
+    """The body of the module docstring in `setup`'s pipe, wall clear of the skirt tips.
+    `gravity`: the acceleration in units of g (e.g. (0, 0, -1): the robot heading up a vertical
+    pipe), scaled by the load factor; None: none. `design`: the robot (None: Table 1's); its foot
+    is replaced by `setup.foot`, so that the feet are the reduced crawl's."""
+    setup = setup or CrawlSetup()
+    design = (design or RobotDesign()).replace(foot=setup.foot)
+    settings = settings_for(design.foot, mesh) if isinstance(mesh, str) else mesh
+    tagged = with_hold_tags(mesh_body(design, settings))
+    soft, body_law = solid_material(silicone)
+    parts = {kind: get_material(name) for kind, name in part_materials(setup, silicone).items()}
+    parts["epsa"] = soft
+    laws, body = {}, {}
+    for name in tagged.region_names.values():
+        kind = part_kind(name)
+        laws[name] = body_law if kind == "epsa" else solid_law(parts[kind])
+        if gravity is not None:
+            body[name] = parts[kind].density * G_MM_S2 * np.asarray(gravity, dtype=float)
+    rubber = parts["foot"].law
+    youngs = 9.0 * rubber.bulk * rubber.mu / (3.0 * rubber.bulk + rubber.mu)
+    feet = np.isin(tagged.region, [i for i, n in tagged.region_names.items() if n.startswith("foot")])
+    edges = np.linalg.norm(np.diff(tagged.points[tagged.tets[feet][:, :2]], axis=1)[:, 0], axis=1)
+    penalty = 10.0 * youngs / float(np.median(edges))
+    wall = CylinderWall(design.foot.tip_radius + 0.5)
+    contacts = [
+        ContactSpec(
+            tuple(f"{foot}:{t}" for t in tags),
+            wall,
+            penalty=penalty,
+            name=f"{foot}:{face}",
+            smoothing=SMOOTHING,
+            slip_band=SLIP_BAND,
+        )
+        for foot in FEET
+        for face, tags in FACES
+    ]
+    holds = [AxialLink(b, a, c, HOLD_STIFF, 0.0, name=name) for name, b, a, c in HOLDS]
+    chambers = [ChamberSpec((f"chamber_wall{i}", f"chamber_ends{i}"), name=f"epsa{i}") for i in (1, 2, 3)]
+    model = SolidModel(
+        tagged.to_skfem(order=2),
+        laws,
+        chambers=chambers,
+        fiber_sheets=fiber_sheets(design, get_material("kevlar")),
+        body_forces=body or None,
+        contacts=contacts,
+        extra_terms=holds,
+    )
+    terms = {t.name: t for t in model.terms if getattr(t, "name", None) in {h[0] for h in HOLDS}}
+    names = {k: m.name for k, m in parts.items()}
+    return BodyModel(model, tagged, design, setup, settings, names, terms)

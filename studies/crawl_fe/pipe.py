@@ -1,0 +1,137 @@
+r"""The one body put into its straight pipe: the frictionless insertion, then friction, then loads.
+
+Phases (each a `fem.contact_stages.run_stages` call, as the reduced crawl's `studies.crawl.model`):
+
+    insert     the CylinderWall shrinks from clear of the skirt tips (tip radius + 0.5 mm) to the
+               pipe's radius in `insert_steps` sub-steps, frictionless, the six holds stiff
+               (`model.HOLD_STIFF`): in a frictionless cylinder they alone fix the axial
+               translation and the twist;
+    friction   the holds re-based at the inserted state and softened to `model.HOLD_SOFT`, the
+               friction coefficients of `setup` switched on (mu_smooth on the front faces and
+               rims, mu_grooved on the grooved back faces): from here friction holds the body;
+    load       (optional) the load factor ramped 0 -> 1 in `load_steps`: the body's weight when
+               the model was built with gravity.
+
+After every phase the holds' forces and each foot's wall forces (normal force, friction force
+vector) are recorded (`PipeState`), so that the holds' share of the load is seen: with the
+body's weight on, the wall's axial friction must carry it, the holds ~0.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
+from softcrawl.studies.crawl_fe.model import FEET, HOLD_SOFT, BodyModel
+from softcrawl.studies.foot.model import AUGMENT
+
+
+@dataclass(frozen=True)
+class PipeState:
+    """The state at the end of a phase: holds' forces (N), per foot the wall's normal force (N)
+    and friction force vector (N), and the body's load (the weight vector at factor 1, N)."""
+
+    phase: str
+    holds: dict
+    normal: dict
+    friction: dict
+    x: np.ndarray = field(repr=False)
+
+    @property
+    def wall_friction(self) -> np.ndarray:
+        """The friction force of the wall on both skirts, summed (N)."""
+        return np.sum([np.asarray(v) for v in self.friction.values()], axis=0)
+
+
+@dataclass(frozen=True)
+class PipeRun:
+    converged: bool
+    message: str
+    states: tuple[PipeState, ...]
+    newton_iterations: int
+    assembly_s: float
+    solve_s: float
+    wall_s: float
+    n_dofs: int
+
+
+def record(bm: BodyModel, phase: str, x: np.ndarray) -> PipeState:
+    normal, friction = {}, {}
+    for foot in FEET:
+        reports = [c.report(x) for c in bm.contacts_of(foot)]
+        normal[foot] = float(sum(r.normal_force for r in reports))
+        friction[foot] = np.sum([r.friction_force for r in reports], axis=0)
+    return PipeState(phase, bm.hold_forces(x), normal, friction, x)
+
+
+def into_pipe(
+    bm: BodyModel,
+    *,
+    insert_steps: int | None = None,
+    load_steps: int = 0,
+    max_wall_s: float | None = None,
+    on_step=None,
+) -> PipeRun:
+    """Insert, switch friction on, then (load_steps > 0) ramp the load factor (module docstring).
+    `on_step`: called with every converged `fem.contact_stages.StagedStep` (progress lines)."""
+    setup, model = bm.setup, bm.model
+    t0 = time.perf_counter()
+    clear = bm.design.foot.tip_radius + 0.5
+    radius = setup.pipe.radius
+
+    def wall_at(s: float) -> CylinderWall:
+        return CylinderWall(clear + s * (radius - clear))
+
+    n = len(model.contacts)
+    mu = {
+        i: (setup.mu_smooth if c.spec.name.endswith("smooth") else setup.mu_grooved)
+        for i, c in enumerate(model.contacts)
+    }
+    phases = [
+        (
+            "insert",
+            [
+                Stage(
+                    "insert",
+                    surfaces=dict.fromkeys(range(n), wall_at),
+                    steps=insert_steps or setup.insert_steps,
+                )
+            ],
+        )
+    ]
+    phases.append(("friction", [Stage("friction", friction=mu)]))
+    if load_steps:
+        phases.append(("load", [Stage("load", factor=1.0, steps=load_steps)]))
+    x, states, totals = None, [], [0, 0.0, 0.0]
+    for name, stages in phases:
+        if name == "friction":
+            bm.set_holds(HOLD_SOFT, x)
+        budget = None if max_wall_s is None else max(max_wall_s - (time.perf_counter() - t0), 1e-6)
+        res = run_stages(
+            model,
+            stages,
+            x0=x,
+            options=CRAWL_NEWTON,
+            max_cutbacks=MAX_CUTBACKS,
+            max_wall_s=budget,
+            on_step=on_step,
+            **AUGMENT,
+        )
+        totals = [totals[0] + res.newton_iterations, totals[1] + res.assembly_s, totals[2] + res.solve_s]
+        if not res.converged:
+            return PipeRun(
+                False,
+                f"{name}: {res.message}",
+                tuple(states),
+                *totals,
+                time.perf_counter() - t0,
+                model.n_dofs,
+            )
+        x = res.x
+        states.append(record(bm, name, x))
+    return PipeRun(True, "inserted", tuple(states), *totals, time.perf_counter() - t0, model.n_dofs)
