@@ -245,6 +245,12 @@ def run_stages(
         while t < 1.0 - 1e-12:
             h = min(h, 1.0 - t)
             s = t + h
+            if s <= t:  # h below the resolution of t: the stage can no longer advance
+                return result(
+                    False,
+                    f"stage {stage.name!r} stopped: its sub-steps ({h:.3g}) fell below the floating-point "
+                    f"resolution of the stage parameter at s = {t:.6g}; last converged: {last}",
+                )
             if max_wall_s is not None and time.perf_counter() - t0 > max_wall_s:
                 return result(
                     False,

@@ -125,3 +125,25 @@ def test_the_minimum_sub_step_stops_a_grinding_stage(monkeypatch):
         _grinding_model(), [cs.Stage("drag", factor=0.01, steps=2)], max_cutbacks=50, min_step_fraction=0.1
     )
     assert res.converged  # it converges in sub-steps of 1/16 (factor 6.25e-4), above 0.1 / 2 of the stage
+
+
+class _CreepingSolver(_GrindingSolver):
+    """Converges freely up to half the stage, then only in increments of at most 1e-18, below the
+    floating-point resolution of the stage parameter there (1.1e-16 at 0.5)."""
+
+    def load_step(self, x, P, f):
+        if f > 0.5 and f - self.last > 1e-18:
+            raise Diverged("residual stalls")
+        self.last = f
+        return np.array([f]), NewtonRecord((1.0,) * 8 + (1e-9,), True)
+
+
+def test_sub_steps_below_the_parameters_resolution_stop_with_a_recorded_failure(monkeypatch):
+    """A stage whose sub-steps shrink until t + h == t cannot advance: it stops with a message,
+    not a ZeroDivisionError in the next predictor (which is what it raised before, found by the
+    one-body insertion of record 076)."""
+    monkeypatch.setattr(cs, "NewtonSolver", lambda m, o: _CreepingSolver(m, o, seconds=0.0))
+    res = cs.run_stages(_grinding_model(), [cs.Stage("insert", factor=1.0, steps=2)], max_cutbacks=80)
+    assert not res.converged
+    assert "floating-point resolution" in res.message and "'insert'" in res.message
+    assert [s.factor for s in res.steps] == [0.5]  # the converged half is kept
