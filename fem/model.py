@@ -255,6 +255,11 @@ class SolidModel:
             memo["f_vol"] = self.solid.internal_force(memo["stress"])
         return memo["stress"], memo["f_vol"]
 
+    def body_force(self, x: np.ndarray) -> np.ndarray:
+        """The solid's own internal force div(sigma) on all dofs: no fiber, sheet, contact or
+        extra term, no pressure."""
+        return self._body_force(x, self._at(x))[1]
+
     def internal_force(self, x: np.ndarray) -> np.ndarray:
         """Body and term forces on all dofs (the constrained ones included), no pressure."""
         f = self._body_force(x, self._at(x))[1].copy()

@@ -7,6 +7,11 @@ Convergence. The force residual on the free displacement dofs relative to the fo
 (the internal force, the pressure and dead loads at the reference state, a floor far below any
 load of interest) is below `tol`, and, for the mixed formulation, the pressure-constraint residual
 is below `tol` x the solid volume; the two are kept apart because they have different units.
+The internal force includes the reactions of the prescribed dofs, which is what makes it a scale:
+on a body with no displacement prescribed (held only by springs and contact terms, like the one FE
+body of docs/decisions/076-one-body.md) it equals the residual, and the relative residual would be
+1 at every state. There the solid's own force div(sigma) (`SolidModel.body_force`), which the terms
+balance at equilibrium, joins the scale; a model with any prescribed dof is unchanged.
 Each iteration evaluates the residual first and assembles the tangent only when the state has
 not converged (the tangent of a converged state is never needed by Newton itself).
 
@@ -134,6 +139,7 @@ class NewtonSolver:
         self.iterations = 0
         self.linear = StepSolver(options.solver, model.symmetric_tangent, options.reuse_factor)
         self.free_u = self.free[self.free < model.n_u]
+        self._unheld = len(self.free_u) == model.n_u  # no displacement prescribed (module docstring)
         self._volume = float(model.dx.sum())
         x0 = model.initial_state()
         self._q0 = [model.pressure_load(x0, i)[: model.n_u] for i in range(len(model.chambers))]
@@ -244,6 +250,8 @@ class NewtonSolver:
         if m.chambers:
             fint = fint + m.pressure_force(x, P)[: m.n_u]
         scale = max(norm(fint), self._reference_pressure_force(P), abs(f) * self._dead_norm, self._floor)
+        if self._unheld:  # no reactions: fint is the residual itself, the solid's own force is not
+            scale = max(scale, norm(m.body_force(x)[: m.n_u]))
         merit = norm(R[self.free_u]) / scale  # fem.krylov.norm: no BLAS threads on long vectors
         p_ok = (not m.mixed) or norm(R[m.n_u :]) <= self.opt.tol * self._volume
         return merit, p_ok, scale
