@@ -36,10 +36,6 @@ SMALL = BodyMeshSettings(
 
 @pytest.mark.slow
 @pytest.mark.timeout(3600)
-@pytest.mark.skip(
-    reason="a body with no Dirichlet condition cannot converge yet: fem/newton.py's force scale is then the "
-    "residual itself (docs/decisions/076-one-body.md, What is left)"
-)
 def test_friction_holds_the_weight_and_the_holds_carry_nothing():
     setup = CrawlSetup(pipe_diameter=77.0)
     bm = build_body(
