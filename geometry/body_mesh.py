@@ -61,7 +61,7 @@ from softcrawl.geometry.robot_mesh import (
     tag_robot_facets,
 )
 from softcrawl.geometry.tagged_mesh import TaggedMesh
-from softcrawl.geometry.tagging import boundary_facets, classify_facets, curved_surface_meta
+from softcrawl.geometry.tagging import boundary_facets, classify_facets, curved_surface_meta, orient_positive
 
 #: The skirt faces that meet the wall, tagged per foot ("rear:front", ...).
 SKIRT_TAGS = ("front", "rim", "back")
@@ -208,11 +208,8 @@ def mesh_body(design: RobotDesign | None = None, settings: BodyMeshSettings | st
     points, prisms = points[used], inverse.reshape(prisms.shape)
     tets = split_prisms(prisms, symmetry_rank(points))
     region = np.tile(region, 3)
-    v = points[tets]
-    det = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
-    if np.any(np.abs(det) < 1e-12 * f.tip_radius**3):
+    if np.any(orient_positive(points, tets) < 1e-12 * f.tip_radius**3 / 6.0):
         raise RuntimeError("body mesh: a degenerate tetrahedron")
-    tets[det < 0] = tets[det < 0][:, [0, 2, 1, 3]]
     facets = tag_robot_facets(points, tets, design)
     facets |= _tag_skirts(points, tets, region, rid, design)
     curved = curved_surface_meta(robot_segments(design))

@@ -48,7 +48,7 @@ import numpy as np
 from softcrawl.geometry.design import DesignError, FootDesign
 from softcrawl.geometry.foot import foot_segments, skirt_directions
 from softcrawl.geometry.tagged_mesh import TaggedMesh
-from softcrawl.geometry.tagging import curved_surface_meta
+from softcrawl.geometry.tagging import curved_surface_meta, orient_positive
 from softcrawl.geometry.tetwild import tag_boundary
 
 #: Defaults of the revolved foot mesh: 48 sectors (5.1 mm arcs at the 39 mm tip), three cells
@@ -183,9 +183,7 @@ def revolve_section(xy: np.ndarray, tris: np.ndarray, n_theta: int) -> tuple[np.
         a1, b1, c1 = (tris[:, i] + hi for i in range(3))
         tets += [np.column_stack(t) for t in ((a, b, c, a1), (b, c, a1, b1), (c, a1, b1, c1))]
     tets = np.vstack(tets).astype(np.int64)
-    v = points[tets]
-    det = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
-    tets[det < 0] = tets[det < 0][:, [0, 2, 1, 3]]
+    orient_positive(points, tets)
     return points, tets
 
 

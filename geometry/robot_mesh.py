@@ -45,7 +45,7 @@ from scipy.spatial import Delaunay
 from softcrawl.geometry.design import DesignError, RobotDesign
 from softcrawl.geometry.swept import boundary_faces, cross_section, levels
 from softcrawl.geometry.tagged_mesh import TaggedMesh
-from softcrawl.geometry.tagging import RevolvedSegment, curved_surface_meta
+from softcrawl.geometry.tagging import RevolvedSegment, curved_surface_meta, orient_positive
 
 _LOCAL_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
@@ -288,9 +288,7 @@ def mesh_robot_swept(
     used, tets = np.unique(tets, return_inverse=True)
     tets = tets.reshape(-1, 4)
     points = points[used]
-    v = points[tets]
-    det = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
-    tets[det < 0] = tets[det < 0][:, [0, 2, 1, 3]]
+    orient_positive(points, tets)
     facets = tag_robot_facets(points, tets, design)
     return TaggedMesh(
         points,

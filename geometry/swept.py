@@ -30,7 +30,7 @@ import numpy as np
 from softcrawl.geometry.design import DesignError, EPSADesign
 from softcrawl.geometry.epsa_shape import epsa_segments, fiber_helices
 from softcrawl.geometry.tagged_mesh import TaggedMesh
-from softcrawl.geometry.tagging import curved_surface_meta
+from softcrawl.geometry.tagging import curved_surface_meta, orient_positive
 
 
 def cross_section(
@@ -104,9 +104,7 @@ def mesh_epsa_swept(
         region += [np.full(3 * len(layer), 2 if zmid > L else 1)]
     tets = np.vstack(tets).astype(np.int64)
     region = np.concatenate(region)
-    v = points[tets]
-    det = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
-    tets[det < 0] = tets[det < 0][:, [0, 2, 1, 3]]
+    orient_positive(points, tets)
     facets = _tag_facets(points, tets, design, t_s)
     names = {1: "epsa", 2: "seal_head"} if seal_head else {1: "epsa"}
     mesh = TaggedMesh(

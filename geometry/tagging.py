@@ -127,6 +127,14 @@ def tet_volumes(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     )
 
 
+def orient_positive(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    """Swap two vertices of every tetrahedron of negative volume, in place; return the volumes
+    (all non-negative after the swap)."""
+    vol = tet_volumes(points, tets)
+    tets[vol < 0] = tets[vol < 0][:, [0, 2, 1, 3]]
+    return np.abs(vol)
+
+
 def snap_to_surfaces(
     points: np.ndarray,
     tets: np.ndarray,
