@@ -1,6 +1,7 @@
 """Crawl benchmark (issues 17, 31): insertion plus two full cycles, quick feet, one pipe.
 
     python bench/crawl_bench.py [--pipe 70] [--cycles 2] [--runs cold,warm] [--default-mesh]
+                                [--linear split|lu] [--cache DIR]
 
 The run is `softcrawl crawl --quick --cycles 2` (24-sector revolved feet, 81,984 DOFs, 4
 insertion steps, 4 sub-steps per schedule segment, the "inflate" gait at 100 kPa in 2 s, mu 0.5 on
@@ -16,6 +17,9 @@ the second, the steady one); Newton iterations of the whole run, per phase and p
 cycles (the load reversals show there); PARDISO's symbolic analyses, numeric factorisations and
 substitutions (counted at PARDISO's phase calls); the linear solves' and assembly's seconds; the
 peak RSS. The two runs' strides must agree bit for bit (the cached state is the computed one).
+`--linear lu` factorises every non-symmetric tangent by LU, the path before
+docs/decisions/080-symmetric-part.md (the default, "split", factorises its symmetric part and
+runs GMRES); the counts of those factorisations and of the fallbacks to LU are printed.
 
 Targets (issue 31, on an idle 2-core machine): cold at most 60 s, warm at most 30 s. The figures
 printed under load are not those: the lead reruns this on an idle machine.
@@ -67,17 +71,47 @@ def _record_solves() -> list:
     return solves
 
 
-def run_case(pipe: float, cycles: int, quick: bool, cache: str, queue) -> None:
+def _count_symmetric_parts() -> dict:
+    """Count the factorisations of a tangent's symmetric part and the fallbacks to its LU."""
+    from softcrawl.fem import linsolve
+
+    counts = {"parts": 0, "fallbacks": 0}
+    original = linsolve.LinearSolver.factor
+
+    def factor(self, A, symmetric=None, part=False):
+        counts["parts"] += bool(part)
+        return original(self, A, symmetric, part)
+
+    linsolve.LinearSolver.factor = factor
+    fallback = linsolve.StepSolver._factored_solve
+
+    def factored_solve(self, *args):
+        before = self.split_fallbacks
+        out = fallback(self, *args)
+        counts["fallbacks"] += self.split_fallbacks - before
+        return out
+
+    linsolve.StepSolver._factored_solve = factored_solve
+    return counts
+
+
+def run_case(pipe: float, cycles: int, quick: bool, cache: str, linear: str, queue) -> None:
+    import dataclasses
+
     from softcrawl.fem.linsolve import _prepare_mkl
     from softcrawl.materials import get_material
     from softcrawl.materials.fem_law import solid_law
+    from softcrawl.studies.crawl import model as crawl_model
     from softcrawl.studies.crawl.insertion import InsertionCache
     from softcrawl.studies.crawl.mesh import QUICK_SECTORS, crawl_mesh
     from softcrawl.studies.crawl.model import CrawlSetup, build, run_crawl
     from softcrawl.studies.crawl.schedule import preset
 
+    # "lu": every factorisation of the non-symmetric tangent by LU, as before record 080
+    crawl_model.CRAWL_NEWTON = dataclasses.replace(crawl_model.CRAWL_NEWTON, symmetric_part=linear == "split")
     _prepare_mkl()
     counts = _count_pardiso_phases()
+    parts = _count_symmetric_parts()
     solves = _record_solves()
     setup = CrawlSetup(
         pipe_diameter=pipe,
@@ -129,6 +163,9 @@ def run_case(pipe: float, cycles: int, quick: bool, cache: str, queue) -> None:
             "solves": solves,
             "analyses": counts[11],
             "factorizations": counts[22],
+            "linear": linear,
+            "parts": parts["parts"],
+            "fallbacks": parts["fallbacks"],
             "substitutions": counts[33],
             "solve_s": res.solve_s,
             "assembly_s": res.assembly_s,
@@ -140,7 +177,7 @@ def run_case(pipe: float, cycles: int, quick: bool, cache: str, queue) -> None:
 def report(name: str, r: dict) -> None:
     ph = r["phases_s"]
     insertion = "cached, read" if r["hit"] else "computed"
-    print(f"{name}: {r['dofs']} DOFs; {r['message']}; insertion {insertion}")
+    print(f"{name} ({r['linear']}): {r['dofs']} DOFs; {r['message']}; insertion {insertion}")
     print(
         f"  wall {r['total_s']:.1f} s = mesh + model {r['build_s']:.1f} s + run {r['run_s']:.1f} s: "
         + ", ".join(f"{k} {v:.1f} s" for k, v in ph.items())
@@ -159,7 +196,8 @@ def report(name: str, r: dict) -> None:
     )
     print(
         f"  PARDISO: {r['analyses']} symbolic analyses, {r['factorizations']} factorisations, "
-        f"{r['substitutions']} substitutions; linear solves {r['solve_s']:.1f} s, "
+        f"{r['substitutions']} substitutions ({r['parts']} factorisations of the symmetric part, "
+        f"{r['fallbacks']} fallbacks to LU); linear solves {r['solve_s']:.1f} s, "
         f"assembly {r['assembly_s']:.1f} s"
     )
     print(f"  peak RSS {r['peak_gb']:.2f} GB")
@@ -172,6 +210,12 @@ def main() -> None:
     ap.add_argument("--runs", default="cold,warm", help="comma-separated: cold, warm")
     ap.add_argument("--default-mesh", action="store_true", help="48 sectors and 8 insertion steps")
     ap.add_argument("--cache", help="insertion cache folder (default: a new temporary one)")
+    ap.add_argument(
+        "--linear",
+        default="split",
+        choices=("split", "lu"),
+        help="non-symmetric tangents: the symmetric part's LDL^T with GMRES (the default), or LU",
+    )
     args = ap.parse_args()
     runs = args.runs.split(",")
     if not set(runs) <= {"cold", "warm"}:
@@ -187,7 +231,8 @@ def main() -> None:
         for name in runs:
             queue = ctx.Queue()
             proc = ctx.Process(
-                target=run_case, args=(args.pipe, args.cycles, not args.default_mesh, cache, queue)
+                target=run_case,
+                args=(args.pipe, args.cycles, not args.default_mesh, cache, args.linear, queue),
             )
             proc.start()
             result = queue.get()

@@ -25,8 +25,9 @@ clipped to [0.1, 0.5] of the last trial, so that it shortens at least as fast as
 penalty contact whose first full step penetrates the wall decreases only at small steps), or
 halved when the trial has no residual.
 
-Linear solves (`fem.linsolve.StepSolver`): a factorisation of the current tangent, or GMRES on
-it preconditioned by the last factorisation when that is cheaper (the forcing term
+Linear solves (`fem.linsolve.StepSolver`): a factorisation of the current tangent (of its
+symmetric part, with GMRES on the tangent, when it is not symmetric), or GMRES on it
+preconditioned by the last factorisation when that is cheaper (the forcing term
 eta = min(1e-2, max(r / 10, tol / (10 r))) keeps the convergence quadratic:
 r_{k+1} <= eta r_k + C r_k^2).
 
@@ -86,6 +87,9 @@ class NewtonOptions:
     predictor: str = "tangent"  # "tangent" (Euler, Hermite with the last state), "secant", "none"
     rigid_ratio: float | None = None  # predict parts this much stiffer rigidly (fem.stiff_parts)
     reuse_factor: bool = True  # GMRES on the tangent with the last factorisation when cheaper
+    #: A non-symmetric tangent: factorise its symmetric part and solve by GMRES on the tangent
+    #: (`fem.linsolve.StepSolver`, docs/decisions/080-symmetric-part.md).
+    symmetric_part: bool = True
     solver: str | None = None
 
 
@@ -137,7 +141,12 @@ class NewtonSolver:
         self.free = model.free_dofs
         self.assembly_s = 0.0
         self.iterations = 0
-        self.linear = StepSolver(options.solver, model.symmetric_tangent, options.reuse_factor)
+        self.linear = StepSolver(
+            options.solver,
+            model.symmetric_tangent,
+            options.reuse_factor,
+            split=options.symmetric_part,
+        )
         self.free_u = self.free[self.free < model.n_u]
         self._unheld = len(self.free_u) == model.n_u  # no displacement prescribed (module docstring)
         self._volume = float(model.dx.sum())

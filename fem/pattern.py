@@ -24,7 +24,7 @@ repeatedly can keep such an array (`new_values`), write each group's values into
 copy of the values, as expensive as the scatter itself).
 
 The pattern also knows its transpose permutation (a symmetry check costs one gather) and its upper
-triangle (the input of symmetric solvers).
+triangle (the input of symmetric solvers), also of the symmetric part (A + A^T) / 2.
 """
 
 from __future__ import annotations
@@ -175,6 +175,14 @@ class Pattern:
         """max |A - A^T| / max |A| (a gather over the data, no transposition)."""
         d = A.data
         return float(np.abs(d - d[self._transpose]).max() / max(np.abs(d).max(), 1e-300))
+
+    def symmetric_part_upper(self, A) -> sp.csr_matrix:
+        """Upper triangle of the symmetric part (A + A^T) / 2 in CSR (two gathers)."""
+        d = A.data[self._upper]
+        return sp.csr_matrix(
+            (0.5 * (d + A.data[self._transpose[self._upper]]), self._upper_indices, self._upper_indptr),
+            shape=(self.n, self.n),
+        )
 
     def upper(self, A) -> sp.csr_matrix:
         """Upper triangle (diagonal included) of A in CSR, for symmetric solvers."""
