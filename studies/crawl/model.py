@@ -44,7 +44,14 @@ from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
 from softcrawl.studies.crawl.resume import Totals
 from softcrawl.studies.crawl.schedule import AxialLaw, Schedule
-from softcrawl.studies.foot.model import AUGMENT, FOOT_NEWTON, SLIP_BAND, SMOOTHING, insertion_wall
+from softcrawl.studies.foot.model import (
+    AUGMENT,
+    FOOT_NEWTON,
+    SLIP_BAND,
+    SMOOTHING,
+    insertion_wall,
+    small_strain_youngs,
+)
 
 #: Halvings of a sub-step before a stage is given up: the unloading of a skirt reverses slip
 #: over part of its contact (points flip between stick and slip), which needs sub-steps down to
@@ -120,25 +127,35 @@ class CrawlModel:
         return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
 
 
-def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None = None) -> CrawlModel:
-    """The two-feet model on `mesh` (skfem MeshTet2 of `crawl_mesh.two_feet`), wall clear of the tips."""
-    law = law or AxialLaw()
-    youngs = 9.0 * material.bulk * material.mu / (3.0 * material.bulk + material.mu)
-    size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
-    eps = 10.0 * youngs / size  # as the foot study
-    wall = CylinderWall(foot_design.tip_radius + 0.5)
-    contacts = [
+def feet_contacts(rubber, edge: float, tip_radius: float) -> list[ContactSpec]:
+    """Each foot's two faces (`FACES`) against the straight pipe wall, as the foot study builds
+    them: the penalty eps_N = 10 E / h (E the rubber law's small-strain modulus, h the feet's
+    median edge), the wall clear of the tips by 0.5 mm (the insertion closes it), the foot
+    study's smoothing and slip band. The reduced crawl (`build`) and the one FE body
+    (`studies.crawl_fe.model`) both take their contacts from here, so that the two crawl models
+    differ only in their body."""
+    eps = 10.0 * small_strain_youngs(rubber) / edge
+    wall = CylinderWall(tip_radius + 0.5)
+    return [
         ContactSpec(
             tuple(f"{foot}:{t}" for t in tags),
             wall,
             penalty=eps,
             name=f"{foot}:{face}",
-            smoothing=SMOOTHING,  # the foot study's contact law
+            smoothing=SMOOTHING,
             slip_band=SLIP_BAND,
         )
         for foot in FEET
         for face, tags in FACES
     ]
+
+
+def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None = None) -> CrawlModel:
+    """The two-feet model on `mesh` (skfem MeshTet2 of `crawl_mesh.two_feet`), wall clear of the tips."""
+    law = law or AxialLaw()
+    youngs = small_strain_youngs(material)
+    size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
+    contacts = feet_contacts(material, size, foot_design.tip_radius)
     rear, front = (attach_tag(f, m) for f, m in zip(FEET, setup.mirrored))
     k0, _ = law.stiffness_preload((0.0, 0.0, 0.0))
     terms = [

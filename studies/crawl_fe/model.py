@@ -44,16 +44,13 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from softcrawl.fem.axial_link import AxialLink
-from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.model import ChamberSpec, SolidModel
-from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.body_mesh import BodyMeshSettings, mesh_body, settings_for
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
-from softcrawl.studies.crawl.model import FACES, GROUND_HOLD, GROUND_SOFT, CrawlSetup
+from softcrawl.studies.crawl.model import GROUND_HOLD, GROUND_SOFT, CrawlSetup, feet_contacts
 from softcrawl.studies.epsa.model import solid_material
-from softcrawl.studies.foot.model import SLIP_BAND, SMOOTHING
 from softcrawl.studies.robot_fe.model import (
     DEFAULT_MATERIAL,
     G_MM_S2,
@@ -151,24 +148,9 @@ def build_body(
         laws[name] = body_law if kind == "epsa" else solid_law(parts[kind])
         if gravity is not None:
             body[name] = parts[kind].density * G_MM_S2 * np.asarray(gravity, dtype=float)
-    rubber = parts["foot"].law
-    youngs = 9.0 * rubber.bulk * rubber.mu / (3.0 * rubber.bulk + rubber.mu)
     feet = np.isin(tagged.region, [i for i, n in tagged.region_names.items() if n.startswith("foot")])
     edges = np.linalg.norm(np.diff(tagged.points[tagged.tets[feet][:, :2]], axis=1)[:, 0], axis=1)
-    penalty = 10.0 * youngs / float(np.median(edges))
-    wall = CylinderWall(design.foot.tip_radius + 0.5)
-    contacts = [
-        ContactSpec(
-            tuple(f"{foot}:{t}" for t in tags),
-            wall,
-            penalty=penalty,
-            name=f"{foot}:{face}",
-            smoothing=SMOOTHING,
-            slip_band=SLIP_BAND,
-        )
-        for foot in FEET
-        for face, tags in FACES
-    ]
+    contacts = feet_contacts(parts["foot"].law, float(np.median(edges)), design.foot.tip_radius)
     holds = [AxialLink(b, a, c, HOLD_STIFF, 0.0, name=name) for name, b, a, c in HOLDS]
     chambers = [ChamberSpec((f"chamber_wall{i}", f"chamber_ends{i}"), name=f"epsa{i}") for i in (1, 2, 3)]
     model = SolidModel(

@@ -42,6 +42,7 @@ from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
 from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.rigid_surfaces import Plane
 from softcrawl.fem.structured import tag_boundaries
+from softcrawl.studies.foot.model import small_strain_youngs
 from softcrawl.studies.foot.outputs import solid_metrics
 from softcrawl.studies.sweeps.spec import StudyError
 
@@ -150,7 +151,7 @@ class GrooveResult:
 
 def groove_model(seg: GrooveSegment, material, drag: float, penalty: float | None = None) -> SolidModel:
     """The strip on the wall z = 0; `material` a `fem.neohooke.NeoHookean`."""
-    youngs = 9.0 * material.bulk * material.mu / (3.0 * material.bulk + material.mu)
+    youngs = small_strain_youngs(material)
     eps = penalty if penalty is not None else youngs / seg.cell
     spec = ContactSpec(("contact",), Plane(), penalty=eps, name="grooved face")
     bcs = [Dirichlet("top", (0, 1), (drag, 0.0)), Dirichlet.symmetry("y0", 1), Dirichlet.symmetry("y1", 1)]

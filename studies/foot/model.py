@@ -82,6 +82,12 @@ SMOOTHING = 0.0
 SLIP_BAND = 0.05
 
 
+def small_strain_youngs(law) -> float:
+    """E = 9 K mu / (3 K + mu) of a solver law with shear modulus mu and bulk modulus K [MPa]:
+    the modulus every contact penalty of the feet scales with."""
+    return 9.0 * law.bulk * law.mu / (3.0 * law.bulk + law.mu)
+
+
 def foot_model(
     mesh,
     material,
@@ -95,7 +101,7 @@ def foot_model(
     """The foot on `mesh` (skfem MeshTet2 with the foot's tags), wall clear of the tip; the
     tangential penalty is `tangential_ratio` x the normal one; `extra_terms` go to the model (the
     flipped foot's rim springs)."""
-    youngs = 9.0 * material.bulk * material.mu / (3.0 * material.bulk + material.mu)
+    youngs = small_strain_youngs(material)
     size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
     eps = penalty if penalty is not None else 10.0 * youngs / size
     wall = CylinderWall(design.tip_radius + 0.5)
