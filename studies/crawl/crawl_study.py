@@ -47,7 +47,7 @@ from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.memory import OutOfMemory
 from softcrawl.studies.sweeps.spec import Evaluation, StudyError, SweepSpec, sweep_spec_from_file
 from softcrawl.studies.sweeps.sweep import run_sweep
-from softcrawl.studies.sweeps.tables import write_csv
+from softcrawl.studies.sweeps.tables import number_cell, write_csv
 
 NAME = "crawl"
 GRID = {"pipe_diameter": PIPE_DIAMETERS_MM, "mu": (0.3, 0.5)}
@@ -158,10 +158,6 @@ def sliding_feet(cycles_csv: Path) -> dict:
     return out
 
 
-def _cell(value, fmt: str) -> str:
-    return "-" if value is None or value == "" or value != value else format(value, fmt)
-
-
 def write_markdown(rows, path: Path) -> Path:
     """summary.md: the study's table for a reader (summary.csv has every column)."""
     head = (
@@ -173,13 +169,14 @@ def write_markdown(rows, path: Path) -> Path:
     for r in rows:
         lines.append(
             f"| {r['pipe_diameter']:g} | {r['mu']:g} | {r['status']} "
-            f"| {_cell(r.get('steady_stride_mm'), '.3f')} "
-            f"| {_cell(r.get('speed_mm_s'), '.3f')} | {_cell(r.get('table2_mm_s'), 'g')} "
-            f"| {_cell(r.get('analytic_paper_friction_mm_s'), '.2f')} "
-            f"| {_cell(r.get('analytic_fe_friction_mm_s'), '.2f')} | {_cell(r.get('fe_friction_n'), '.2f')} "
-            f"| {_cell(r.get('anchoring_slip_ratio'), '.3f')} "
+            f"| {number_cell(r.get('steady_stride_mm'), '.3f')} "
+            f"| {number_cell(r.get('speed_mm_s'), '.3f')} | {number_cell(r.get('table2_mm_s'), 'g')} "
+            f"| {number_cell(r.get('analytic_paper_friction_mm_s'), '.2f')} "
+            f"| {number_cell(r.get('analytic_fe_friction_mm_s'), '.2f')} "
+            f"| {number_cell(r.get('fe_friction_n'), '.2f')} "
+            f"| {number_cell(r.get('anchoring_slip_ratio'), '.3f')} "
             f"| {r.get('extend_slid', '-')} / {r.get('retract_slid', '-')} "
-            f"| {_cell(r.get('wall_s'), '.0f')} |"
+            f"| {number_cell(r.get('wall_s'), '.0f')} |"
         )
     lines += [
         "",
@@ -220,7 +217,7 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
     lines = [
         f"D = {r['pipe_diameter']:g} mm, mu = {r['mu']:g}: {r['status']}; "
         f"strides {r.get('strides_mm') or '-'} mm, "
-        f"anchoring slip ratio {_cell(r.get('anchoring_slip_ratio'), '.3g')}, "
+        f"anchoring slip ratio {number_cell(r.get('anchoring_slip_ratio'), '.3g')}, "
         f"slid (extend / retract) {r.get('extend_slid', '-')} / {r.get('retract_slid', '-')}"
         for r in rows
     ]

@@ -66,7 +66,7 @@ from softcrawl.studies.sweeps.spec import (
     sweep_spec_from_file,
 )
 from softcrawl.studies.sweeps.sweep import run_sweep
-from softcrawl.studies.sweeps.tables import write_csv
+from softcrawl.studies.sweeps.tables import number_cell, write_csv
 
 NAME = "feet"
 GRID = {"shore_a": (70.0, 60.0, 50.0), "angle_deg": (120.0, 90.0, 60.0, 30.0)}
@@ -246,10 +246,6 @@ def _schedule():
     return preset("inflate", PRESSURE_KPA, FIG21_CYCLE_S)
 
 
-def _cell(value, fmt: str) -> str:
-    return "-" if value is None or value == "" or value != value else format(value, fmt)
-
-
 def mu_text(settings: dict) -> str:
     """The friction line every output carries: both mu and their flags."""
     return (
@@ -284,11 +280,12 @@ def write_markdown(rows, settings: dict, path: Path) -> Path:
     ]
     for r in rows:
         lines.append(
-            f"| {r['shore_a']:g}A | {r['angle_deg']:g} | {_cell(r.get('hub_thickness_mm'), '.2f')} "
+            f"| {r['shore_a']:g}A | {r['angle_deg']:g} | {number_cell(r.get('hub_thickness_mm'), '.2f')} "
             f"| {r['sectors']} | {r['status']} "
-            f"| {_cell(r.get('first_stride_mm'), '.3f')} | {_cell(r.get('steady_stride_mm'), '.3f')} "
-            f"| {_cell(r.get('speed_mm_s'), '.3f')} | {_cell(r.get('fe_friction_n'), '.2f')} "
-            f"| {_cell(r.get('anchoring_slip_ratio'), '.3f')} | {_cell(r.get('wall_s'), '.0f')} |"
+            f"| {number_cell(r.get('first_stride_mm'), '.3f')} "
+            f"| {number_cell(r.get('steady_stride_mm'), '.3f')} "
+            f"| {number_cell(r.get('speed_mm_s'), '.3f')} | {number_cell(r.get('fe_friction_n'), '.2f')} "
+            f"| {number_cell(r.get('anchoring_slip_ratio'), '.3f')} | {number_cell(r.get('wall_s'), '.0f')} |"
         )
     lines += [
         "",
@@ -331,7 +328,8 @@ def write_study_outputs(spec, folder: Path, table=()) -> StudyOutcome:
     ]
     lines = [
         f"{r['shore_a']:g}A, {r['angle_deg']:g} deg: {r['status']}; first stride "
-        f"{_cell(r.get('first_stride_mm'), '.3f')} mm, speed {_cell(r.get('speed_mm_s'), '.3f')} mm/s"
+        f"{number_cell(r.get('first_stride_mm'), '.3f')} mm, "
+        f"speed {number_cell(r.get('speed_mm_s'), '.3f')} mm/s"
         for r in rows
     ]
     lines += [f"friction: {mu_text(spec.settings)}"] + [v.text() for v in verdicts(rows)]

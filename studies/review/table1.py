@@ -25,7 +25,13 @@ from softcrawl.studies import registry
 from softcrawl.studies.declaration import resolve
 from softcrawl.studies.epsa import rules
 from softcrawl.studies.epsa.linearity import linearity_claim
-from softcrawl.studies.review.table1_summary import closing, paper_note, robot_evidence, summary_table
+from softcrawl.studies.review.table1_summary import (
+    closing,
+    markdown_cell,
+    paper_note,
+    robot_evidence,
+    summary_table,
+)
 from softcrawl.studies.sweeps.tables import read_csv
 from softcrawl.studies.table1_row import StudyRow
 
@@ -161,10 +167,6 @@ def _material_label(material: str) -> str:
         return material
 
 
-def _cell(text: str) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
 def render(results: str | Path, materials: Sequence[str]) -> str:
     """The Markdown of table1.md."""
     lines = [
@@ -207,8 +209,8 @@ def render(results: str | Path, materials: Sequence[str]) -> str:
             ):
                 mat += " (quick mesh)"
             lines.append(
-                f"| {name} | {paper:g} {unit} | {ours} | {_cell(s.rule)} | "
-                f"{_cell(mat)} | {verdict} | {_cell(why)} |"
+                f"| {name} | {paper:g} {unit} | {ours} | {markdown_cell(s.rule)} | "
+                f"{markdown_cell(mat)} | {verdict} | {markdown_cell(why)} |"
             )
         lines += [""]
         for param in STUDY_DIRS:

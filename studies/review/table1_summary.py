@@ -99,7 +99,8 @@ def _verdict(sel: rules.Selection, param: str) -> str:
     return f"{sel.value:g} ({mark})"
 
 
-def _cell(text: str) -> str:
+def markdown_cell(text: str) -> str:
+    """`text` as one Markdown table cell: pipes escaped, line breaks as spaces."""
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
@@ -119,13 +120,13 @@ def summary_table(
         r0, n = sel["chamber_radius"], sel["fiber_turns"]
         lin = sel.get("linearity")
         lin_text = "-" if lin is None or lin.value is None else f"{lin.value:.0%} of designs ({lin.reason})"
-        why_r0 = _cell(r0.reason + paper_note("chamber_radius", r0))
-        why_n = _cell(n.reason + paper_note("fiber_turns", n))
+        why_r0 = markdown_cell(r0.reason + paper_note("chamber_radius", r0))
+        why_n = markdown_cell(n.reason + paper_note("fiber_turns", n))
         lines.append(
-            f"| {material_role(results, m)} | {_cell(m)}: {_cell(_law(m))}"
+            f"| {material_role(results, m)} | {markdown_cell(m)}: {markdown_cell(_law(m))}"
             f"{' (quick mesh)' if m in quick else ''} | "
             f"{_verdict(r0, 'chamber_radius')} | {why_r0} | {_verdict(n, 'fiber_turns')} | {why_n} | "
-            f"{_cell(lin_text)} |"
+            f"{markdown_cell(lin_text)} |"
         )
     return lines + [""]
 

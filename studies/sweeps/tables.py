@@ -31,6 +31,11 @@ def blank(value: Any) -> Any:
     return "" if value is None else value
 
 
+def number_cell(value: Any, fmt: str) -> str:
+    """A Markdown table cell: `value` formatted by `fmt`, "-" when missing (None, "", NaN)."""
+    return "-" if value is None or value == "" or value != value else format(value, fmt)
+
+
 def collect(study: Any, spec: SweepSpec, layout: TableLayout | None = None) -> list[dict[str, Any]]:
     """The rows of a sweep (see the module docstring and `TableLayout`)."""
     layout = layout or TableLayout()
