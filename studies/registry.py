@@ -112,11 +112,22 @@ def evaluator(name: str) -> Callable:
     return resolve(evaluator_reference(name))
 
 
+def refuse_material(study: Study, material: object) -> None:
+    """StudyError (parameter "material") when a material is given to a study that takes none
+    (its `default_material` is None): it would be silently ignored."""
+    if material is not None and study.default_material is None:
+        raise StudyError(
+            "material", f"--material does not apply to study {study.name}: it takes no material (see --help)"
+        )
+
+
 def run_study(name: str, out: str, **options: object) -> object:
     """Run (or resume) study `name` into `out`, as `softcrawl study NAME --out OUT` does, and
     return its `StudyOutcome`; `options` are `StudyRequest`'s fields (quick, material, workers,
-    storage, ...). The material defaults to the study's own."""
+    storage, ...). The material defaults to the study's own; a study that takes none refuses one
+    (`refuse_material`)."""
     study = get(name)
+    refuse_material(study, options.get("material"))
     request = StudyRequest(study=name, out=str(out), **options)  # type: ignore[arg-type]
     if request.material is None and study.default_material is not None:
         request = dataclasses.replace(request, material=study.default_material)

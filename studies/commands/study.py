@@ -195,10 +195,7 @@ def _check(args) -> None:
 
     study = registry.get(args.name)
     _applies(args, study)
-    if args.material is not None and study.default_material is None:  # silently ignored before
-        raise StudyError(
-            "material", f"--material does not apply to study {study.name}: it takes no material (see --help)"
-        )
+    registry.refuse_material(study, args.material)
     args.workers = 1 if args.workers is None else args.workers
     args.sampler = args.sampler or "nsga2"
     args.seed = 0 if args.seed is None else args.seed

@@ -157,3 +157,13 @@ def test_the_crawl_and_feet_studies_pass_the_sweep_options_through(module, runne
     assert request.sweep_options() == options
     importlib.import_module(module).run_request(request)
     assert calls == [(("OUT",), {"quick": True, **request.sweep_options()})]
+
+
+def test_the_python_api_refuses_a_material_for_a_study_that_takes_none(tmp_path):
+    """`run_study` refuses it as `softcrawl study` does (exit 2 there), before any work: the
+    material would be silently ignored."""
+    study = next(s for s in registry.studies() if s.default_material is None)
+    with pytest.raises(StudyError) as err:
+        registry.run_study(study.name, str(tmp_path), material="rubber-70a")
+    assert err.value.parameter == "material"
+    assert not any(tmp_path.iterdir())
