@@ -1,6 +1,7 @@
 """The one FE body (issue 34, step 1): its size, one tangent, one Newton step, and the insertion.
 
     python bench/body_bench.py [--mesh quick|default] [--insert] [--pipe 70] [--insert-steps 8]
+                               [--cycles N] [--pressure 100] [--steps 4]
 
 Printed: the mesh (vertices, tets, skirt sectors), the DOFs, the three-fold asymmetry of the P2
 nodes, the mass per part against the prototype's 70.2 g; the wall time of building the model; one
@@ -8,7 +9,10 @@ residual-and-tangent assembly (s, nonzeros); one Newton load step at 10 kPa in e
 the wall clear of the skirts (iterations, factorisations, assembly and linear seconds); with
 `--insert`, the body put into the straight pipe (`studies.crawl_fe.pipe.into_pipe`: frictionless
 insertion, holds stiff; friction on, holds softened) with each foot's wall force and the holds'
-forces after each phase; the peak RSS at the end. Nothing is asserted (bench/, CONTRIBUTING.md).
+forces after each phase; with `--cycles N` (implies `--insert`), N cycles of the "inflate" gait
+(all three chambers 0 -> PRESSURE -> 0 kPa in 2 s, `studies.crawl_fe.cycle`) with each segment's
+foot positions, lateral drift, wall forces, holds and Newton iterations, the stride of each cycle
+and its wall time; the peak RSS at the end. Nothing is asserted (bench/, CONTRIBUTING.md).
 Run it on an idle machine with SOFTCRAWL_THREADS=1 for the record's figures
 (docs/decisions/076-one-body.md).
 """
@@ -25,6 +29,8 @@ import numpy as np
 from softcrawl.fem.newton import NewtonSolver
 from softcrawl.geometry.body_mesh import rotation_defect
 from softcrawl.studies.crawl.model import CRAWL_NEWTON, CrawlSetup
+from softcrawl.studies.crawl.schedule import preset
+from softcrawl.studies.crawl_fe.cycle import crawl_cycles
 from softcrawl.studies.crawl_fe.mass import mass_summary
 from softcrawl.studies.crawl_fe.model import build_body
 from softcrawl.studies.crawl_fe.pipe import into_pipe
@@ -41,6 +47,9 @@ def main(argv=None) -> int:
     ap.add_argument("--insert", action="store_true")
     ap.add_argument("--pipe", type=float, default=70.0)
     ap.add_argument("--insert-steps", type=int, default=8)
+    ap.add_argument("--cycles", type=int, default=0, help="gait cycles after the insertion")
+    ap.add_argument("--pressure", type=float, default=100.0, help="the gait's pressure (kPa)")
+    ap.add_argument("--steps", type=int, default=4, help="sub-steps per schedule segment")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     bm = build_body(CrawlSetup(pipe_diameter=args.pipe), args.mesh)
@@ -67,7 +76,7 @@ def main(argv=None) -> int:
         f"wall {st.wall_s:.1f} s; peak {_peak_gb():.2f} GB",
         flush=True,
     )
-    if args.insert:
+    if args.insert or args.cycles:
         run = into_pipe(bm, insert_steps=args.insert_steps)
         print(
             f"into the {args.pipe:g} mm pipe: {run.message}; {run.newton_iterations} Newton iterations, "
@@ -77,6 +86,26 @@ def main(argv=None) -> int:
             holds = max(abs(v) for v in state.holds.values())
             normal = ", ".join(f"{k} {v:.2f} N" for k, v in state.normal.items())
             print(f"  after {state.phase}: wall normal force {normal}; largest hold force {holds:.3g} N")
+        if args.cycles and run.converged:
+            gait = preset("inflate", args.pressure, 2.0)
+            crawl = crawl_cycles(bm, run.states[-1].x, gait, cycles=args.cycles, steps=args.steps)
+            print(
+                f"{args.cycles} cycle(s) of {gait.name} at {args.pressure:g} kPa: {crawl.message}; "
+                f"{crawl.newton_iterations} Newton iterations, assembly {crawl.assembly_s:.0f} s, "
+                f"linear {crawl.solve_s:.0f} s, wall {crawl.wall_s:.0f} s",
+                flush=True,
+            )
+            for st in crawl.states:
+                print(
+                    f"  cycle {st.cycle} t {st.t:.2f} s P {st.pressures_kpa[0]:g} kPa: "
+                    f"rear z {st.z['rear']:+.3f}, "
+                    f"front z {st.z['front']:+.3f} mm, drift ({st.drift[0]:+.2e}, {st.drift[1]:+.2e}) mm; "
+                    f"normal {st.normal['rear']:.2f} / {st.normal['front']:.2f} N, axial friction "
+                    f"{st.friction_z['rear']:+.2f} / {st.friction_z['front']:+.2f} N; "
+                    f"holds {st.holds_max:.2g} N; "
+                    f"{st.newton} Newton"
+                )
+            print("  strides: " + ", ".join(f"{v:.4f} mm" for v in crawl.strides))
     print(f"peak RSS {_peak_gb():.2f} GB")
     return 0
 

@@ -1,0 +1,139 @@
+r"""The one body's gait cycles in its straight pipe: the three chambers follow a pressure schedule.
+
+After `studies.crawl_fe.pipe.into_pipe` (inserted, friction on, holds soft), every segment of the
+schedule (rows k -> k + 1 of `Schedule.times` and `.pressures_kpa`, one cycle) is one
+`fem.contact_stages.Stage` that moves the three chamber pressures linearly to the next row's
+(kPa converted to MPa once, here) in `steps` sub-steps, cut back where Newton needs it. Each
+chamber has its own pressure, so a schedule with unequal pressures bends the body.
+
+Outputs per segment end (`BodyState`): the time in the cycle, the pressures, each foot's axial
+position and the body's lateral drift, each foot's wall normal force and axial friction force,
+the holds' largest force. A foot's axial position is the mean u_z of its hub face that the
+holds use (`rear_bottom`, `front_top`; +z is forward, the direction the skirts' front faces
+look to); the lateral drift is the mean (u_x, u_y) of both faces. The stride of a cycle is the
+advance of the body, the mean of both feet's advances over it (equal to either foot's once the
+cycle's gait closes: the actuators back at their start length).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
+from softcrawl.studies.crawl.schedule import Schedule
+from softcrawl.studies.crawl_fe.model import FEET, BodyModel
+from softcrawl.studies.crawl_fe.pipe import record
+from softcrawl.studies.foot.model import AUGMENT
+from softcrawl.units import kpa_to_mpa
+
+#: The hub face whose mean displacement places each foot (module docstring).
+FOOT_FACES = {"rear": "rear_bottom", "front": "front_top"}
+
+
+@dataclass(frozen=True)
+class BodyState:
+    cycle: int  # from 1 (0: the ramp to a schedule's first row)
+    t: float  # s, in the cycle
+    pressures_kpa: tuple[float, float, float]
+    z: dict  # foot -> axial position (mm)
+    drift: tuple[float, float]  # mean lateral displacement (mm)
+    normal: dict  # foot -> wall normal force (N)
+    friction_z: dict  # foot -> axial friction force of the wall (N)
+    holds_max: float  # N
+    newton: int  # iterations of the segment
+    x: np.ndarray = field(repr=False)
+
+
+@dataclass(frozen=True)
+class BodyCrawl:
+    converged: bool
+    message: str
+    states: tuple[BodyState, ...]
+    strides: tuple[float, ...]  # mm per completed cycle
+    newton_iterations: int
+    assembly_s: float
+    solve_s: float
+    wall_s: float
+
+
+class FootProbe:
+    """Each foot's axial position and the lateral drift at a state (module docstring), on the
+    discretisation `space` of the body's model."""
+
+    def __init__(self, space):
+        self.nodes = {foot: space.boundary_nodes(tag) for foot, tag in FOOT_FACES.items()}
+
+    def z(self, x: np.ndarray) -> dict:
+        return {foot: float(x[3 * n + 2].mean()) for foot, n in self.nodes.items()}
+
+    def drift(self, x: np.ndarray) -> tuple[float, float]:
+        nodes = np.concatenate(list(self.nodes.values()))
+        return float(x[3 * nodes].mean()), float(x[3 * nodes + 1].mean())
+
+
+def crawl_cycles(
+    bm: BodyModel,
+    x0: np.ndarray,
+    schedule: Schedule,
+    *,
+    cycles: int = 1,
+    steps: int = 4,
+    max_wall_s: float | None = None,
+    on_step=None,
+) -> BodyCrawl:
+    """`cycles` cycles of `schedule` from the inserted state x0 (module docstring)."""
+    model, probe = bm.model, FootProbe(bm.model.space)
+    t0 = time.perf_counter()
+    x, states, totals = x0, [], [0, 0.0, 0.0]
+    strides: list[float] = []
+    P = np.asarray(schedule.pressures_kpa, dtype=float)
+    last = len(P) - 1
+    # (cycle, row): the inserted state is at zero pressure, so a schedule that starts elsewhere
+    # is first ramped to its first row (cycle 0), then each cycle moves through rows 1..last
+    plan = [(0, 0)] if np.any(P[0] != 0.0) else []
+    plan += [(c, k) for c in range(1, cycles + 1) for k in range(1, last + 1)]
+    start = probe.z(x)
+    for cycle, row in plan:
+        if row == 1:
+            start = probe.z(x)  # the cycle begins here
+        budget = None if max_wall_s is None else max(max_wall_s - (time.perf_counter() - t0), 1e-6)
+        stage = Stage(f"cycle{cycle}-row{row}", pressure=[kpa_to_mpa(p) for p in P[row]], steps=steps)
+        res = run_stages(
+            model,
+            [stage],
+            x0=x,
+            options=CRAWL_NEWTON,
+            max_cutbacks=MAX_CUTBACKS,
+            max_wall_s=budget,
+            on_step=on_step,
+            **AUGMENT,
+        )
+        totals = [totals[0] + res.newton_iterations, totals[1] + res.assembly_s, totals[2] + res.solve_s]
+        if not res.converged:
+            message = f"cycle {cycle}, row {row}: {res.message}"
+            return BodyCrawl(False, message, tuple(states), tuple(strides), *totals, time.perf_counter() - t0)
+        x = res.x
+        pipe = record(bm, stage.name, x)
+        states.append(
+            BodyState(
+                cycle,
+                float(schedule.times[row]),
+                tuple(float(p) for p in P[row]),
+                probe.z(x),
+                probe.drift(x),
+                pipe.normal,
+                {foot: float(pipe.friction[foot][2]) for foot in FEET},
+                max(abs(v) for v in pipe.holds.values()),
+                res.newton_iterations,
+                x,
+            )
+        )
+        if cycle >= 1 and row == last:
+            end = probe.z(x)
+            strides.append(float(np.mean([end[f] - start[f] for f in FEET])))
+    message = f"{cycles} cycle(s) reached"
+    return BodyCrawl(True, message, tuple(states), tuple(strides), *totals, time.perf_counter() - t0)

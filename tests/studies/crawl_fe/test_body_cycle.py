@@ -1,0 +1,85 @@
+"""The FE body's gait cycles (`studies.crawl_fe.cycle`): where a foot is, and what a stride is.
+
+The probe reads each foot's axial position as the mean u_z of the hub face the holds use, so a
+rigid translation moves both feet by it and the actuators' extension (u_z = e (z + t_hub), the
+rear hub's bottom face at rest) moves only the front foot. The cycle's bookkeeping is checked on
+a scripted solver that translates the body by a known amount per schedule segment: each cycle's
+stride is the sum of its segments' translations, and a schedule that does not start at zero
+pressure gets a first segment to its first row, which is not part of any cycle's stride. The
+physics of a cycle (the body crawling in its pipe) is the slow run of bench/body_bench.py
+--cycles (docs/decisions/076-one-body.md).
+"""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from softcrawl.fem.discretisation import Discretisation
+from softcrawl.geometry.body_mesh import mesh_body
+from softcrawl.geometry.design import RobotDesign
+from softcrawl.studies.crawl.schedule import Schedule
+from softcrawl.studies.crawl_fe import cycle
+from softcrawl.studies.crawl_fe.model import with_hold_tags
+
+
+@pytest.fixture(scope="module")
+def space():
+    return Discretisation(with_hold_tags(mesh_body(RobotDesign(), "quick")).to_skfem(order=2))
+
+
+def _field(space, u):
+    x = np.zeros(space.n_dofs)
+    x[: space.n_u] = np.asarray(u).T.reshape(-1)
+    return x
+
+
+def test_a_rigid_translation_moves_both_feet_and_the_extension_only_the_front(space):
+    probe = cycle.FootProbe(space)
+    X = space.nodes
+    x = _field(space, [0.3 + 0 * X[0], -0.2 + 0 * X[1], 1.5 + 0 * X[2]])
+    assert probe.z(x) == pytest.approx({"rear": 1.5, "front": 1.5}, abs=1e-12)
+    assert probe.drift(x) == pytest.approx((0.3, -0.2), abs=1e-12)
+    hub = RobotDesign().foot.hub_thickness
+    x = _field(space, [0 * X[0], 0 * X[1], 0.01 * (X[2] + hub)])
+    z = probe.z(x)
+    assert z["rear"] == pytest.approx(0.0, abs=1e-12)
+    front_top = X[2, space.boundary_nodes("front_top")]
+    assert z["front"] == pytest.approx(0.01 * (front_top.mean() + hub), rel=1e-12)
+    assert z["front"] > 1.0  # the front hub's top is ~120 mm up the body
+
+
+def _scripted(space, advance_per_segment):
+    calls = []
+
+    def run_stages(model, stages, *, x0, **kwargs):
+        calls.append(stages[0])
+        x = x0.copy()
+        x[2 : space.n_u : 3] += advance_per_segment
+        return SimpleNamespace(converged=True, x=x, newton_iterations=3, assembly_s=0.0, solve_s=0.0)
+
+    return run_stages, calls
+
+
+def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
+    run_stages, calls = _scripted(space, 0.25)
+    monkeypatch.setattr(cycle, "run_stages", run_stages)
+    monkeypatch.setattr(
+        cycle,
+        "record",
+        lambda bm, name, x: SimpleNamespace(
+            normal={}, friction={f: np.zeros(3) for f in cycle.FEET}, holds={"h": 0.0}
+        ),
+    )
+    bm = SimpleNamespace(model=SimpleNamespace(space=space))
+    gait = Schedule("test", np.array([0.0, 1.0, 2.0]), np.array([[0.0] * 3, [100.0] * 3, [0.0] * 3]), "test")
+    out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=2, steps=3)
+    assert out.converged and out.strides == pytest.approx((0.5, 0.5))
+    assert [s.pressure for s in calls] == [[0.1] * 3, [0.0] * 3] * 2  # kPa -> MPa once
+    assert all(s.steps == 3 for s in calls) and out.newton_iterations == 12
+    held = Schedule("held", np.array([0.0, 1.0]), np.array([[50.0] * 3, [100.0] * 3]), "test")
+    calls.clear()
+    out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), held, cycles=1)
+    assert [s.pressure for s in calls] == [[0.05] * 3, [0.1] * 3]  # to the first row, then the cycle
+    assert out.strides == pytest.approx((0.25,))  # the ramp to the first row is not the cycle's
+    assert [s.cycle for s in out.states] == [0, 1]
