@@ -17,7 +17,6 @@ cycle's gait closes: the actuators back at their start length).
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -85,55 +84,74 @@ def crawl_cycles(
     max_wall_s: float | None = None,
     on_step=None,
 ) -> BodyCrawl:
-    """`cycles` cycles of `schedule` from the inserted state x0 (module docstring)."""
+    """`cycles` cycles of `schedule` from the inserted state x0 (module docstring). All segments
+    are the stages of one `run_stages` call, so that each starts from the pressures where the last
+    ended; the outputs are read at each stage's end, with the contact history of that state."""
     model, probe = bm.model, FootProbe(bm.model.space)
-    t0 = time.perf_counter()
-    x, states, totals = x0, [], [0, 0.0, 0.0]
-    strides: list[float] = []
     P = np.asarray(schedule.pressures_kpa, dtype=float)
     last = len(P) - 1
     # (cycle, row): the inserted state is at zero pressure, so a schedule that starts elsewhere
     # is first ramped to its first row (cycle 0), then each cycle moves through rows 1..last
     plan = [(0, 0)] if np.any(P[0] != 0.0) else []
     plan += [(c, k) for c in range(1, cycles + 1) for k in range(1, last + 1)]
-    start = probe.z(x)
-    for cycle, row in plan:
-        if row == 1:
-            start = probe.z(x)  # the cycle begins here
-        budget = None if max_wall_s is None else max(max_wall_s - (time.perf_counter() - t0), 1e-6)
-        stage = Stage(f"cycle{cycle}-row{row}", pressure=[kpa_to_mpa(p) for p in P[row]], steps=steps)
-        res = run_stages(
-            model,
-            [stage],
-            x0=x,
-            options=CRAWL_NEWTON,
-            max_cutbacks=MAX_CUTBACKS,
-            max_wall_s=budget,
-            on_step=on_step,
-            **AUGMENT,
-        )
-        totals = [totals[0] + res.newton_iterations, totals[1] + res.assembly_s, totals[2] + res.solve_s]
-        if not res.converged:
-            message = f"cycle {cycle}, row {row}: {res.message}"
-            return BodyCrawl(False, message, tuple(states), tuple(strides), *totals, time.perf_counter() - t0)
-        x = res.x
-        pipe = record(bm, stage.name, x)
+    stages = [Stage(f"cycle{c}-row{k}", pressure=[kpa_to_mpa(p) for p in P[k]], steps=steps) for c, k in plan]
+    where = {stage.name: item for stage, item in zip(stages, plan)}
+    states: list[BodyState] = []
+    strides: list[float] = []
+    counted = [0]  # Newton iterations up to the last stage end
+    start = [probe.z(x0)]
+
+    def at_step(step) -> None:
+        if on_step is not None:
+            on_step(step)
+        if step.s < 1.0 - 1e-12:
+            return
+        cycle, row = where[step.stage]
+        x = step.x
+        pipe = record(bm, step.stage, x)  # the contact history is this state's here
+        z = probe.z(x)
+        done = sum(s.newton for s in states)
         states.append(
             BodyState(
                 cycle,
                 float(schedule.times[row]),
                 tuple(float(p) for p in P[row]),
-                probe.z(x),
+                z,
                 probe.drift(x),
                 pipe.normal,
                 {foot: float(pipe.friction[foot][2]) for foot in FEET},
                 max(abs(v) for v in pipe.holds.values()),
-                res.newton_iterations,
+                counted[0] - done,  # the segment's converged sub-steps' iterations
                 x,
             )
         )
         if cycle >= 1 and row == last:
-            end = probe.z(x)
-            strides.append(float(np.mean([end[f] - start[f] for f in FEET])))
-    message = f"{cycles} cycle(s) reached"
-    return BodyCrawl(True, message, tuple(states), tuple(strides), *totals, time.perf_counter() - t0)
+            strides.append(float(np.mean([z[f] - start[0][f] for f in FEET])))
+        if row == last or cycle == 0:
+            start[0] = z  # the next cycle begins here
+
+    def count(step) -> None:
+        counted[0] += sum(step.iterations)
+        at_step(step)
+
+    res = run_stages(
+        model,
+        stages,
+        x0=x0,
+        options=CRAWL_NEWTON,
+        max_cutbacks=MAX_CUTBACKS,
+        max_wall_s=max_wall_s,
+        on_step=count,
+        **AUGMENT,
+    )
+    message = f"{cycles} cycle(s) reached" if res.converged else res.message
+    return BodyCrawl(
+        res.converged,
+        message,
+        tuple(states),
+        tuple(strides),
+        res.newton_iterations,
+        res.assembly_s,
+        res.solve_s,
+        res.wall_s,
+    )

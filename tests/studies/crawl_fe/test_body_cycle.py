@@ -50,13 +50,24 @@ def test_a_rigid_translation_moves_both_feet_and_the_extension_only_the_front(sp
 
 
 def _scripted(space, advance_per_segment):
+    """run_stages for the stages given: two sub-steps each, the body translated along z by half
+    of `advance_per_segment` in each, three Newton iterations per sub-step."""
     calls = []
 
-    def run_stages(model, stages, *, x0, **kwargs):
-        calls.append(stages[0])
+    def run_stages(model, stages, *, x0, on_step, **kwargs):
+        # one call for every segment: a new call would start its pressures from zero
+        assert not calls, "the segments must be the stages of one run_stages call"
+        calls.extend(stages)
         x = x0.copy()
-        x[2 : space.n_u : 3] += advance_per_segment
-        return SimpleNamespace(converged=True, x=x, newton_iterations=3, assembly_s=0.0, solve_s=0.0)
+        for stage in stages:
+            for s in (0.5, 1.0):
+                x = x.copy()
+                x[2 : space.n_u : 3] += 0.5 * advance_per_segment
+                on_step(SimpleNamespace(stage=stage.name, s=s, x=x, iterations=(3,)))
+        n = 6 * len(stages)
+        return SimpleNamespace(
+            converged=True, message="", newton_iterations=n, assembly_s=0.0, solve_s=0.0, wall_s=0.0
+        )
 
     return run_stages, calls
 
@@ -76,7 +87,9 @@ def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
     out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=2, steps=3)
     assert out.converged and out.strides == pytest.approx((0.5, 0.5))
     assert [s.pressure for s in calls] == [[0.1] * 3, [0.0] * 3] * 2  # kPa -> MPa once
-    assert all(s.steps == 3 for s in calls) and out.newton_iterations == 12
+    assert all(s.steps == 3 for s in calls) and out.newton_iterations == 24
+    assert [s.newton for s in out.states] == [6] * 4  # per segment
+    assert [s.z["rear"] for s in out.states] == pytest.approx([0.25, 0.5, 0.75, 1.0])
     held = Schedule("held", np.array([0.0, 1.0]), np.array([[50.0] * 3, [100.0] * 3]), "test")
     calls.clear()
     out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), held, cycles=1)
