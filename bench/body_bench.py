@@ -1,7 +1,7 @@
 """The one FE body (issue 34, step 1): its size, one tangent, one Newton step, and the insertion.
 
     python bench/body_bench.py [--mesh quick|default] [--insert] [--pipe 70] [--insert-steps 8]
-                               [--cycles N] [--pressure 100] [--steps 4]
+                               [--cycles N] [--pressure 100] [--steps 4] [--mu 0.5]
 
 Printed: the mesh (vertices, tets, skirt sectors), the DOFs, the three-fold asymmetry of the P2
 nodes, the mass per part against the prototype's 70.2 g; the wall time of building the model; one
@@ -50,9 +50,12 @@ def main(argv=None) -> int:
     ap.add_argument("--cycles", type=int, default=0, help="gait cycles after the insertion")
     ap.add_argument("--pressure", type=float, default=100.0, help="the gait's pressure (kPa)")
     ap.add_argument("--steps", type=int, default=4, help="sub-steps per schedule segment")
+    ap.add_argument("--mu", type=float, default=0.5, help="friction of both faces (CrawlSetup's 0.5)")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    bm = build_body(CrawlSetup(pipe_diameter=args.pipe), args.mesh)
+    if not 0.0 <= args.mu <= 5.0:
+        ap.error(f"--mu: a friction coefficient in [0, 5], not {args.mu}")
+    bm = build_body(CrawlSetup(pipe_diameter=args.pipe, mu_smooth=args.mu, mu_grooved=args.mu), args.mesh)
     m, tm = bm.model, bm.mesh
     print(f"mesh {args.mesh}: {tm.n_nodes} vertices, {tm.n_tets} tets, {bm.settings.sectors} skirt sectors")
     print(f"DOFs {m.n_dofs} (u {m.n_u}, p {m.n_p}); built in {time.perf_counter() - t0:.1f} s")
