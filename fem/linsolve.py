@@ -222,10 +222,12 @@ def release_factorisations() -> None:
     """Free the memory of PARDISO's process-wide handles (their factors); a solver that held
     one analyses its pattern again at its next `factor`. For a caller that factorises another
     large matrix next (`fem.stability`)."""
-    for handle, owner in list(_OWNER.items()):
+    for handle in set(_OWNER) | set(_ANALYSED):  # a kept analysis too (`LinearSolver.factor`)
         _pardiso_handle(*handle).free_memory(everything=True)
+    for owner in _OWNER.values():
         owner._analysed_pattern, owner._A = None, None
     _OWNER.clear()
+    _ANALYSED.clear()  # nothing is analysed any more: the next factor of any solver analyses
 
 
 class StepSolver:

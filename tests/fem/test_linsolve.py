@@ -142,3 +142,28 @@ def test_switching_between_the_symmetric_part_and_lu_keeps_both_analyses(tangent
         assert np.linalg.norm(K2 @ x - b) <= 1e-10 * np.linalg.norm(b)
     assert (split.part_factorizations, split.split_fallbacks) == (5, 2)
     assert phases.count(11) == 2 and phases.count(22) == 7
+
+
+@pytest.mark.skipif(not pardiso_available(), reason="pypardiso not installed")
+def test_after_release_every_solver_analyses_again(tangent, monkeypatch):
+    """`release_factorisations` frees the handles' analyses too (PARDISO's phase -1), so a kept
+    analysis must not be trusted afterwards: the next factorisation on the same pattern analyses
+    and solves accurately (before, it skipped the analysis the handle no longer had)."""
+    import pypardiso
+
+    _, K, b = tangent
+    K2 = _skewed(K, 1e-4)
+    phases = []
+    original = pypardiso.PyPardisoSolver.set_phase
+    monkeypatch.setattr(
+        pypardiso.PyPardisoSolver, "set_phase", lambda s, p: (phases.append(p), original(s, p))
+    )
+    linsolve._ANALYSED.clear()
+    for part in (False, True):
+        LinearSolver("pardiso").factor(K2, symmetric=False, part=part)
+        linsolve.release_factorisations()
+        phases.clear()
+        split = StepSolver("pardiso", symmetric=False, split=part)
+        x = split.solve(K2, b, 1e-10, min_krylov=0)
+        assert phases.count(11) == 1
+        assert np.linalg.norm(K2 @ x - b) <= 1e-10 * np.linalg.norm(b)
