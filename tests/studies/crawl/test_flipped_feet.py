@@ -111,7 +111,7 @@ def test_the_flipped_feet_plates_are_held_until_friction(monkeypatch):
 
     monkeypatch.setattr(crawl_model, "folded_feet", lambda model, *a: (np.zeros(model.n_dofs), "folded"))
     for feet in ("backward", "paper"):
-        setup = replace(_setup(70.0), feet=feet)
+        setup = replace(_setup(70.0), feet=feet, thickness_layers=2)
         design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
         cm = build(mesh, _law(), design, setup)
         m = cm.model
