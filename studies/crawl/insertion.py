@@ -18,8 +18,10 @@ Newton settings (`CRAWL_NEWTON`, `AUGMENT`, `MAX_CUTBACKS`, `GROUND_HOLD`, the c
 and slip band), the linear solver, `FORMAT`, and the softcrawl version (`fem.checkpoint`).
 Bump `FORMAT` when the insertion's code changes without a version bump (an editable install).
 The flipped feet's key also names how their folds are held (`fold_held`, record 078: each foot's
-actuator face), so that an entry folded with both hub tops held is not taken for it, while the
-other feet's keys keep their value.
+actuator face) and how their plates are held until friction (`plates_held`, record 079: ground
+springs of n k_p, `studies.crawl.model.plate_hold`), so that an entry folded with both hub tops
+held, or inserted on GROUND_HOLD, is not taken for it, while the other feet's keys keep their
+value.
 The feet's design and rubber (`CrawlSetup.foot`, `CrawlSetup.material`) reach the key through the
 mesh hash, the foot design's hash and the law's parameters, as they did when both were fixed: the
 key of every existing entry (the paper's foot in rubber-70a) keeps its meaning and its value.
@@ -79,9 +81,18 @@ def mesh_hash(mesh) -> str:
 def insertion_options(cm, mesh, foot_design, law) -> dict[str, Any]:
     """What the inserted state of the crawl model `cm` depends on (module docstring, "Key")."""
     setup = cm.setup
-    # the flipped feet's folds hold each foot's actuator face (record 078); an entry of the folds
-    # that held both hub tops has another key, and the other feet's keys keep their value
-    flipped = {"fold_held": "actuator_face"} if setup.flipped else {}
+    # the flipped feet's folds hold each foot's actuator face (record 078), and their plates are
+    # held by ground springs of n k_p until friction (record 079; k_p = PLATE_PENALTY E h, n, E
+    # and h from the mesh and the law, both in the key): an entry computed otherwise has another
+    # key, and the other feet's keys keep their value
+    flipped = (
+        {
+            "fold_held": "actuator_face",
+            "plates_held": {"ground_hold": "n k_p", "plate_penalty": crawl_model.PLATE_PENALTY},
+        }
+        if setup.flipped
+        else {}
+    )
     return flipped | {
         "format": FORMAT,
         "mesh": mesh_hash(mesh),

@@ -17,6 +17,17 @@ shrinks frictionless (axial position otherwise undetermined), then, once frictio
 at the inserted position and softened to GROUND_SOFT, so that the axial rigid mode is held by
 friction alone; their forces are reported (and compared with the friction forces).
 
+The flipped feet's plates are held (docs/decisions/079-backward-plates.md). While their wall
+closes and their rim springs are released, each plate's ground spring is as stiff as the plate
+holds its own nodes together, k_hold = n k_p (n the plate's nodes, k_p = 10^3 E h the plate's
+penalty per node, `plate_hold`): the plate then moves by R / (n k_p) under an axial reaction R, as
+little as its nodes move apart, i.e. it is held in all three directions up to the plate's own
+constraint error. On GROUND_HOLD (1000 N/mm) the quick 55 mm crawl's first contact sub-step
+wandered (a stall at 6.6e-2 of the force scale); held, it converges in 5 iterations. Friction
+takes over from that hold exactly as from GROUND_HOLD: the spring is re-based and softened, and
+the force it drops is the plates' reaction after the release, which the frictionless radial wall
+and the released rims leave at the actuator's tension (reported at the handover).
+
 Stages: insert (the wall shrinks from clear of the tip to the pipe radius, frictionless), friction
 (coefficients on), a ramp to the schedule's start pressures when they are not zero, then each
 cycle of the schedule, segment by segment (`steps` sub-steps per segment at least; run_stages
@@ -47,6 +58,7 @@ from softcrawl.studies.crawl.schedule import AxialLaw, Schedule
 from softcrawl.studies.foot.model import (
     AUGMENT,
     FOOT_NEWTON,
+    MIN_STEP_FRACTION,
     SLIP_BAND,
     SMOOTHING,
     insertion_wall,
@@ -68,6 +80,8 @@ CRAWL_NEWTON = replace(FOOT_NEWTON, stall_tol=STALL_TOL)
 
 GROUND_HOLD = 1.0e3  # N/mm: holds the plates during the frictionless insertion
 GROUND_SOFT = 1.0e-4  # N/mm: after friction is on (<< the skirts' axial stiffness, ~10 N/mm)
+#: The plates' penalty (`EqualDisplacement`), per node, in units of E h (h the median edge).
+PLATE_PENALTY = 1.0e3
 FACES = (("smooth", ("front", "rim")), ("grooved", ("back",)))
 
 
@@ -120,6 +134,7 @@ class CrawlModel:
     tip_radius: float
     terms: dict = field(default_factory=dict)  # "actuator", "ground_rear", "ground_front" -> term
     springs: object = None  # the flipped feet's rim springs (`studies.crawl.flipped`), else None
+    ground_hold: float = GROUND_HOLD  # N/mm: the ground springs until friction (module docstring)
     folded: np.ndarray | None = field(default=None, repr=False)  # the flipped feet's start state
     fold_message: str = ""
 
@@ -162,8 +177,8 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
         AxialLink(front, rear, 2, k0, 0.0, name="actuator"),
         AxialLink(rear, None, 2, GROUND_HOLD, name="ground_rear"),
         AxialLink(front, None, 2, GROUND_HOLD, name="ground_front"),
-        EqualDisplacement(rear, 2, 1e3 * youngs * size),
-        EqualDisplacement(front, 2, 1e3 * youngs * size),
+        EqualDisplacement(rear, 2, PLATE_PENALTY * youngs * size),
+        EqualDisplacement(front, 2, PLATE_PENALTY * youngs * size),
     ]
     bcs = [Dirichlet(tag, (0, 1), (0.0, 0.0)) for tag in (rear, front)]
     springs = rim_springs() if setup.flipped else None
@@ -176,8 +191,18 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
     }
     cm = CrawlModel(model, law, setup, foot_design.tip_radius, links, springs)
     if springs is not None:
+        cm.ground_hold = plate_hold(model, (rear, front), PLATE_PENALTY * youngs * size)
+        for name in ("ground_rear", "ground_front"):
+            links[name].set_load(cm.ground_hold, 0.0)
         cm.folded, cm.fold_message = folded_feet(model, material, foot_design, setup, springs)
     return cm
+
+
+def plate_hold(model: SolidModel, plates, penalty: float) -> float:
+    """k_hold = n k_p (N/mm): a ground spring on a plate's mean axial displacement as stiff as the
+    plate's penalty `penalty` (N/mm per node) holds its n nodes together (the largest n of
+    `plates`; module docstring, the flipped feet's plates)."""
+    return float(penalty * max(model.boundary_nodes(tag).size for tag in plates))
 
 
 def _clear_radius(cm: CrawlModel) -> float:
@@ -217,7 +242,12 @@ def _cycle_stages(
 
 def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf, start=None, on_cursor=None):
     """run_stages with the recorder on every converged sub-step, stopped (not converged) at the
-    wall-clock `deadline` (time.perf_counter() seconds); from the cursor `start` when resumed."""
+    wall-clock `deadline` (time.perf_counter() seconds); from the cursor `start` when resumed.
+    The setup stages (cycle < 0: insert, release, friction, start) also stop, as a recorded
+    failure, when a sub-step falls below `MIN_STEP_FRACTION` of the stage's step (the foot
+    study's guard): an insertion that grinds in sub-steps of 1e-4 mm of wall travel (record 078)
+    ends there instead of running until it is killed. The cycles are left as they were: their
+    grinding is bounded by `CrawlSetup.max_wall_s` (`WallBudgetExceeded`)."""
     names = [s.name for s in stages]
 
     def on_step(step):
@@ -235,6 +265,7 @@ def _run(cm, stages, spans, x0, recorder, cycle, deadline=np.inf, start=None, on
         max_cutbacks=MAX_CUTBACKS,
         on_step=on_step,
         max_wall_s=budget,
+        min_step_fraction=MIN_STEP_FRACTION if cycle < 0 else None,
         start=start,
         on_cursor=on_cursor,
         **AUGMENT,

@@ -228,3 +228,76 @@ def test_the_crawl_wall_is_the_pipe_of_its_setup():
     assert wall_at(0.0).radius == 39.5 and wall_at(1.0).radius == 32.5
     with pytest.raises(InputError):
         insertion_wall(Pipe(kind="elbow", diameter=65.0), 39.5)
+
+
+class _TighteningSolver:
+    """A scripted Newton solver (no FE) for a jam that tightens, as the 55 mm backward insertion
+    did (docs/decisions/078-backward-stall.md: sub-steps of 1e-3, then 1e-4 mm of wall travel): a
+    sub-step converges (in 8 iterations: no regrowth) only when it is at most `h_ok`, and each
+    converged one halves `h_ok`, so the cut-backs in a row stay few while the sub-steps shrink."""
+
+    def __init__(self, model, options):
+        from types import SimpleNamespace
+
+        self.h_ok, self.last, self.iterations, self.assembly_s = 0.05, 0.0, 0, 0.0
+        self.linear = SimpleNamespace(seconds=0.0)
+
+    def load_step(self, x, P, f):
+        from softcrawl.fem.newton import Diverged, NewtonRecord
+
+        if f - self.last > self.h_ok * (1.0 + 1e-12):
+            raise Diverged("residual stalls")
+        self.last, self.h_ok = f, 0.5 * self.h_ok
+        return np.array([f]), NewtonRecord((1.0,) * 8 + (1e-9,), True)
+
+
+def _tightening_run(monkeypatch, cycle: int):
+    from types import SimpleNamespace
+
+    from softcrawl.fem import contact_stages
+    from softcrawl.fem.contact_stages import Stage
+    from softcrawl.studies.crawl import model as crawl_model
+
+    monkeypatch.setattr(contact_stages, "NewtonSolver", _TighteningSolver)
+    model = SimpleNamespace(contacts=[], chambers=[], commit=lambda x: None)
+    model.initial_state = lambda: np.zeros(1)
+    cm = SimpleNamespace(model=model)
+    recorder = SimpleNamespace(record=lambda *a: None)
+    span = [(0.0, 0.0, np.zeros(3), np.zeros(3))]
+    stages = [Stage("insert" if cycle < 0 else "cycle0-seg0", factor=1.0, steps=4)]
+    return crawl_model._run(cm, stages, span, np.zeros(1), recorder, cycle)
+
+
+def test_a_setup_stage_that_grinds_stops_at_the_smallest_sub_step(monkeypatch):
+    """The crawl's setup stages stop, as a recorded failure, once a sub-step falls below
+    MIN_STEP_FRACTION (1e-3) of the stage's step (the foot study's guard); before, `run_crawl`
+    passed no floor and the 55 mm backward insertion ground on in sub-steps of 1e-4 mm until it
+    was killed (record 078). The cycles keep running without it (here down to the float
+    resolution of the stage parameter, which stops them too)."""
+    from softcrawl.studies.foot.model import MIN_STEP_FRACTION
+
+    setup = _tightening_run(monkeypatch, -1)
+    assert not setup.converged
+    assert f"min_step_fraction = {MIN_STEP_FRACTION:g}" in setup.message and "'insert'" in setup.message
+    # it stopped at the first sub-step below 1e-3 of the stage's step (0.25): the converged ones kept
+    sizes = np.diff([0.0] + [s.factor for s in setup.steps])
+    assert sizes.min() >= MIN_STEP_FRACTION * 0.25 and len(setup.steps) < 12
+    cycle = _tightening_run(monkeypatch, 0)
+    assert not cycle.converged and "min_step_fraction" not in cycle.message
+    assert len(cycle.steps) > len(setup.steps)
+
+
+def test_the_guard_is_passed_to_the_setup_stages_only(monkeypatch):
+    from types import SimpleNamespace
+
+    from softcrawl.fem.contact_stages import Stage
+    from softcrawl.studies.crawl import model as crawl_model
+    from softcrawl.studies.foot.model import MIN_STEP_FRACTION
+
+    seen = []
+    monkeypatch.setattr(crawl_model, "run_stages", lambda *a, **k: seen.append(k["min_step_fraction"]))
+    cm = SimpleNamespace(model=None)
+    span = [(0.0, 0.0, np.zeros(3), np.zeros(3))]
+    for cycle in (-1, 0, 3):
+        crawl_model._run(cm, [Stage("x")], span, None, None, cycle)
+    assert seen == [MIN_STEP_FRACTION, None, None]

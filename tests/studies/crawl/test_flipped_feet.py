@@ -100,3 +100,54 @@ def test_the_folded_feet_start_in_equilibrium_in_the_55mm_pipe():
         term.set_surface(wall)
     _, record = solver.load_step(cm.folded, P, 0.0)  # raised Diverged (a stall at 0.23) before
     assert record.converged
+
+
+def test_the_flipped_feet_plates_are_held_until_friction(monkeypatch):
+    """Record 079: while the wall closes on the flipped feet and their rims are released, each
+    plate's ground spring is n k_p (n the plate's nodes, k_p = PLATE_PENALTY E h its penalty per
+    node), not GROUND_HOLD, on which the 55 mm quick crawl's first contact sub-step wandered;
+    the paper's feet keep GROUND_HOLD (their insertion, and its cache key, unchanged)."""
+    from softcrawl.studies.crawl import model as crawl_model
+
+    monkeypatch.setattr(crawl_model, "folded_feet", lambda model, *a: (np.zeros(model.n_dofs), "folded"))
+    for feet in ("backward", "paper"):
+        setup = replace(_setup(70.0), feet=feet, thickness_layers=2)
+        design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
+        cm = build(mesh, _law(), design, setup)
+        m = cm.model
+        grounds = [cm.terms[f"ground_{f}"] for f in ("rear", "front")]
+        if feet == "backward":
+            plates = [t for t in m.terms if type(t).__name__ == "_EqualTerm"]
+            n = max(m.boundary_nodes(t).size for t in ("rear:hub_top", "front:hub_bottom"))
+            k_p = plates[0].K[0, 0, 0] / (1.0 - 1.0 / plates[0].dofs.shape[0])  # the penalty per node
+            assert cm.ground_hold == pytest.approx(n * k_p, rel=1e-12) and cm.ground_hold > 1e6
+        else:
+            assert cm.ground_hold == crawl_model.GROUND_HOLD
+        assert all(g.stiffness == cm.ground_hold and g.preload == 0.0 for g in grounds)
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(3600)
+def test_the_first_contact_sub_step_converges_with_the_plates_held():
+    """The 55 mm quick backward crawl (24 sectors, 4 insertion sub-steps) from its folded feet: the
+    insertion's first sub-step (wall 30.46 -> 29.72 mm), the first to reach the feet's bow, is one
+    Newton solve. With the plates held (ground springs of n k_p, record 079) it converges in 5
+    iterations; on GROUND_HOLD (1000 N/mm, the code before) it stalled at a relative residual of
+    6.6e-2 after 12 iterations (record 078's table, remeasured in record 079), and the insertion
+    ground on in cut-backs."""
+    from softcrawl.fem.newton import NewtonSolver
+    from softcrawl.studies.crawl.model import CRAWL_NEWTON, _clear_radius
+    from softcrawl.studies.foot.model import insertion_wall
+
+    setup = _setup(55.0)
+    design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
+    cm = build(mesh, _law(), design, setup)
+    assert cm.folded is not None, cm.fold_message
+    wall = insertion_wall(setup.pipe, _clear_radius(cm))(1.0 / setup.insert_steps)
+    assert wall.radius < 29.8  # inside the folded feet's bow (29.96 mm): the wall bites
+    for term in cm.model.contacts:
+        term.set_surface(wall)
+    x, record = NewtonSolver(cm.model, CRAWL_NEWTON).load_step(cm.folded, np.zeros(1), 0.0)
+    assert record.converged and record.iterations <= 8
+    # the wall carries the rear foot's bow there (record 078: 72-192 active points of its grooved face)
+    assert cm.model.contacts[1].report(x).normal_force > 1.0  # N

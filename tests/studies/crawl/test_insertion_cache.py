@@ -80,6 +80,19 @@ def test_the_flipped_feet_key_names_how_their_folds_are_held():
     assert "fold_held" not in ins.insertion_options(_cm(), _mesh(), FOOT, LAW)
 
 
+def test_the_flipped_feet_key_names_how_their_plates_are_held(monkeypatch):
+    """Record 079: the flipped feet's plates are held by ground springs of n k_p until friction;
+    an entry inserted on GROUND_HOLD must not be read for it, nor one of another plate penalty,
+    and the paper's feet's key keeps its value."""
+    flipped = ins.insertion_options(_cm(feet="backward"), _mesh(), FOOT, LAW)
+    assert flipped["plates_held"] == {"ground_hold": "n k_p", "plate_penalty": 1.0e3}
+    paper = _key()
+    assert "plates_held" not in ins.insertion_options(_cm(), _mesh(), FOOT, LAW)
+    before = _key(_cm(feet="backward"))
+    monkeypatch.setattr(ins.crawl_model, "PLATE_PENALTY", 1.0e2)
+    assert _key(_cm(feet="backward")) != before and _key() == paper
+
+
 def test_the_key_ignores_what_comes_after_the_insertion():
     """Friction, the cycles, their sub-steps and the wall budget do not enter the insertion."""
     base = _key()
