@@ -141,12 +141,8 @@ class NewtonSolver:
         self.free = model.free_dofs
         self.assembly_s = 0.0
         self.iterations = 0
-        self.linear = StepSolver(
-            options.solver,
-            model.symmetric_tangent,
-            options.reuse_factor,
-            split=options.symmetric_part,
-        )
+        symmetric = model.symmetric_tangent
+        self.linear = StepSolver(options.solver, symmetric, options.reuse_factor, options.symmetric_part)
         self.free_u = self.free[self.free < model.n_u]
         self._unheld = len(self.free_u) == model.n_u  # no displacement prescribed (module docstring)
         self._volume = float(model.dx.sum())
