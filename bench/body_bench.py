@@ -53,6 +53,8 @@ def main(argv=None) -> int:
     ap.add_argument("--mu", type=float, default=0.5, help="friction of both faces (CrawlSetup's 0.5)")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.cycles < 0:
+        ap.error(f"--cycles: a number of cycles >= 0, not {args.cycles}")
     if not 0.0 <= args.mu <= 5.0:
         ap.error(f"--mu: a friction coefficient in [0, 5], not {args.mu}")
     bm = build_body(CrawlSetup(pipe_diameter=args.pipe, mu_smooth=args.mu, mu_grooved=args.mu), args.mesh)

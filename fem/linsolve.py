@@ -143,6 +143,7 @@ class LinearSolver:
         self._lu = None
         self._analysed_pattern = None
         self.cost_ratio = None  # time of a factorisation / time of a substitution, if known
+        self.part = False  # the factorisation held is of a matrix's symmetric part (`factor`)
 
     def factor(self, A: sp.csr_matrix, symmetric: bool | None = None, part: bool = False) -> None:
         """Factorise A. A symmetric matrix (`symmetric`, or when None a matrix from
@@ -293,7 +294,7 @@ class StepSolver:
         GMRES on K0 to `SUBSTITUTE_RTOL` when the factorisation held is of its symmetric part."""
         t0 = time.perf_counter()
         try:
-            if getattr(self.direct, "part", False):
+            if self.direct.part:
                 X = self._krylov(self._factored, B, self.SUBSTITUTE_RTOL, None, self.MAX_KRYLOV)
                 if X is not None:
                     return X

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.errors import SolverInputError
 from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
 from softcrawl.studies.crawl.schedule import Schedule
 from softcrawl.studies.crawl_fe.model import FEET, BodyModel
@@ -87,6 +88,8 @@ def crawl_cycles(
     """`cycles` cycles of `schedule` from the inserted state x0 (module docstring). All segments
     are the stages of one `run_stages` call, so that each starts from the pressures where the last
     ended; the outputs are read at each stage's end, with the contact history of that state."""
+    if int(cycles) != cycles or cycles < 1:
+        raise SolverInputError("cycles", f"a whole number of cycles >= 1, not {cycles!r}")
     model, probe = bm.model, FootProbe(bm.model.space)
     P = np.asarray(schedule.pressures_kpa, dtype=float)
     last = len(P) - 1
@@ -98,7 +101,7 @@ def crawl_cycles(
     where = {stage.name: item for stage, item in zip(stages, plan)}
     states: list[BodyState] = []
     strides: list[float] = []
-    counted = [0]  # Newton iterations up to the last stage end
+    segment = [0]  # Newton iterations of the converged sub-steps of the current segment
     start = [probe.z(x0)]
 
     def at_step(step) -> None:
@@ -110,7 +113,6 @@ def crawl_cycles(
         x = step.x
         pipe = record(bm, step.stage, x)  # the contact history is this state's here
         z = probe.z(x)
-        done = sum(s.newton for s in states)
         states.append(
             BodyState(
                 cycle,
@@ -121,7 +123,7 @@ def crawl_cycles(
                 pipe.normal,
                 {foot: float(pipe.friction[foot][2]) for foot in FEET},
                 max(abs(v) for v in pipe.holds.values()),
-                counted[0] - done,  # the segment's converged sub-steps' iterations
+                segment[0],
                 x,
             )
         )
@@ -129,9 +131,10 @@ def crawl_cycles(
             strides.append(float(np.mean([z[f] - start[0][f] for f in FEET])))
         if row == last or cycle == 0:
             start[0] = z  # the next cycle begins here
+        segment[0] = 0
 
     def count(step) -> None:
-        counted[0] += sum(step.iterations)
+        segment[0] += sum(step.iterations)
         at_step(step)
 
     res = run_stages(

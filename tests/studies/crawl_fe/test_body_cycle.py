@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from softcrawl.fem.discretisation import Discretisation
+from softcrawl.fem.errors import SolverInputError
 from softcrawl.geometry.body_mesh import mesh_body
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.studies.crawl.schedule import Schedule
@@ -96,3 +97,12 @@ def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
     assert [s.pressure for s in calls] == [[0.05] * 3, [0.1] * 3]  # to the first row, then the cycle
     assert out.strides == pytest.approx((0.25,))  # the ramp to the first row is not the cycle's
     assert [s.cycle for s in out.states] == [0, 1]
+
+
+@pytest.mark.parametrize("cycles", [0, -1, 1.5])
+def test_a_count_of_cycles_below_one_names_the_parameter(space, cycles):
+    gait = Schedule("test", np.array([0.0, 1.0]), np.array([[0.0] * 3, [100.0] * 3]), "test")
+    bm = SimpleNamespace(model=SimpleNamespace(space=space))
+    with pytest.raises(SolverInputError) as err:
+        cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=cycles)
+    assert err.value.parameter == "cycles"
