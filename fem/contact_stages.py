@@ -178,6 +178,7 @@ def run_stages(
     stages,
     *,
     x0: np.ndarray | None = None,
+    factor0: float = 0.0,
     options: NewtonOptions | None = None,
     penetration_tol: float = 1e-3,
     max_augment: int = 4,
@@ -188,7 +189,8 @@ def run_stages(
     start: Cursor | None = None,
     on_cursor: Callable[[Cursor], None] | None = None,
 ) -> StagedResult:
-    """Follow `stages` from x0 (default: undeformed) at zero pressure and factor 0, or from
+    """Follow `stages` from x0 (default: undeformed) at zero pressure and load factor `factor0`
+    (the factor x0 is in equilibrium with: 1 for a body already under its weight), or from
     `start` (module docstring, "Resuming"; x0 is then ignored); give up (not converged) once
     `max_wall_s` seconds have passed or a sub-step would be smaller than `min_step_fraction` /
     `stage.steps` (None: no limit)."""
@@ -203,7 +205,7 @@ def run_stages(
     t0 = time.perf_counter()
     x = model.initial_state() if x0 is None else x0.copy()
     P = np.zeros(max(len(model.chambers), 1))
-    f = 0.0
+    f = float(factor0)
     if start is not None:
         if not 0 <= start.stage < len(stages):
             raise SolverInputError("start", f"stage {start.stage} of a run of {len(stages)} stages")

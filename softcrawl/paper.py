@@ -88,6 +88,9 @@ TABLE2_MM_S = {
     70.0: (18.3, 16.7),
     75.0: (17.6, 16.2),
 }
+#: Vertical crawl (Section VII-D-2, Fig. 23; pipe diameter and gait not stated, "a fixed gait"):
+#: upward and downward speeds, mm/s.
+VERTICAL_MM_S = {"up": 12.9, "down": 19.1}
 #: Sliding friction in the 70 mm pipe, from the extensions outside and inside the pipe (eq. 26,
 #: Section VII-D), N: the resistance of the one foot that slides (docs/decisions/062-crawl-reconciliation.md).
 FRICTION_N = {"forward": 15.3, "backward": 16.9}

@@ -2,12 +2,24 @@
 
 The model: docs/decisions/051-crawl-model.md.
 
-    softcrawl crawl [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3] [--schedule CSV]
+    softcrawl crawl [--body reduced|fe] [--pipe straight|vertical-up|vertical-down|elbow]
+                    [--bend-radius MM] [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3]
+                    [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
                     [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric]
                     [--mesher revolved|tetwild] [--sectors N] [--layers N] [--edge-length MM]
                     [--material rubber-70a] [--foot-angle DEG]
                     [--gif | --animation PATH.gif] [--resume] --out DIR
+
+--body reduced (the default): the reduced model of this docstring, FE feet and the actuators as
+their axial law. --body fe: the whole robot as one FE body (three ePSAs with their winding, the
+rings, the hubs and both feet; `studies.crawl_fe`, docs/decisions/076-one-body.md), in a straight,
+vertical (under its weight, heading up or down) or elbow pipe (its bend of centreline radius
+--bend-radius towards +x, starting 5 mm ahead of the front skirt); --quick is the quick body mesh,
+otherwise the default one (~2x the DOFs). It writes states.csv, cycles.csv, summary.json, crawl.png
+and vtu/ (`studies.crawl_fe.files`); the reduced model's feet options (--backward, --symmetric,
+--mesher, --sectors, --layers, --mesh-size, --foot-angle), --resume, --insertion-cache and the GIF
+are refused with --body fe (exit 2).
 
 The friction coefficients not given take the committed feet identification's
 (`studies.foot.identify.prediction_friction`, docs/decisions/070-identify-feet.md: today 0.3 on
@@ -65,6 +77,8 @@ from softcrawl.studies.crawl.schedule import SCHEDULES
 
 IDENTIFIED = "the committed feet identification (results/identify/feet/feet.json)"
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
+BODIES = ("reduced", "fe")
+PIPE_KINDS = ("straight", "vertical-up", "vertical-down", "elbow")  # studies.crawl_fe.pipe.PIPES
 
 
 def register(subparsers) -> None:
@@ -77,6 +91,17 @@ def register(subparsers) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="\n".join(__doc__.splitlines()[1:]),
     )
+    p.add_argument(
+        "--body", default="reduced", choices=BODIES,
+        help="reduced: FE feet, actuators as their axial law (default); fe: the whole robot in FE",
+    )  # fmt: skip
+    p.add_argument(
+        "--pipe", default="straight", choices=PIPE_KINDS,
+        help="the pipe of --body fe (default straight; the reduced model's is straight)",
+    )  # fmt: skip
+    add_number(p, "--bend-radius", help="--pipe elbow: the bend's centreline radius", unit="mm",
+               default_text="none: needed with --pipe elbow",
+               minimum=0.0, min_open=True, maximum=1000.0)  # fmt: skip
     add_number(p, "--pipe-diameter", help="pipe inner diameter", unit="mm", default=70.0,
                minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True, max_open=True)  # fmt: skip
     p.add_argument(
@@ -146,6 +171,15 @@ def run(args) -> int:
     from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
     from softcrawl.studies.crawl.schedule import preset, read_csv
 
+    if args.body == "fe":
+        from softcrawl.studies.commands.crawl_fe import run_body
+
+        return run_body(args, friction_settings)
+    if args.pipe != "straight" or args.bend_radius is not None:
+        raise CommandLineError(
+            "pipe" if args.pipe != "straight" else "bend-radius",
+            "the reduced crawl has a straight horizontal pipe only: add --body fe",
+        )
     mesh = mesh_settings(args)  # before any folder is made
     friction = friction_settings(args)  # before any folder is made
     body_material(args.material, "material")  # a preset the FE law takes, before any work

@@ -6,13 +6,20 @@ schedule (rows k -> k + 1 of `Schedule.times` and `.pressures_kpa`, one cycle) i
 (kPa converted to MPa once, here) in `steps` sub-steps, cut back where Newton needs it. Each
 chamber has its own pressure, so a schedule with unequal pressures bends the body.
 
-Outputs per segment end (`BodyState`): the time in the cycle, the pressures, each foot's axial
-position and the body's lateral drift, each foot's wall normal force and axial friction force,
-the holds' largest force. A foot's axial position is the mean u_z of its hub face that the
-holds use (`rear_bottom`, `front_top`; +z is forward, the direction the skirts' front faces
-look to); the lateral drift is the mean (u_x, u_y) of both faces. The stride of a cycle is the
-advance of the body, the mean of both feet's advances over it (equal to either foot's once the
-cycle's gait closes: the actuators back at their start length).
+Outputs per segment end (`BodyState`): the time in the cycle, the pressures and the chamber
+volumes, each foot's axial displacement and its position on the pipe's centreline, the body's
+lateral drift, bend and heading, each foot's wall normal force and axial friction force, the
+holds' largest force. A foot is placed by the hub face that the holds use (`rear_bottom`,
+`front_top`; +z is forward, the direction the skirts' front faces look to): its axial
+displacement is the face's mean u_z, its centreline position the arc length s of the point of
+the pipe's centreline nearest to the face's deformed centroid (`ElbowPipe.locate`; on a straight
+pipe the centroid's coordinate along the axis). The lateral drift is the mean (u_x, u_y) of both
+faces. Each face is flat, so its deformed nodes' best-fit plane (the smallest singular vector of
+the centred points) gives its normal n_f: the body's bend is the angle between the two faces'
+normals, its heading the angle of the front face's normal to +z (the entry leg's axis). The
+stride of a cycle is the advance of the body along the centreline, the mean of both feet's
+advances in s over it (equal to either foot's once the cycle's gait closes: the actuators back at
+their start length); its turn the change of the heading.
 """
 
 from __future__ import annotations
@@ -39,8 +46,12 @@ class BodyState:
     cycle: int  # from 1 (0: the ramp to a schedule's first row)
     t: float  # s, in the cycle
     pressures_kpa: tuple[float, float, float]
-    z: dict  # foot -> axial position (mm)
+    volumes: tuple[float, float, float]  # chamber volumes (mm^3)
+    z: dict  # foot -> axial displacement (mm)
+    arc: dict  # foot -> position on the centreline (mm)
     drift: tuple[float, float]  # mean lateral displacement (mm)
+    bend_deg: float  # angle between the two hub faces' normals
+    heading_deg: float  # angle of the front hub face's normal to +z
     normal: dict  # foot -> wall normal force (N)
     friction_z: dict  # foot -> axial friction force of the wall (N)
     holds_max: float  # N
@@ -53,7 +64,8 @@ class BodyCrawl:
     converged: bool
     message: str
     states: tuple[BodyState, ...]
-    strides: tuple[float, ...]  # mm per completed cycle
+    strides: tuple[float, ...]  # mm per completed cycle, along the centreline
+    turns: tuple[float, ...]  # deg per completed cycle, the heading's change
     newton_iterations: int
     assembly_s: float
     solve_s: float
@@ -61,14 +73,43 @@ class BodyCrawl:
 
 
 class FootProbe:
-    """Each foot's axial position and the lateral drift at a state (module docstring), on the
-    discretisation `space` of the body's model."""
+    """Each foot's axial displacement and centreline position, the lateral drift, the bend and
+    the heading at a state (module docstring), on the discretisation `space` of the body's model
+    in the pipe `wall` (a `CylinderWall` or an `ElbowPipe`; None: the z axis)."""
 
-    def __init__(self, space):
+    def __init__(self, space, wall=None):
         self.nodes = {foot: space.boundary_nodes(tag) for foot, tag in FOOT_FACES.items()}
+        self.points = {foot: np.asarray(space.nodes)[:, n].T for foot, n in self.nodes.items()}
+        self.wall = wall
 
     def z(self, x: np.ndarray) -> dict:
         return {foot: float(x[3 * n + 2].mean()) for foot, n in self.nodes.items()}
+
+    def deformed(self, x: np.ndarray, foot: str) -> np.ndarray:
+        n = self.nodes[foot]
+        return self.points[foot] + np.column_stack([x[3 * n], x[3 * n + 1], x[3 * n + 2]])
+
+    def arc(self, x: np.ndarray) -> dict:
+        out = {}
+        for foot in self.nodes:
+            c = self.deformed(x, foot).mean(axis=0)
+            if hasattr(self.wall, "locate"):
+                out[foot] = float(self.wall.locate(c)[1][0])
+            else:
+                axis = np.asarray(getattr(self.wall, "axis", (0.0, 0.0, 1.0)))
+                out[foot] = float((c - np.asarray(getattr(self.wall, "centre", np.zeros(3)))) @ axis)
+        return out
+
+    def normal(self, x: np.ndarray, foot: str) -> np.ndarray:
+        p = self.deformed(x, foot)
+        n = np.linalg.svd(p - p.mean(axis=0), full_matrices=False)[2][-1]
+        return n if n[2] >= 0 else -n
+
+    def angles(self, x: np.ndarray) -> tuple[float, float]:
+        """(bend, heading) in degrees (module docstring)."""
+        rear, front = self.normal(x, "rear"), self.normal(x, "front")
+        bend = np.degrees(np.arccos(np.clip(rear @ front, -1.0, 1.0)))
+        return float(bend), float(np.degrees(np.arccos(np.clip(front[2], -1.0, 1.0))))
 
     def drift(self, x: np.ndarray) -> tuple[float, float]:
         nodes = np.concatenate(list(self.nodes.values()))
@@ -84,13 +125,17 @@ def crawl_cycles(
     steps: int = 4,
     max_wall_s: float | None = None,
     on_step=None,
+    factor: float = 0.0,
+    wall=None,
 ) -> BodyCrawl:
     """`cycles` cycles of `schedule` from the inserted state x0 (module docstring). All segments
     are the stages of one `run_stages` call, so that each starts from the pressures where the last
-    ended; the outputs are read at each stage's end, with the contact history of that state."""
+    ended; the outputs are read at each stage's end, with the contact history of that state.
+    `factor`: the load factor held (x0's: 1 once the body's weight is on); `wall`: the pipe
+    (`FootProbe`)."""
     if int(cycles) != cycles or cycles < 1:
         raise SolverInputError("cycles", f"a whole number of cycles >= 1, not {cycles!r}")
-    model, probe = bm.model, FootProbe(bm.model.space)
+    model, probe = bm.model, FootProbe(bm.model.space, wall)
     P = np.asarray(schedule.pressures_kpa, dtype=float)
     last = len(P) - 1
     # (cycle, row): the inserted state is at zero pressure, so a schedule that starts elsewhere
@@ -101,8 +146,9 @@ def crawl_cycles(
     where = {stage.name: item for stage, item in zip(stages, plan)}
     states: list[BodyState] = []
     strides: list[float] = []
+    turns: list[float] = []
     segment = [0]  # Newton iterations of the converged sub-steps of the current segment
-    start = [probe.z(x0)]
+    start = [(probe.arc(x0), probe.angles(x0)[1])]
 
     def at_step(step) -> None:
         if on_step is not None:
@@ -112,14 +158,18 @@ def crawl_cycles(
         cycle, row = where[step.stage]
         x = step.x
         pipe = record(bm, step.stage, x)  # the contact history is this state's here
-        z = probe.z(x)
+        arc, (bend, heading) = probe.arc(x), probe.angles(x)
         states.append(
             BodyState(
                 cycle,
                 float(schedule.times[row]),
                 tuple(float(p) for p in P[row]),
-                z,
+                tuple(float(model.chamber_volume(x, i)) for i in range(3)),
+                probe.z(x),
+                arc,
                 probe.drift(x),
+                bend,
+                heading,
                 pipe.normal,
                 {foot: float(pipe.friction[foot][2]) for foot in FEET},
                 max(abs(v) for v in pipe.holds.values()),
@@ -128,9 +178,10 @@ def crawl_cycles(
             )
         )
         if cycle >= 1 and row == last:
-            strides.append(float(np.mean([z[f] - start[0][f] for f in FEET])))
+            strides.append(float(np.mean([arc[f] - start[0][0][f] for f in FEET])))
+            turns.append(heading - start[0][1])
         if row == last or cycle == 0:
-            start[0] = z  # the next cycle begins here
+            start[0] = (arc, heading)  # the next cycle begins here
         segment[0] = 0
 
     def count(step) -> None:
@@ -141,6 +192,7 @@ def crawl_cycles(
         model,
         stages,
         x0=x0,
+        factor0=factor,
         options=CRAWL_NEWTON,
         max_cutbacks=MAX_CUTBACKS,
         max_wall_s=max_wall_s,
@@ -153,6 +205,7 @@ def crawl_cycles(
         message,
         tuple(states),
         tuple(strides),
+        tuple(turns),
         res.newton_iterations,
         res.assembly_s,
         res.solve_s,

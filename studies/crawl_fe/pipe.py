@@ -1,10 +1,17 @@
 r"""The one body put into its straight pipe: the frictionless insertion, then friction, then loads.
 
+The pipe (`PIPES`, `pipe_wall`): the straight CylinderWall on the body's axis z, the same pipe
+vertical with the body's weight heading up (gravity -z) or down (+z), or the `fem.pipe_surfaces.
+ElbowPipe` whose entry leg holds the body and whose bend (radius R, towards +x) starts `ELBOW_AHEAD`
+mm ahead of the front skirt's tip. The straight pipe is horizontal without gravity, so that it
+compares with the reduced crawl, which has none (the 0.7 N weight against wall forces of ~50 N per
+foot: the vertical pipes show its effect).
+
 Phases (each a `fem.contact_stages.run_stages` call, as the reduced crawl's `studies.crawl.model`):
 
-    insert     the CylinderWall shrinks from clear of the skirt tips (tip radius + 0.5 mm) to the
-               pipe's radius in `insert_steps` sub-steps, frictionless, the six holds stiff
-               (`model.HOLD_STIFF`): in a frictionless cylinder they alone fix the axial
+    insert     the wall (any of the pipes, its radius moved by `with_radius`) shrinks from clear
+               of the skirt tips (tip radius + 0.5 mm) to the pipe's radius in `insert_steps`
+               sub-steps, frictionless, the six holds stiff (`model.HOLD_STIFF`): in a frictionless cylinder they alone fix the axial
                translation and the twist;
     friction   the holds re-based at the inserted state and softened to `model.HOLD_SOFT`, the
                friction coefficients of `setup` switched on (mu_smooth on the front faces and
@@ -25,10 +32,35 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
 from softcrawl.studies.crawl_fe.model import FEET, HOLD_SOFT, BodyModel
 from softcrawl.studies.foot.model import AUGMENT
+
+#: The pipes of the FE-body crawl: name -> gravity in units of g (None: none; module docstring).
+PIPES = {
+    "straight": None,
+    "vertical-up": (0.0, 0.0, -1.0),
+    "vertical-down": (0.0, 0.0, 1.0),
+    "elbow": None,
+}
+#: mm between the front skirt's tip (undeformed) and the start of the elbow's bend.
+ELBOW_AHEAD = 5.0
+
+
+def pipe_wall(kind: str, radius: float, *, front_tip: float = 0.0, bend_radius: float | None = None):
+    """The rigid wall of pipe `kind` (`PIPES`) of inner `radius`; for the elbow, its bend of
+    centreline radius `bend_radius` starts ELBOW_AHEAD past `front_tip` (the front skirt's largest
+    z, mm)."""
+    if kind not in PIPES:
+        raise SolverInputError("pipe", f"one of {', '.join(PIPES)}, not {kind!r}")
+    if kind != "elbow":
+        return CylinderWall(radius)
+    if bend_radius is None:
+        raise SolverInputError("bend_radius", "an elbow needs its bend radius (mm)")
+    return ElbowPipe(radius, bend_radius, entry=max(front_tip + ELBOW_AHEAD, 0.0))
 
 
 @dataclass(frozen=True)
@@ -76,16 +108,19 @@ def into_pipe(
     load_steps: int = 0,
     max_wall_s: float | None = None,
     on_step=None,
+    wall=None,
 ) -> PipeRun:
     """Insert, switch friction on, then (load_steps > 0) ramp the load factor (module docstring).
-    `on_step`: called with every converged `fem.contact_stages.StagedStep` (progress lines)."""
+    `on_step`: called with every converged `fem.contact_stages.StagedStep` (progress lines);
+    `wall`: the pipe's surface at its radius (`pipe_wall`; None: the straight pipe of `bm.setup`)."""
     setup, model = bm.setup, bm.model
     t0 = time.perf_counter()
     clear = bm.design.foot.tip_radius + 0.5
-    radius = setup.pipe.radius
+    wall = wall or CylinderWall(setup.pipe.radius)
+    radius = wall.radius
 
-    def wall_at(s: float) -> CylinderWall:
-        return CylinderWall(clear + s * (radius - clear))
+    def wall_at(s: float):
+        return wall.with_radius(clear + s * (radius - clear))
 
     n = len(model.contacts)
     mu = {

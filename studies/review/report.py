@@ -25,6 +25,7 @@ from pathlib import Path
 from softcrawl import __version__
 from softcrawl.console import detail
 from softcrawl.provenance import git_commit
+from softcrawl.studies.crawl_fe.report import crawl_fe
 from softcrawl.studies.html import page
 from softcrawl.studies.review import headline as H
 from softcrawl.studies.review import provenance as P
@@ -41,6 +42,7 @@ SECTIONS = (
     ("studies", "Studies: figures and tables", S.studies),
     ("robot", "The tied robot: Fig. 11 load and FE workspace", R.robot),
     ("crawl", "Crawling in a pipe: the gait in FE", R.crawl),
+    ("crawl-fe", "The whole robot crawling in FE: straight, vertical and elbow pipes", crawl_fe),
     ("material", "Material: the tensile fit and the presets", S.material),
     ("calibration", "Calibration of the body's modulus to the prototype", S.calibration),
     ("verify", "Verification of the solver (softcrawl verify)", S.verify),

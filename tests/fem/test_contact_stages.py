@@ -147,3 +147,30 @@ def test_sub_steps_below_the_parameters_resolution_stop_with_a_recorded_failure(
     assert not res.converged
     assert "floating-point resolution" in res.message and "'insert'" in res.message
     assert [s.factor for s in res.steps] == [0.5]  # the converged half is kept
+
+
+class _RecordingSolver:
+    """Converges at once and records the load factor of every solve."""
+
+    def __init__(self, model, options):
+        self.factors, self.iterations, self.assembly_s = [], 0, 0.0
+        self.linear = SimpleNamespace(seconds=0.0)
+        _RecordingSolver.last = self
+
+    def load_step(self, x, P, f):
+        self.factors.append(float(f))
+        return x, NewtonRecord((1.0, 1e-9), True)
+
+
+@pytest.mark.parametrize("factor0", [0.0, 1.0])
+def test_stages_that_keep_the_factor_keep_the_start_factor(monkeypatch, factor0):
+    """A body already under its weight (factor0 = 1) keeps it through stages that move only the
+    pressures (factor None); from the default start the factor stays 0, and a stage that sets one
+    moves it linearly from factor0."""
+    monkeypatch.setattr(cs, "NewtonSolver", _RecordingSolver)
+    stages = [cs.Stage("inflate", pressure=0.01, steps=2), cs.Stage("weight", factor=0.5, steps=2)]
+    res = cs.run_stages(_grinding_model(), stages, factor0=factor0)
+    assert res.converged
+    half = factor0 + 0.5 * (0.5 - factor0)
+    assert _RecordingSolver.last.factors == pytest.approx([factor0, factor0, half, 0.5])
+    assert [s.factor for s in res.steps] == pytest.approx([factor0, factor0, half, 0.5])

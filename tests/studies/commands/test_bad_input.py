@@ -44,6 +44,22 @@ CASES: list[tuple[str, str]] = [
     ("crawl --pipe-diameter 80 --out OUT", "pipe-diameter"),
     ("crawl --pipe-diameter nan --out OUT", "pipe-diameter"),
     ("crawl --gait gait9 --out OUT", "gait"),
+    ("crawl --body beam --out OUT", "body"),
+    ("crawl --pipe spiral --body fe --out OUT", "pipe"),
+    ("crawl --pipe vertical-up --out OUT", "pipe"),  # the reduced model's pipe is straight
+    ("crawl --bend-radius 60 --out OUT", "bend-radius"),
+    ("crawl --body fe --pipe elbow --out OUT", "bend-radius"),
+    ("crawl --body fe --pipe elbow --bend-radius 30 --out OUT", "bend-radius"),  # below the radius
+    ("crawl --body fe --pipe elbow --bend-radius -5 --out OUT", "bend-radius"),
+    ("crawl --body fe --bend-radius 60 --out OUT", "bend-radius"),  # not an elbow
+    ("crawl --body fe --backward --out OUT", "backward"),
+    ("crawl --body fe --symmetric --out OUT", "symmetric"),
+    ("crawl --body fe --mesher tetwild --out OUT", "mesher"),
+    ("crawl --body fe --sectors 32 --out OUT", "sectors"),
+    ("crawl --body fe --foot-angle 60 --out OUT", "foot-angle"),
+    ("crawl --body fe --resume --out OUT", "resume"),
+    ("crawl --body fe --gif --out OUT", "gif"),
+    ("crawl --body fe --material unobtainium --out OUT", "material"),
     ("crawl --cycles 0 --out OUT", "cycles"),
     ("crawl --pressure 150 --out OUT", "pressure"),
     ("crawl --cycle-time 0 --out OUT", "cycle-time"),

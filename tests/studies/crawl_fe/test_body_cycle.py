@@ -17,6 +17,8 @@ import pytest
 
 from softcrawl.fem.discretisation import Discretisation
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.pipe_surfaces import ElbowPipe
+from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.body_mesh import mesh_body
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.studies.crawl.schedule import Schedule
@@ -48,6 +50,38 @@ def test_a_rigid_translation_moves_both_feet_and_the_extension_only_the_front(sp
     front_top = X[2, space.boundary_nodes("front_top")]
     assert z["front"] == pytest.approx(0.01 * (front_top.mean() + hub), rel=1e-12)
     assert z["front"] > 1.0  # the front hub's top is ~120 mm up the body
+
+
+@pytest.mark.parametrize("angle", [0.0, 7.0, 30.0])
+def test_a_rigid_rotation_turns_the_heading_and_does_not_bend_the_body(space, angle):
+    """A rotation by `angle` about the x axis: the heading is the angle, the bend zero, and each
+    foot's centreline position that of its face's centroid along the pipe's axis, the same on a
+    straight pipe and on the entry leg of an elbow whose bend starts far ahead."""
+    c, s = np.cos(np.radians(angle)), np.sin(np.radians(angle))
+    X = space.nodes
+    rotated = np.array([X[0], c * X[1] - s * X[2], s * X[1] + c * X[2]])
+    x = _field(space, rotated - X)
+    for wall in (None, CylinderWall(35.0), ElbowPipe(35.0, 60.0, entry=1000.0)):
+        probe = cycle.FootProbe(space, wall)
+        bend, heading = probe.angles(x)
+        assert bend == pytest.approx(0.0, abs=1e-6) and heading == pytest.approx(angle, abs=1e-6)
+        for foot, nodes in probe.nodes.items():
+            assert probe.arc(x)[foot] == pytest.approx(rotated[2, nodes].mean(), rel=1e-12)
+
+
+def test_opposite_tilts_of_the_two_faces_bend_the_body(space):
+    """The front face rotated by 10 deg about x and the rear face by -10 deg: a bend of 20 deg."""
+    probe = cycle.FootProbe(space)
+    X = space.nodes
+    u = np.zeros_like(X)
+    for foot, sign in (("rear", -1.0), ("front", 1.0)):
+        n = probe.nodes[foot]
+        a = np.radians(10.0 * sign)
+        zc = X[2, n].mean()
+        u[1, n] = np.cos(a) * X[1, n] - np.sin(a) * (X[2, n] - zc) - X[1, n]
+        u[2, n] = np.sin(a) * X[1, n] + np.cos(a) * (X[2, n] - zc) + zc - X[2, n]
+    bend, heading = probe.angles(_field(space, u))
+    assert bend == pytest.approx(20.0, abs=1e-6) and heading == pytest.approx(10.0, abs=1e-6)
 
 
 def _scripted(space, advance_per_segment):
@@ -83,7 +117,7 @@ def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
             normal={}, friction={f: np.zeros(3) for f in cycle.FEET}, holds={"h": 0.0}
         ),
     )
-    bm = SimpleNamespace(model=SimpleNamespace(space=space))
+    bm = SimpleNamespace(model=SimpleNamespace(space=space, chamber_volume=lambda x, i: 0.0))
     gait = Schedule("test", np.array([0.0, 1.0, 2.0]), np.array([[0.0] * 3, [100.0] * 3, [0.0] * 3]), "test")
     out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=2, steps=3)
     assert out.converged and out.strides == pytest.approx((0.5, 0.5))
@@ -102,7 +136,7 @@ def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
 @pytest.mark.parametrize("cycles", [0, -1, 1.5])
 def test_a_count_of_cycles_below_one_names_the_parameter(space, cycles):
     gait = Schedule("test", np.array([0.0, 1.0]), np.array([[0.0] * 3, [100.0] * 3]), "test")
-    bm = SimpleNamespace(model=SimpleNamespace(space=space))
+    bm = SimpleNamespace(model=SimpleNamespace(space=space, chamber_volume=lambda x, i: 0.0))
     with pytest.raises(SolverInputError) as err:
         cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=cycles)
     assert err.value.parameter == "cycles"

@@ -1,0 +1,104 @@
+"""`softcrawl crawl --body fe`: the whole robot as one FE body crawling in a pipe.
+
+The options are `softcrawl crawl`'s (studies/commands/crawl.py); this module checks the ones that
+apply to the FE body, refuses those that do not (exit 2, one line naming the option, before any
+work) and runs `studies.crawl_fe.files.run_and_write`. The friction not given is the committed
+feet identification's, as for the reduced crawl, so that the two crawl models differ only in how
+the body is modelled. The body's silicone is `studies.robot_fe.model.DEFAULT_MATERIAL` (the
+calibrated mu = 0.0638 MPa), stated in summary.json.
+"""
+
+from __future__ import annotations
+
+# Project modules are imported inside the functions that use them: softcrawl --help stays fast.
+
+#: Options of the reduced crawl that the FE body does not take: (dest, option, default).
+REDUCED_ONLY = (
+    ("backward", "backward", False),
+    ("symmetric", "symmetric", False),
+    ("mesher", "mesher", "revolved"),
+    ("sectors", "sectors", None),
+    ("layers", "layers", None),
+    ("edge_length", "mesh-size", None),
+    ("foot_angle", "foot-angle", 120.0),
+    ("resume", "resume", False),
+    ("insertion_cache", "insertion-cache", False),
+    ("gif", "gif", False),
+    ("animation", "animation", None),
+)
+#: Why each is refused.
+WHY = {
+    "backward": "the FE body crawls forward only so far",
+    "symmetric": "the FE body has the paper's feet only so far",
+    "foot-angle": "the FE body has the paper's 120 deg feet only so far",
+    "resume": "the FE-body run is not checkpointed yet",
+    "insertion-cache": "the cache holds the reduced model's insertions",
+    "gif": "the FE body's states are in vtu/crawl.pvd (open them in ParaView)",
+    "animation": "the FE body's states are in vtu/crawl.pvd (open them in ParaView)",
+}
+
+
+def check_options(args) -> None:
+    """Exit 2 (CommandLineError) for an option the FE body does not take, or an elbow without a
+    bend radius it can have."""
+    from softcrawl.studies.commands.options import CommandLineError
+
+    for dest, option, default in REDUCED_ONLY:
+        if getattr(args, dest) != default:
+            why = WHY.get(
+                option, "it sets the reduced model's feet mesh; the FE body meshes itself (--quick)"
+            )
+            raise CommandLineError(option, f"not with --body fe: {why}")
+    radius = args.pipe_diameter / 2
+    if args.pipe == "elbow":
+        if args.bend_radius is None:
+            raise CommandLineError("bend-radius", "--pipe elbow needs the bend's centreline radius (mm)")
+        if not args.bend_radius > radius:
+            raise CommandLineError(
+                "bend-radius",
+                f"must exceed the pipe radius {radius:g} mm, not {args.bend_radius:g} mm: the bend's inner "
+                "wall would fold onto its axis",
+            )
+    elif args.bend_radius is not None:
+        raise CommandLineError("bend-radius", "applies to --pipe elbow only")
+
+
+def run_body(args, friction_settings) -> int:
+    """The FE-body crawl of the command line (module docstring); 1 when a stage diverged."""
+    from pathlib import Path
+
+    from softcrawl.console import progress
+    from softcrawl.studies.commands.options import body_material, output_folder
+    from softcrawl.studies.crawl.model import CrawlSetup
+    from softcrawl.studies.crawl.schedule import preset, read_csv
+    from softcrawl.studies.crawl_fe.files import run_and_write
+
+    check_options(args)
+    friction = friction_settings(args)
+    body_material(args.material, "material")
+    schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
+    out = Path(output_folder(args.out))
+    setup = CrawlSetup(
+        pipe_diameter=args.pipe_diameter,
+        mu_smooth=friction["mu_smooth"],
+        mu_grooved=friction["mu_grooved"],
+        material=args.material,
+        insert_steps=4 if args.quick else 8,
+        steps=args.steps or 4,
+        cycles=args.cycles,
+    )
+    mesh = "quick" if args.quick else "default"
+    progress(f"crawl --body fe: {schedule.name}, {setup.cycles} cycle(s), {args.pipe} pipe, {mesh} mesh")
+    converged, summary = run_and_write(
+        setup,
+        schedule,
+        out,
+        pipe=args.pipe,
+        bend_radius=args.bend_radius,
+        mesh=mesh,
+        precision=args.vtu_precision,
+        progress=progress,
+        friction_source=friction["source"],
+    )
+    print(summary["text"])
+    return 0 if converged else 1

@@ -1,0 +1,243 @@
+r"""Run the FE-body crawl and write its files (`softcrawl crawl --body fe`).
+
+    build_body (gravity by the pipe: `pipe.PIPES`) -> into_pipe (insert, friction, weight)
+      -> crawl_cycles (the schedule, each chamber its own pressure) -> OUT/
+
+OUT/states.csv     one row per state: the setup phases (insert, friction, load) at cycle 0,
+                   then every schedule segment's end (`cycle.BodyState`): time, the three
+                   pressures (kPa) and chamber volumes (mm^3), each foot's axial displacement and
+                   centreline position (mm), the lateral drift, the body's bend and heading (deg),
+                   each foot's wall normal force and axial friction (N), the holds' largest force;
+OUT/cycles.csv     one row per cycle: the advance along the centreline (stride, mm), speed
+                   = stride / cycle time (mm/s), the turn (deg);
+OUT/summary.json   the setup (pipe, gravity, mesh, friction and its source, the silicone and
+                   its modulus), the body's mass per part against the prototype's 70.2 g, the
+                   strides and speeds beside the paper's (Table 2 in a straight pipe, Section
+                   VII-D-2's 12.9 / 19.1 mm/s vertically) and the solver's figures (DOFs, Newton
+                   iterations, assembly and linear seconds, wall time, peak memory);
+OUT/crawl.png      each foot's centreline position and the pressures against the state;
+OUT/vtu/crawl.pvd  one VTU of the body per state (`fem.vtu.write_state`, float32 unless
+                   precision 64), the states in order (the setup phases at negative times).
+
+A stage that does not converge ends the run: the files then hold the states up to the last
+converged one and summary.json says where it stopped (`converged`: false, the solver's message).
+"""
+
+from __future__ import annotations
+
+import resource
+import time
+from pathlib import Path
+
+import numpy as np
+
+from softcrawl.fem.vtu import write_pvd, write_state
+from softcrawl.paper import VERTICAL_MM_S, table2
+from softcrawl.provenance import write_summary
+from softcrawl.studies.crawl.files import material_source
+from softcrawl.studies.crawl_fe.cycle import crawl_cycles
+from softcrawl.studies.crawl_fe.mass import mass_summary
+from softcrawl.studies.crawl_fe.model import FEET, build_body
+from softcrawl.studies.crawl_fe.pipe import PIPES, into_pipe, pipe_wall
+from softcrawl.studies.epsa.model import solid_material
+from softcrawl.studies.plots.style import pyplot, save
+from softcrawl.studies.sweeps.tables import write_csv
+from softcrawl.units import kpa_to_mpa
+
+#: Sub-steps of the ramp of the body's weight after friction is on (vertical pipes).
+LOAD_STEPS = 2
+
+
+def paper_speed(pipe: str, diameter: float) -> tuple[float | None, str]:
+    """The paper's speed for this pipe (mm/s; None: none measured) and where it is from."""
+    if pipe == "straight":
+        return table2(diameter, "forward"), f"Table 2, forward, {diameter:g} mm"
+    if pipe.startswith("vertical"):
+        way = pipe.split("-")[1]
+        return VERTICAL_MM_S[way], f"Section VII-D-2, vertical {way} (pipe diameter not stated)"
+    return None, "the paper gives no bend radius for its L-shaped pipe (Fig. 24)"
+
+
+def state_rows(run, crawl) -> list[dict]:
+    rows = []
+    for st in run.states:
+        rows.append(
+            {"phase": st.phase, "cycle": 0, "time_s": float("nan")}
+            | {f"{f}_normal_n": st.normal[f] for f in FEET}
+            | {f"{f}_friction_z_n": float(st.friction[f][2]) for f in FEET}
+            | {"holds_max_n": max(abs(v) for v in st.holds.values())}
+        )
+    for st in crawl.states if crawl is not None else ():
+        rows.append(
+            {"phase": "cycle", "cycle": st.cycle, "time_s": st.t}
+            | {f"P{i + 1}_kpa": p for i, p in enumerate(st.pressures_kpa)}
+            | {f"V{i + 1}_mm3": v for i, v in enumerate(st.volumes)}
+            | {f"{f}_z_mm": st.z[f] for f in FEET}
+            | {f"{f}_arc_mm": st.arc[f] for f in FEET}
+            | {"drift_x_mm": st.drift[0], "drift_y_mm": st.drift[1]}
+            | {"bend_deg": st.bend_deg, "heading_deg": st.heading_deg}
+            | {f"{f}_normal_n": st.normal[f] for f in FEET}
+            | {f"{f}_friction_z_n": st.friction_z[f] for f in FEET}
+            | {"holds_max_n": st.holds_max, "newton": st.newton}
+        )
+    return rows
+
+
+def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, precision: int) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    entries = []
+    for k, st in enumerate(run.states):
+        t = (k - len(run.states)) * 1e-3  # the setup before the schedule's t = 0
+        f = factor if st.phase == "load" else 0.0
+        entries.append(
+            (write_state(folder / f"setup{k}.vtu", bm.model, st.x, factor=f, time=t, precision=precision), t)
+        )
+    for k, st in enumerate(crawl.states if crawl is not None else ()):
+        t = st.t + (st.cycle - 1) * cycle_s if st.cycle else 0.0
+        P = [kpa_to_mpa(p) for p in st.pressures_kpa]
+        path = write_state(folder / f"state{k:04d}.vtu", bm.model, st.x, pressure_mpa=P, factor=factor,
+                           time=t, precision=precision)  # fmt: skip
+        entries.append((path, t))
+    return write_pvd(folder / "crawl.pvd", [p.name for p, _ in entries], [t for _, t in entries])
+
+
+def plot_body(rows: list[dict], path: Path, title: str) -> Path:
+    plt = pyplot()
+    cyc = [r for r in rows if r["phase"] == "cycle"]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+    k = np.arange(len(cyc))
+    for f in FEET:
+        top.plot(k, [r[f"{f}_arc_mm"] for r in cyc], marker="o", label=f"{f} foot")
+    top.set_ylabel("position on the centreline (mm)")
+    top.legend()
+    for i in (1, 2, 3):
+        bottom.plot(k, [r[f"P{i}_kpa"] for r in cyc], marker=".", label=f"chamber {i}")
+    bottom.set_ylabel("pressure (kPa)")
+    bottom.set_xlabel("schedule segment end")
+    bottom.legend()
+    top.set_title(title)
+    return save(fig, path)
+
+
+def run_and_write(
+    setup,
+    schedule,
+    out: Path,
+    *,
+    pipe: str = "straight",
+    bend_radius: float | None = None,
+    mesh="quick",
+    design=None,
+    silicone=None,
+    precision: int = 32,
+    progress=print,
+    friction_source: str = "given by the caller",
+) -> tuple:
+    """One FE-body crawl of `setup.cycles` cycles of `schedule` in `pipe`, its files in `out`
+    (module docstring); returns (converged, summary). `mesh`: "quick", "default" or a
+    `BodyMeshSettings`; `design`: the robot (None: Table 1's; `build_body`)."""  # fmt: skip
+    t0 = time.perf_counter()
+    gravity = PIPES[pipe]
+    kwargs = {} if silicone is None else {"silicone": silicone}
+    bm = build_body(setup, mesh, gravity=gravity, design=design, **kwargs)
+    front_tip = float(np.asarray(bm.model.nodes)[2].max())
+    wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius)
+    progress(
+        f"body: {bm.n_dofs} DOFs on the {summary_mesh(mesh)} mesh; built in {time.perf_counter() - t0:.0f} s"
+    )
+
+    def step_line(step) -> None:
+        progress(f"  {step.stage} s={step.s:.3g}: {sum(step.iterations)} Newton iterations, "
+                 f"{time.perf_counter() - t0:.0f} s")  # fmt: skip
+
+    run = into_pipe(bm, insert_steps=setup.insert_steps, load_steps=LOAD_STEPS if gravity else 0,
+                    wall=wall, on_step=step_line)  # fmt: skip
+    factor = 1.0 if gravity else 0.0
+    crawl = None
+    if run.converged:
+        crawl = crawl_cycles(bm, run.states[-1].x, schedule, cycles=setup.cycles, steps=setup.steps,
+                             factor=factor, wall=wall, on_step=step_line)  # fmt: skip
+    converged = run.converged and crawl.converged
+    rows = state_rows(run, crawl)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "states.csv")
+    T = schedule.cycle_s
+    paper, paper_source = paper_speed(pipe, setup.pipe_diameter)
+    strides = crawl.strides if crawl is not None else ()
+    turns = crawl.turns if crawl is not None else ()
+    cycle_rows = [
+        {"cycle": k + 1, "stride_mm": s, "speed_mm_s": s / T, "turn_deg": a}
+        for k, (s, a) in enumerate(zip(strides, turns))
+    ]
+    write_csv(
+        cycle_rows or [{"cycle": "", "stride_mm": "", "speed_mm_s": "", "turn_deg": ""}], out / "cycles.csv"
+    )
+    mass = mass_summary(bm.design, bm.model.mesh, bm.materials)
+    silicone_law = solid_material(bm.materials["epsa"])[1]
+    summary = {
+        "model": "fe-body",
+        "converged": converged,
+        "message": run.message if crawl is None else crawl.message,
+        "pipe": {
+            "kind": pipe,
+            "diameter_mm": setup.pipe_diameter,
+            "bend_radius_mm": bend_radius,
+            "gravity_g": list(gravity) if gravity else None,
+            "bend_start_mm": getattr(wall, "entry", None),
+        },  # fmt: skip
+        "mesh": summary_mesh(mesh),
+        "schedule": {"name": schedule.name, "source": schedule.source, "cycle_s": T},
+        "cycles": setup.cycles,
+        "steps": setup.steps,
+        "friction": {"mu_smooth": setup.mu_smooth, "mu_grooved": setup.mu_grooved, "source": friction_source},
+        "materials": bm.materials,
+        "silicone_shear_modulus_mpa": float(silicone_law.mu),
+        "feet_material_source": material_source(setup.material),
+        "mass": mass,
+        "strides_mm": list(strides),
+        "speeds_mm_s": [s / T for s in strides],
+        "turns_deg": list(turns),
+        "paper_speed_mm_s": paper,
+        "paper_source": paper_source,
+        "solver": {
+            "dofs": bm.n_dofs,
+            "newton_iterations": run.newton_iterations + (crawl.newton_iterations if crawl else 0),
+            "assembly_s": run.assembly_s + (crawl.assembly_s if crawl else 0.0),
+            "linear_s": run.solve_s + (crawl.solve_s if crawl else 0.0),
+            "wall_s": time.perf_counter() - t0,
+            "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2,
+        },
+    }
+    summary["text"] = summary_text(summary)
+    write_summary(out / "summary.json", summary)
+    if crawl is not None and crawl.states:
+        plot_body(
+            rows, out / "crawl.png", f"FE body, {pipe} {setup.pipe_diameter:g} mm pipe, {schedule.name}"
+        )
+    write_vtu(out / "vtu", bm, run, crawl, factor, T, precision)
+    return converged, summary
+
+
+def summary_mesh(mesh) -> str:
+    return mesh if isinstance(mesh, str) else "custom (BodyMeshSettings)"
+
+
+def summary_text(s: dict) -> str:
+    pipe = s["pipe"]
+    where = f"{pipe['kind']} {pipe['diameter_mm']:g} mm pipe"
+    if pipe["bend_radius_mm"]:
+        where += f", bend radius {pipe['bend_radius_mm']:g} mm"
+    lines = [f"FE body in the {where} ({s['mesh']} mesh, silicone {s['materials']['epsa']}): {s['message']}"]
+    for k, (v, a) in enumerate(zip(s["strides_mm"], s["turns_deg"]), start=1):
+        lines.append(
+            f"  cycle {k}: stride {v:.3f} mm, speed {v / s['schedule']['cycle_s']:.2f} mm/s, "
+            f"turn {a:+.2f} deg"
+        )
+    if s["paper_speed_mm_s"] is not None:
+        lines.append(f"  paper: {s['paper_speed_mm_s']:g} mm/s ({s['paper_source']})")
+    m = s["mass"]
+    lines.append(f"  mass {m['total_g']:.1f} g (prototype {m['prototype_g']:g} g)")
+    v = s["solver"]
+    lines.append(f"  {v['dofs']} DOFs, {v['newton_iterations']} Newton iterations, {v['wall_s']:.0f} s, "
+                 f"peak {v['peak_rss_gb']:.2f} GB")  # fmt: skip
+    return "\n".join(lines)

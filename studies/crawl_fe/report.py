@@ -1,0 +1,73 @@
+"""The design review's section on the whole robot crawling in FE (`studies.review.report`).
+
+Reads the committed runs of `softcrawl crawl --body fe` (results/crawl-fe/*/summary.json, written
+by `studies.crawl_fe.files`) and returns HTML: the folder's README (what the runs show and how they
+were made), one table row per run (pipe, cycles reached, strides and speeds beside the paper's,
+the turn, the body's mass, the solver's effort) and the runs' figures. No FE solve.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from softcrawl.studies.html import esc, figure, figure_grid, markdown, missing, table
+
+FOLDER = "crawl-fe"
+STRAIGHT = "softcrawl crawl --body fe --quick --cycles 2 --out results/crawl-fe/straight-70"
+#: Width of a run's figure in the page (pixels).
+WIDTH = 640
+
+
+def _numbers(values, spec: str = ".2f") -> str:
+    return ", ".join(format(v, spec) for v in values) if values else "none"
+
+
+def run_row(name: str, s: dict) -> dict:
+    pipe = s["pipe"]
+    where = pipe["kind"] + (f", R {pipe['bend_radius_mm']:g} mm" if pipe["bend_radius_mm"] else "")
+    paper = s["paper_speed_mm_s"]
+    v = s["solver"]
+    return {
+        "run": name,
+        "pipe": f"{where}, {pipe['diameter_mm']:g} mm",
+        "mesh": s["mesh"],
+        "friction (smooth / grooved)": f"{s['friction']['mu_smooth']:g} / {s['friction']['mu_grooved']:g}",
+        "cycles reached / asked": f"{len(s['strides_mm'])} / {s['cycles']}",
+        "strides (mm)": _numbers(s["strides_mm"]),
+        "speeds (mm/s)": _numbers(s["speeds_mm_s"]),
+        "paper (mm/s)": "none" if paper is None else f"{paper:g} ({s['paper_source']})",
+        "turns (deg)": _numbers(s["turns_deg"], "+.2f"),
+        "mass (g; prototype 70.2)": f"{s['mass']['total_g']:.1f}",
+        "Newton iterations": v["newton_iterations"],
+        "wall (s)": f"{v['wall_s']:.0f}",
+        "peak (GB)": f"{v['peak_rss_gb']:.2f}",
+        "ended": s["message"],
+    }
+
+
+def crawl_fe(results: Path) -> str:
+    """Every committed FE-body run (module docstring), or a note naming the command."""
+    folder = Path(results) / FOLDER
+    runs = {}
+    for path in sorted(folder.glob("*/summary.json")):
+        s = json.loads(path.read_text())
+        if s.get("model") == "fe-body":
+            runs[path.parent] = s
+    if not runs:
+        return missing("The whole robot crawling in FE", STRAIGHT)
+    out = []
+    if (folder / "README.md").exists():
+        out.append(markdown((folder / "README.md").read_text()))
+    silicone = {s["materials"]["epsa"] for s in runs.values()}
+    moduli = {s["silicone_shear_modulus_mpa"] for s in runs.values()}
+    out.append(
+        f"<p>The body's silicone: {esc(', '.join(sorted(silicone)))} (shear modulus "
+        f"{esc(', '.join(f'{m:g}' for m in sorted(moduli)))} MPa).</p>"
+    )
+    out.append(table([run_row(run.name, s) for run, s in runs.items()]))
+    pngs = [run for run in runs if (run / "crawl.png").exists()]
+    out.append(
+        figure_grid([figure(run / "crawl.png", f"{FOLDER}/{run.name}/crawl.png", WIDTH) for run in pngs])
+    )
+    return "".join(out)

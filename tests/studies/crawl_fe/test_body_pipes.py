@@ -1,0 +1,54 @@
+"""The FE-body crawl's pipes (`studies.crawl_fe.pipe`) and the paper's speed each is compared with.
+
+The command line's --pipe choices are the pipes the runner knows; a vertical pipe is the straight
+one under the body's weight, pointing against the heading (up: -z, the body heading +z) or with
+it (down); the elbow's bend starts ELBOW_AHEAD past the front skirt's tip, so that the inserted
+body sits on its entry leg, and the runner refuses an unknown pipe naming the parameter.
+"""
+
+import pytest
+
+from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.pipe_surfaces import ElbowPipe
+from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.paper import VERTICAL_MM_S, table2
+from softcrawl.studies.commands.crawl import PIPE_KINDS
+from softcrawl.studies.crawl_fe.files import paper_speed
+from softcrawl.studies.crawl_fe.pipe import ELBOW_AHEAD, PIPES, pipe_wall
+
+
+def test_the_command_lines_pipes_are_the_runners():
+    assert PIPE_KINDS == tuple(PIPES)
+
+
+def test_vertical_pipes_are_the_straight_one_under_the_weight():
+    assert PIPES["straight"] is None and PIPES["elbow"] is None
+    assert PIPES["vertical-up"] == (0.0, 0.0, -1.0) and PIPES["vertical-down"] == (0.0, 0.0, 1.0)
+    for kind in ("straight", "vertical-up", "vertical-down"):
+        assert pipe_wall(kind, 35.0) == CylinderWall(35.0)
+
+
+def test_the_elbows_bend_starts_ahead_of_the_front_skirt():
+    wall = pipe_wall("elbow", 35.0, front_tip=150.0, bend_radius=60.0)
+    assert isinstance(wall, ElbowPipe)
+    assert (wall.radius, wall.bend_radius, wall.entry) == (35.0, 60.0, 150.0 + ELBOW_AHEAD)
+    piece, arc, _, _ = wall.locate([[0.0, 0.0, 150.0], [0.0, 0.0, 156.0]])
+    assert list(piece) == [0, 1] and arc[0] == pytest.approx(150.0)  # the tip on the entry leg
+
+
+@pytest.mark.parametrize(
+    "kind, kwargs, parameter",
+    [("spiral", {}, "pipe"), ("elbow", {}, "bend_radius"), ("elbow", {"bend_radius": 30.0}, "bend_radius")],
+)
+def test_a_pipe_the_runner_cannot_build_names_the_parameter(kind, kwargs, parameter):
+    with pytest.raises(SolverInputError) as err:
+        pipe_wall(kind, 35.0, **kwargs)
+    assert parameter in err.value.parameter
+
+
+def test_each_pipe_is_compared_with_the_papers_own_speed():
+    assert paper_speed("straight", 70.0)[0] == table2(70.0, "forward") == 18.3
+    assert paper_speed("vertical-up", 70.0)[0] == VERTICAL_MM_S["up"] == 12.9
+    assert paper_speed("vertical-down", 70.0)[0] == VERTICAL_MM_S["down"] == 19.1
+    speed, source = paper_speed("elbow", 70.0)
+    assert speed is None and "no bend radius" in source
