@@ -19,7 +19,8 @@ vertical (under its weight, heading up or down) or elbow pipe (its bend of centr
 otherwise the default one (~2x the DOFs). It writes states.csv, cycles.csv, summary.json, crawl.png
 and vtu/ (`studies.crawl_fe.files`); the reduced model's feet options (--backward, --symmetric,
 --mesher, --sectors, --layers, --mesh-size, --foot-angle), --resume, --insertion-cache and the GIF
-are refused with --body fe (exit 2).
+are refused with --body fe (exit 2). --gait-plan GAIT_CSV (--body fe): the gait.csv that
+`softcrawl model plan` writes, replayed cycle by cycle (`studies.crawl_fe.gait_plan`).
 
 The friction coefficients not given take the committed feet identification's
 (`studies.foot.identify.prediction_friction`, docs/decisions/070-identify-feet.md: today 0.3 on
@@ -110,6 +111,11 @@ def register(subparsers) -> None:
     p.add_argument(
         "--schedule", default=None, help="CSV time_s,P1_kpa,P2_kpa,P3_kpa (one cycle; replaces --gait)"
     )
+    p.add_argument(
+        "--gait-plan", default=None, metavar="GAIT_CSV",
+        help="--body fe: replay the gait.csv of `softcrawl model plan`, one planned cycle per cycle "
+        "(all its cycles, --cycle-time each; replaces --gait, --schedule and --cycles)",
+    )  # fmt: skip
     add_number(p, "--cycles", help="number of cycles", default=2, minimum=1, maximum=100, integer=True)
     add_number(p, "--pressure", help="peak pressure of the presets", unit="kPa", default=100.0,
                minimum=0.0, min_open=True, maximum=100.0)  # fmt: skip
@@ -180,6 +186,8 @@ def run(args) -> int:
             "pipe" if args.pipe != "straight" else "bend-radius",
             "the reduced crawl has a straight horizontal pipe only: add --body fe",
         )
+    if args.gait_plan is not None:
+        raise CommandLineError("gait-plan", "replays a planned gait in the FE body only: add --body fe")
     mesh = mesh_settings(args)  # before any folder is made
     friction = friction_settings(args)  # before any folder is made
     body_material(args.material, "material")  # a preset the FE law takes, before any work

@@ -68,15 +68,23 @@ def run_body(args, friction_settings) -> int:
     from pathlib import Path
 
     from softcrawl.console import progress
-    from softcrawl.studies.commands.options import body_material, output_folder
+    from softcrawl.studies.commands.options import CommandLineError, body_material, output_folder
     from softcrawl.studies.crawl.model import CrawlSetup
     from softcrawl.studies.crawl.schedule import preset, read_csv
     from softcrawl.studies.crawl_fe.files import run_and_write
+    from softcrawl.studies.crawl_fe.gait_plan import read_gait_plan
 
     check_options(args)
     friction = friction_settings(args)
     body_material(args.material, "material")
-    schedule = read_csv(args.schedule) if args.schedule else preset(args.gait, args.pressure, args.cycle_time)
+    if args.gait_plan is not None:
+        if args.schedule is not None:
+            raise CommandLineError("gait-plan", "replaces --schedule: give one of them")
+        schedule = read_gait_plan(args.gait_plan, args.cycle_time)
+    elif args.schedule:
+        schedule = read_csv(args.schedule)
+    else:
+        schedule = preset(args.gait, args.pressure, args.cycle_time)
     out = Path(output_folder(args.out))
     setup = CrawlSetup(
         pipe_diameter=args.pipe_diameter,
@@ -88,7 +96,12 @@ def run_body(args, friction_settings) -> int:
         cycles=args.cycles,
     )
     mesh = "quick" if args.quick else "default"
-    progress(f"crawl --body fe: {schedule.name}, {setup.cycles} cycle(s), {args.pipe} pipe, {mesh} mesh")
+    what = (
+        f"gait plan {args.gait_plan}, {len(schedule)}"
+        if args.gait_plan
+        else f"{schedule.name}, {setup.cycles}"
+    )
+    progress(f"crawl --body fe: {what} cycle(s), {args.pipe} pipe, {mesh} mesh")
     converged, summary = run_and_write(
         setup,
         schedule,

@@ -24,6 +24,7 @@ their start length); its turn the change of the heading.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -119,7 +120,7 @@ class FootProbe:
 def crawl_cycles(
     bm: BodyModel,
     x0: np.ndarray,
-    schedule: Schedule,
+    schedule: Schedule | Sequence[Schedule],
     *,
     cycles: int = 1,
     steps: int = 4,
@@ -132,17 +133,28 @@ def crawl_cycles(
     are the stages of one `run_stages` call, so that each starts from the pressures where the last
     ended; the outputs are read at each stage's end, with the contact history of that state.
     `factor`: the load factor held (x0's: 1 once the body's weight is on); `wall`: the pipe
-    (`FootProbe`)."""
+    (`FootProbe`). `schedule` may be a sequence of schedules, one per cycle (a gait plan,
+    `studies.crawl_fe.gait_plan`): then `cycles` is its length."""
+    if not isinstance(schedule, Schedule):
+        per_cycle = list(schedule)
+        cycles = len(per_cycle)
     if int(cycles) != cycles or cycles < 1:
         raise SolverInputError("cycles", f"a whole number of cycles >= 1, not {cycles!r}")
+    if isinstance(schedule, Schedule):
+        per_cycle = [schedule] * int(cycles)
     model, probe = bm.model, FootProbe(bm.model.space, wall)
-    P = np.asarray(schedule.pressures_kpa, dtype=float)
-    last = len(P) - 1
+    pressures = [np.asarray(sch.pressures_kpa, dtype=float) for sch in per_cycle]
     # (cycle, row): the inserted state is at zero pressure, so a schedule that starts elsewhere
     # is first ramped to its first row (cycle 0), then each cycle moves through rows 1..last
-    plan = [(0, 0)] if np.any(P[0] != 0.0) else []
-    plan += [(c, k) for c in range(1, cycles + 1) for k in range(1, last + 1)]
-    stages = [Stage(f"cycle{c}-row{k}", pressure=[kpa_to_mpa(p) for p in P[k]], steps=steps) for c, k in plan]
+    plan = [(0, 0)] if np.any(pressures[0][0] != 0.0) else []
+    plan += [(c, k) for c in range(1, cycles + 1) for k in range(1, len(pressures[c - 1]))]
+
+    def of(cycle: int) -> tuple[Schedule, np.ndarray]:
+        return per_cycle[max(cycle, 1) - 1], pressures[max(cycle, 1) - 1]
+
+    stages = [
+        Stage(f"cycle{c}-row{k}", pressure=[kpa_to_mpa(p) for p in of(c)[1][k]], steps=steps) for c, k in plan
+    ]
     where = {stage.name: item for stage, item in zip(stages, plan)}
     states: list[BodyState] = []
     strides: list[float] = []
@@ -156,13 +168,15 @@ def crawl_cycles(
         if step.s < 1.0 - 1e-12:
             return
         cycle, row = where[step.stage]
+        sch, P = of(cycle)
+        last = len(P) - 1
         x = step.x
         pipe = record(bm, step.stage, x)  # the contact history is this state's here
         arc, (bend, heading) = probe.arc(x), probe.angles(x)
         states.append(
             BodyState(
                 cycle,
-                float(schedule.times[row]),
+                float(sch.times[row]),
                 tuple(float(p) for p in P[row]),
                 tuple(float(model.chamber_volume(x, i)) for i in range(3)),
                 probe.z(x),

@@ -35,6 +35,7 @@ from softcrawl.fem.vtu import write_pvd, write_state
 from softcrawl.paper import VERTICAL_MM_S, table2
 from softcrawl.provenance import write_summary
 from softcrawl.studies.crawl.files import material_source
+from softcrawl.studies.crawl.schedule import Schedule
 from softcrawl.studies.crawl_fe.cycle import crawl_cycles
 from softcrawl.studies.crawl_fe.mass import mass_summary
 from softcrawl.studies.crawl_fe.model import FEET, build_body
@@ -133,10 +134,14 @@ def run_and_write(
     progress=print,
     friction_source: str = "given by the caller",
 ) -> tuple:
-    """One FE-body crawl of `setup.cycles` cycles of `schedule` in `pipe`, its files in `out`
+    """One FE-body crawl of `setup.cycles` cycles of `schedule` (or of a gait plan: a sequence of
+    schedules, one per cycle, `studies.crawl_fe.gait_plan`) in `pipe`, its files in `out`
     (module docstring); returns (converged, summary). `mesh`: "quick", "default" or a
     `BodyMeshSettings`; `design`: the robot (None: Table 1's; `build_body`)."""  # fmt: skip
     t0 = time.perf_counter()
+    plan = not isinstance(schedule, Schedule)
+    cycles = len(schedule) if plan else setup.cycles
+    first = schedule[0] if plan else schedule
     gravity = PIPES[pipe]
     kwargs = {} if silicone is None else {"silicone": silicone}
     bm = build_body(setup, mesh, gravity=gravity, design=design, **kwargs)
@@ -155,13 +160,13 @@ def run_and_write(
     factor = 1.0 if gravity else 0.0
     crawl = None
     if run.converged:
-        crawl = crawl_cycles(bm, run.states[-1].x, schedule, cycles=setup.cycles, steps=setup.steps,
+        crawl = crawl_cycles(bm, run.states[-1].x, schedule, cycles=cycles, steps=setup.steps,
                              factor=factor, wall=wall, on_step=step_line)  # fmt: skip
     converged = run.converged and crawl.converged
     rows = state_rows(run, crawl)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(rows, out / "states.csv")
-    T = schedule.cycle_s
+    T = first.cycle_s
     paper, paper_source = paper_speed(pipe, setup.pipe_diameter)
     strides = crawl.strides if crawl is not None else ()
     turns = crawl.turns if crawl is not None else ()
@@ -186,8 +191,8 @@ def run_and_write(
             "bend_start_mm": getattr(wall, "entry", None),
         },  # fmt: skip
         "mesh": summary_mesh(mesh),
-        "schedule": {"name": schedule.name, "source": schedule.source, "cycle_s": T},
-        "cycles": setup.cycles,
+        "schedule": {"name": first.name, "source": first.source, "cycle_s": T, "gait_plan": plan},
+        "cycles": cycles,
         "steps": setup.steps,
         "friction": {"mu_smooth": setup.mu_smooth, "mu_grooved": setup.mu_grooved, "source": friction_source},
         "materials": bm.materials,
@@ -212,7 +217,9 @@ def run_and_write(
     write_summary(out / "summary.json", summary)
     if crawl is not None and crawl.states:
         plot_body(
-            rows, out / "crawl.png", f"FE body, {pipe} {setup.pipe_diameter:g} mm pipe, {schedule.name}"
+            rows,
+            out / "crawl.png",
+            f"FE body, {pipe} {setup.pipe_diameter:g} mm pipe, {first.source if plan else first.name}",
         )
     write_vtu(out / "vtu", bm, run, crawl, factor, T, precision)
     return converged, summary

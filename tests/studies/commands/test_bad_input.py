@@ -60,6 +60,10 @@ CASES: list[tuple[str, str]] = [
     ("crawl --body fe --resume --out OUT", "resume"),
     ("crawl --body fe --gif --out OUT", "gif"),
     ("crawl --body fe --material unobtainium --out OUT", "material"),
+    ("crawl --gait-plan FILE --out OUT", "gait-plan"),  # the reduced model has no plan
+    ("crawl --body fe --gait-plan MISSING --out OUT", "gait-plan"),
+    ("crawl --body fe --gait-plan TEXT --out OUT", "gait-plan"),
+    ("crawl --body fe --gait-plan BIN --out OUT", "gait-plan"),
     ("crawl --cycles 0 --out OUT", "cycles"),
     ("crawl --pressure 150 --out OUT", "pressure"),
     ("crawl --cycle-time 0 --out OUT", "cycle-time"),

@@ -140,3 +140,63 @@ def test_a_count_of_cycles_below_one_names_the_parameter(space, cycles):
     with pytest.raises(SolverInputError) as err:
         cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=cycles)
     assert err.value.parameter == "cycles"
+
+
+def test_a_gait_plan_is_one_schedule_per_cycle_joined_where_the_last_deflated(space, monkeypatch, tmp_path):
+    """`softcrawl model plan`'s gait.csv replayed: each planned cycle starts at the pressures the
+    last one deflated to, inflates at half the cycle time and deflates at its end; the FE cycles
+    follow the plan's pressures in order, one stride per planned cycle."""
+    from softcrawl.studies.crawl_fe.gait_plan import read_gait_plan
+
+    plan = tmp_path / "gait.csv"
+    plan.write_text(
+        "cycle,phase,P1_kpa,P2_kpa,P3_kpa,rear_x,rear_y,rear_z,front_x,front_y,front_z\n"
+        "1,inflate,100,40,60,0,0,0,0,0,50\n"
+        "1,deflate,0,20,0,0,0,0,0,0,50\n"
+        "2,inflate,80,100,0,0,0,0,0,0,60\n"
+        "2,deflate,0,0,0,0,0,0,0,0,60\n"
+    )
+    schedules = read_gait_plan(plan, 2.0)
+    assert len(schedules) == 2
+    assert schedules[0].times.tolist() == [0.0, 1.0, 2.0]
+    assert schedules[0].pressures_kpa.tolist() == [[0, 0, 0], [100, 40, 60], [0, 20, 0]]
+    assert schedules[1].pressures_kpa.tolist() == [[0, 20, 0], [80, 100, 0], [0, 0, 0]]
+    run_stages, calls = _scripted(space, 0.25)
+    monkeypatch.setattr(cycle, "run_stages", run_stages)
+    monkeypatch.setattr(
+        cycle,
+        "record",
+        lambda bm, name, x: SimpleNamespace(
+            normal={}, friction={f: np.zeros(3) for f in cycle.FEET}, holds={"h": 0.0}
+        ),
+    )
+    bm = SimpleNamespace(model=SimpleNamespace(space=space, chamber_volume=lambda x, i: 0.0))
+    out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), schedules, cycles=7)  # the plan's count wins
+    expected = [[0.1, 0.04, 0.06], [0, 0.02, 0], [0.08, 0.1, 0], [0] * 3]
+    assert np.allclose([s.pressure for s in calls], expected, rtol=1e-12, atol=0)
+    assert out.strides == pytest.approx((0.5, 0.5))
+    assert [(s.cycle, s.t, s.pressures_kpa) for s in out.states][1:3] == [
+        (1, 2.0, (0, 20, 0)),
+        (2, 1.0, (80, 100, 0)),
+    ]
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "cycle,phase,P1_kpa,P2_kpa\n1,inflate,1,2\n1,deflate,0,0\n",  # a column missing
+        "cycle,phase,P1_kpa,P2_kpa,P3_kpa\n1,inflate,1,2,3\n",  # no deflate row
+        "cycle,phase,P1_kpa,P2_kpa,P3_kpa\n1,deflate,1,2,3\n1,inflate,0,0,0\n",  # out of order
+        "cycle,phase,P1_kpa,P2_kpa,P3_kpa\n1,inflate,1,2,300\n1,deflate,0,0,0\n",  # above 100 kPa
+        "cycle,phase,P1_kpa,P2_kpa,P3_kpa\n1,inflate,1,2,x\n1,deflate,0,0,0\n",  # not a number
+    ],
+)
+def test_a_gait_plan_that_is_not_one_names_the_option(tmp_path, text):
+    from softcrawl.studies.crawl.schedule import ScheduleError
+    from softcrawl.studies.crawl_fe.gait_plan import read_gait_plan
+
+    plan = tmp_path / "gait.csv"
+    plan.write_text(text)
+    with pytest.raises(ScheduleError) as err:
+        read_gait_plan(plan, 2.0)
+    assert err.value.parameter == "gait-plan"

@@ -1,0 +1,64 @@
+"""`softcrawl crawl --body fe` hands the runner what the command line says.
+
+The runner (`studies.crawl_fe.files.run_and_write`, exercised end to end by
+test_body_run_slow.py) is replaced by a recorder, so that this checks the wiring only: the pipe,
+bend radius, mesh, cycles, steps, friction (given, or the committed identification's) and the
+schedule (a preset, or a gait plan's cycles), and the exit code from the run's convergence.
+"""
+
+import pytest
+
+from softcrawl.studies.cli import main
+from softcrawl.studies.crawl_fe import files
+
+
+@pytest.fixture
+def recorded(monkeypatch):
+    calls = []
+
+    def run_and_write(setup, schedule, out, **kwargs):
+        calls.append((setup, schedule, out, kwargs))
+        return calls[-1][3].get("pipe") != "vertical-down", {"text": "recorded"}
+
+    monkeypatch.setattr(files, "run_and_write", run_and_write)
+    return calls
+
+
+def test_the_options_reach_the_runner(recorded, tmp_path):
+    argv = ["crawl", "--body", "fe", "--quick", "--pipe", "elbow", "--bend-radius", "60", "--cycles", "3"]
+    argv += ["--mu-smooth", "0.4", "--mu-grooved", "0.2", "--steps", "6", "--out", str(tmp_path / "a")]
+    assert main(argv) == 0
+    setup, schedule, out, kw = recorded[-1]
+    assert (setup.cycles, setup.steps, setup.mu_smooth, setup.mu_grooved) == (3, 6, 0.4, 0.2)
+    assert (setup.pipe_diameter, setup.insert_steps) == (70.0, 4)
+    assert (kw["pipe"], kw["bend_radius"], kw["mesh"]) == ("elbow", 60.0, "quick")
+    assert schedule.name == "inflate" and out == tmp_path / "a"
+    assert "--mu-smooth and --mu-grooved" in kw["friction_source"]
+
+
+def test_the_default_mesh_without_quick_and_a_failed_run_exits_1(recorded, tmp_path):
+    assert main(["crawl", "--body", "fe", "--pipe", "vertical-down", "--out", str(tmp_path / "b")]) == 1
+    setup, _, _, kw = recorded[-1]
+    assert kw["mesh"] == "default" and setup.insert_steps == 8
+    assert "identification" in kw["friction_source"] or "feet.json" in kw["friction_source"]
+
+
+def test_a_gait_plan_replaces_the_preset(recorded, tmp_path):
+    plan = tmp_path / "gait.csv"
+    plan.write_text("cycle,phase,P1_kpa,P2_kpa,P3_kpa\n1,inflate,100,0,0\n1,deflate,0,0,0\n")
+    argv = [
+        "crawl",
+        "--body",
+        "fe",
+        "--quick",
+        "--gait-plan",
+        str(plan),
+        "--cycle-time",
+        "3",
+        "--out",
+        str(tmp_path / "c"),
+    ]
+    assert main(argv) == 0
+    _, schedule, _, _ = recorded[-1]
+    assert len(schedule) == 1 and schedule[0].cycle_s == 3.0
+    assert schedule[0].pressures_kpa.tolist() == [[0, 0, 0], [100, 0, 0], [0, 0, 0]]
