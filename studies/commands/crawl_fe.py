@@ -49,15 +49,19 @@ def check_options(args) -> None:
                 option, "it sets the reduced model's feet mesh; the FE body meshes itself (--quick)"
             )
             raise CommandLineError(option, f"not with --body fe: {why}")
-    radius = args.pipe_diameter / 2
     if args.pipe == "elbow":
+        from softcrawl.geometry.foot_design import FootDesign
+        from softcrawl.studies.crawl_fe.pipe import INSERT_CLEARANCE
+
         if args.bend_radius is None:
             raise CommandLineError("bend-radius", "--pipe elbow needs the bend's centreline radius (mm)")
-        if not args.bend_radius > radius:
+        # the insertion starts with the wall clear of the skirt tips, a radius the bend must exceed
+        clear = FootDesign().tip_radius + INSERT_CLEARANCE
+        if not args.bend_radius > clear:
             raise CommandLineError(
                 "bend-radius",
-                f"must exceed the pipe radius {radius:g} mm, not {args.bend_radius:g} mm: the bend's inner "
-                "wall would fold onto its axis",
+                f"must exceed {clear:g} mm, not {args.bend_radius:g} mm: the insertion starts with the wall "
+                "clear of the skirt tips, and a bend radius at or below it folds the bend's inner wall",
             )
     elif args.bend_radius is not None:
         raise CommandLineError("bend-radius", "applies to --pipe elbow only")

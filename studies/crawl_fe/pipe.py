@@ -46,6 +46,8 @@ PIPES = {
     "vertical-down": (0.0, 0.0, 1.0),
     "elbow": None,
 }
+#: mm between the skirt tips and the wall when the insertion starts.
+INSERT_CLEARANCE = 0.5
 #: mm between the front skirt's tip (undeformed) and the start of the elbow's bend.
 ELBOW_AHEAD = 5.0
 
@@ -115,9 +117,13 @@ def into_pipe(
     `wall`: the pipe's surface at its radius (`pipe_wall`; None: the straight pipe of `bm.setup`)."""
     setup, model = bm.setup, bm.model
     t0 = time.perf_counter()
-    clear = bm.design.foot.tip_radius + 0.5
+    clear = bm.design.foot.tip_radius + INSERT_CLEARANCE
     wall = wall or CylinderWall(setup.pipe.radius)
     radius = wall.radius
+    if not clear < getattr(wall, "bend_radius", np.inf):
+        raise SolverInputError(
+            "bend_radius", f"must exceed {clear:g} mm, the insertion's first wall radius (skirt tips clear)"
+        )
 
     def wall_at(s: float):
         return wall.with_radius(clear + s * (radius - clear))

@@ -50,6 +50,7 @@ CASES: list[tuple[str, str]] = [
     ("crawl --bend-radius 60 --out OUT", "bend-radius"),
     ("crawl --body fe --pipe elbow --out OUT", "bend-radius"),
     ("crawl --body fe --pipe elbow --bend-radius 30 --out OUT", "bend-radius"),  # below the radius
+    ("crawl --body fe --pipe elbow --bend-radius 39 --out OUT", "bend-radius"),  # below the clear wall
     ("crawl --body fe --pipe elbow --bend-radius -5 --out OUT", "bend-radius"),
     ("crawl --body fe --bend-radius 60 --out OUT", "bend-radius"),  # not an elbow
     ("crawl --body fe --backward --out OUT", "backward"),

@@ -52,3 +52,19 @@ def test_each_pipe_is_compared_with_the_papers_own_speed():
     assert paper_speed("vertical-down", 70.0)[0] == VERTICAL_MM_S["down"] == 19.1
     speed, source = paper_speed("elbow", 70.0)
     assert speed is None and "no bend radius" in source
+
+
+def test_an_elbow_the_insertion_cannot_start_in_is_refused_before_any_work():
+    """The insertion starts with the wall 0.5 mm clear of the skirt tips (39.5 mm): a bend radius
+    at or below it is refused naming the parameter, before a solve (the model is never touched)."""
+    from types import SimpleNamespace
+
+    from softcrawl.studies.crawl.model import CrawlSetup
+    from softcrawl.studies.crawl_fe.pipe import into_pipe
+
+    bm = SimpleNamespace(
+        setup=CrawlSetup(), model=None, design=SimpleNamespace(foot=SimpleNamespace(tip_radius=39.0))
+    )
+    with pytest.raises(SolverInputError) as err:
+        into_pipe(bm, wall=pipe_wall("elbow", 35.0, bend_radius=39.5))
+    assert err.value.parameter == "bend_radius" and "39.5" in str(err.value)
