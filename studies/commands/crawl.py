@@ -146,6 +146,8 @@ def register(subparsers) -> None:
     )  # fmt: skip
     add_number(p, "--foot-angle", help="included angle of both feet's conical skirt", unit="deg",
                default=120.0, minimum=MIN_FOOT_ANGLE, maximum=MAX_FOOT_ANGLE, metavar="DEG")  # fmt: skip
+    add_number(p, "--time-limit", help="--body fe: stop after this wall time and write the states so far",
+               unit="min", default_text="none", minimum=0.0, min_open=True, maximum=1e5)  # fmt: skip
     p.add_argument("--quick", action="store_true", help=f"4 insertion steps, {QUICK_SECTORS} sectors")
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet flipped: grooved faces on the wall")
@@ -186,8 +188,9 @@ def run(args) -> int:
             "pipe" if args.pipe != "straight" else "bend-radius",
             "the reduced crawl has a straight horizontal pipe only: add --body fe",
         )
-    if args.gait_plan is not None:
-        raise CommandLineError("gait-plan", "replays a planned gait in the FE body only: add --body fe")
+    for option, value in (("gait-plan", args.gait_plan), ("time-limit", args.time_limit)):
+        if value is not None:
+            raise CommandLineError(option, "applies to the FE body only: add --body fe")
     mesh = mesh_settings(args)  # before any folder is made
     friction = friction_settings(args)  # before any folder is made
     body_material(args.material, "material")  # a preset the FE law takes, before any work

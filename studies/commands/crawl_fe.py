@@ -116,6 +116,7 @@ def run_body(args, friction_settings) -> int:
         precision=args.vtu_precision,
         progress=progress,
         friction_source=friction["source"],
+        max_wall_s=None if args.time_limit is None else 60.0 * args.time_limit,
     )
     print(summary["text"])
     return 0 if converged else 1

@@ -49,6 +49,11 @@ from softcrawl.units import kpa_to_mpa
 LOAD_STEPS = 2
 
 
+def left(budget: float | None, t0: float) -> float | None:
+    """What is left of a wall-time budget started at t0 (at least 1 us, so that it stops at once)."""
+    return None if budget is None else max(budget - (time.perf_counter() - t0), 1e-6)
+
+
 def paper_speed(pipe: str, diameter: float) -> tuple[float | None, str]:
     """The paper's speed for this pipe (mm/s; None: none measured) and where it is from."""
     if pipe == "straight":
@@ -133,11 +138,13 @@ def run_and_write(
     precision: int = 32,
     progress=print,
     friction_source: str = "given by the caller",
+    max_wall_s: float | None = None,
 ) -> tuple:
     """One FE-body crawl of `setup.cycles` cycles of `schedule` (or of a gait plan: a sequence of
     schedules, one per cycle, `studies.crawl_fe.gait_plan`) in `pipe`, its files in `out`
-    (module docstring); returns (converged, summary). `mesh`: "quick", "default" or a
-    `BodyMeshSettings`; `design`: the robot (None: Table 1's; `build_body`)."""  # fmt: skip
+    (module docstring); returns (converged, summary). `max_wall_s`: the run's wall-time budget
+    (s; None: none): past it the run stops where it stands and writes what it has. `mesh`:
+    "quick", "default" or a `BodyMeshSettings`; `design`: the robot (None: Table 1's; `build_body`)."""
     t0 = time.perf_counter()
     plan = not isinstance(schedule, Schedule)
     cycles = len(schedule) if plan else setup.cycles
@@ -156,12 +163,13 @@ def run_and_write(
                  f"{time.perf_counter() - t0:.0f} s")  # fmt: skip
 
     run = into_pipe(bm, insert_steps=setup.insert_steps, load_steps=LOAD_STEPS if gravity else 0,
-                    wall=wall, on_step=step_line)  # fmt: skip
+                    wall=wall, on_step=step_line, max_wall_s=max_wall_s)  # fmt: skip
     factor = 1.0 if gravity else 0.0
     crawl = None
     if run.converged:
         crawl = crawl_cycles(bm, run.states[-1].x, schedule, cycles=cycles, steps=setup.steps,
-                             factor=factor, wall=wall, on_step=step_line)  # fmt: skip
+                             factor=factor, wall=wall, on_step=step_line,
+                             max_wall_s=left(max_wall_s, t0))  # fmt: skip
     converged = run.converged and crawl.converged
     rows = state_rows(run, crawl)
     out.mkdir(parents=True, exist_ok=True)

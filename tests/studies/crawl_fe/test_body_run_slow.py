@@ -54,3 +54,18 @@ def test_the_upward_stride_is_shorter_than_the_downward_one(tmp_path):
         assert float(inflated["V1_mm3"]) > float(inflated["V3_mm3"])
         strides[pipe] = summary["strides_mm"][0]
     assert strides["vertical-up"] < strides["vertical-down"]
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(1200)
+def test_a_run_past_its_time_limit_stops_and_writes_what_it_has(tmp_path):
+    """A budget shorter than the insertion (~50 s here): the run stops at it, exit code 1's
+    `converged` false, the message naming the budget, and every file written."""
+    setup = CrawlSetup(pipe_diameter=77.0, insert_steps=1, steps=1, cycles=1, mu_smooth=0.3, mu_grooved=0.3)
+    gait = Schedule("test", np.array([0.0, 1.0]), np.array([[0.0] * 3, [20.0] * 3]), "test")
+    design = RobotDesign(n_rings=0, epsa=EPSADesign(length=30.0))
+    ok, summary = run_and_write(
+        setup, gait, tmp_path, mesh=SMALL, design=design, progress=lambda _: None, max_wall_s=5.0
+    )
+    assert not ok and "max_wall_s" in summary["message"] and summary["strides_mm"] == []
+    assert {"states.csv", "cycles.csv", "summary.json", "vtu"} <= {p.name for p in tmp_path.iterdir()}
