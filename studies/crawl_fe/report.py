@@ -36,7 +36,7 @@ def run_row(name: str, s: dict) -> dict:
         "cycles reached / asked": f"{len(s['strides_mm'])} / {s['cycles']}",
         "strides (mm)": _numbers(s["strides_mm"]),
         "speeds (mm/s)": _numbers(s["speeds_mm_s"]),
-        "paper (mm/s)": "none" if paper is None else f"{paper:g} ({s['paper_source']})",
+        "paper (mm/s)": f"none: {s['paper_source']}" if paper is None else f"{paper:g} ({s['paper_source']})",
         "turns (deg)": _numbers(s["turns_deg"], "+.2f"),
         "mass (g; prototype 70.2)": f"{s['mass']['total_g']:.1f}",
         "Newton iterations": v["newton_iterations"],
