@@ -17,7 +17,8 @@ OUT/summary.json   the setup (pipe, gravity, mesh, friction and its source, the 
                    iterations, assembly and linear seconds, wall time, peak memory);
 OUT/crawl.png      each foot's centreline position and the pressures against the state;
 OUT/vtu/crawl.pvd  one VTU of the body per state (`fem.vtu.write_state`, float32 unless
-                   precision 64), the states in order (the setup phases at negative times).
+                   precision 64), the states in order (the setup phases at negative times);
+                   vtu/pipe.vtu the pipe's wall (open both in ParaView).
 
 A stage that does not converge ends the run: the files then hold the states up to the last
 converged one and summary.json says where it stopped (`converged`: false, the solver's message).
@@ -105,6 +106,31 @@ def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, preci
                            time=t, precision=precision)  # fmt: skip
         entries.append((path, t))
     return write_pvd(folder / "crawl.pvd", [p.name for p, _ in entries], [t for _, t in entries])
+
+
+def write_wall(path: Path, wall, s0: float, s1: float, around: int = 48, along: int = 60) -> Path:
+    """The pipe's wall (a `CylinderWall` or an `ElbowPipe`) between centreline arc lengths s0 and
+    s1 as a quad surface (meshio), for ParaView beside vtu/crawl.pvd."""
+    import meshio
+
+    s = np.linspace(s0, s1, along)
+    if hasattr(wall, "frame"):
+        c, w, u = wall.frame(s)
+    else:
+        a = np.asarray(wall.axis)
+        c = np.asarray(wall.centre) + s[:, None] * a
+        w = np.broadcast_to(a, c.shape)
+        u = np.broadcast_to(np.cross(a, [0.0, 1.0, 0.0] if abs(a[1]) < 0.9 else [1.0, 0.0, 0.0]), c.shape)
+        u = u / np.linalg.norm(u, axis=1)[:, None]
+    v = np.cross(w, u)
+    angle = np.linspace(0.0, 2 * np.pi, around, endpoint=False)
+    ring = np.cos(angle)[None, :, None] * u[:, None] + np.sin(angle)[None, :, None] * v[:, None]
+    points = (c[:, None] + wall.radius * ring).reshape(-1, 3)
+    i, k = np.meshgrid(np.arange(along - 1), np.arange(around), indexing="ij")
+    a0, a1 = i * around + k, i * around + (k + 1) % around
+    quads = np.stack([a0, a1, a1 + around, a0 + around], axis=-1).reshape(-1, 4)
+    meshio.write(path, meshio.Mesh(points, [("quad", quads)]))
+    return path
 
 
 def plot_body(rows: list[dict], path: Path, title: str) -> Path:
@@ -230,6 +256,9 @@ def run_and_write(
             f"FE body, {pipe} {setup.pipe_diameter:g} mm pipe, {first.source if plan else first.name}",
         )
     write_vtu(out / "vtu", bm, run, crawl, factor, T, precision)
+    z = np.asarray(bm.model.nodes)[2]
+    end = getattr(wall, "entry", 0.0) + getattr(wall, "bend_radius", 0.0) * getattr(wall, "bend_angle", 0.0)
+    write_wall(out / "vtu" / "pipe.vtu", wall, float(z.min()) - 20.0, max(float(z.max()), end) + 100.0)
     return converged, summary
 
 

@@ -68,3 +68,20 @@ def test_an_elbow_the_insertion_cannot_start_in_is_refused_before_any_work():
     with pytest.raises(SolverInputError) as err:
         into_pipe(bm, wall=pipe_wall("elbow", 35.0, bend_radius=39.5))
     assert err.value.parameter == "bend_radius" and "39.5" in str(err.value)
+
+
+@pytest.mark.parametrize("wall", [CylinderWall(35.0), ElbowPipe(35.0, 60.0, entry=150.0)])
+def test_the_written_wall_lies_on_the_contact_surface(tmp_path, wall):
+    """vtu/pipe.vtu's vertices are on the surface the contact uses (gap 0) and span the arc
+    lengths asked for: what ParaView shows is the wall the feet pressed."""
+    import meshio
+    import numpy as np
+
+    from softcrawl.studies.crawl_fe.files import write_wall
+
+    mesh = meshio.read(write_wall(tmp_path / "pipe.vtu", wall, -20.0, 400.0))
+    gap = wall.project(mesh.points)[0]
+    assert np.abs(gap).max() < 1e-9
+    if isinstance(wall, ElbowPipe):
+        arc = wall.locate(mesh.points)[1]
+        assert arc.min() == pytest.approx(-20.0, abs=1e-9) and arc.max() == pytest.approx(400.0, abs=1e-9)
