@@ -107,7 +107,8 @@ def _scripted(space, advance_per_segment):
     return run_stages, calls
 
 
-def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
+def _scripted_body(space, monkeypatch):
+    """A body whose crawl is `_scripted` (0.25 mm per segment), with no wall forces or holds."""
     run_stages, calls = _scripted(space, 0.25)
     monkeypatch.setattr(cycle, "run_stages", run_stages)
     monkeypatch.setattr(
@@ -117,7 +118,11 @@ def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
             normal={}, friction={f: np.zeros(3) for f in cycle.FEET}, holds={"h": 0.0}
         ),
     )
-    bm = SimpleNamespace(model=SimpleNamespace(space=space, chamber_volume=lambda x, i: 0.0))
+    return SimpleNamespace(model=SimpleNamespace(space=space, chamber_volume=lambda x, i: 0.0)), calls
+
+
+def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
+    bm, calls = _scripted_body(space, monkeypatch)
     gait = Schedule("test", np.array([0.0, 1.0, 2.0]), np.array([[0.0] * 3, [100.0] * 3, [0.0] * 3]), "test")
     out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=2, steps=3)
     assert out.converged and out.strides == pytest.approx((0.5, 0.5))
@@ -161,16 +166,7 @@ def test_a_gait_plan_is_one_schedule_per_cycle_joined_where_the_last_deflated(sp
     assert schedules[0].times.tolist() == [0.0, 1.0, 2.0]
     assert schedules[0].pressures_kpa.tolist() == [[0, 0, 0], [100, 40, 60], [0, 20, 0]]
     assert schedules[1].pressures_kpa.tolist() == [[0, 20, 0], [80, 100, 0], [0, 0, 0]]
-    run_stages, calls = _scripted(space, 0.25)
-    monkeypatch.setattr(cycle, "run_stages", run_stages)
-    monkeypatch.setattr(
-        cycle,
-        "record",
-        lambda bm, name, x: SimpleNamespace(
-            normal={}, friction={f: np.zeros(3) for f in cycle.FEET}, holds={"h": 0.0}
-        ),
-    )
-    bm = SimpleNamespace(model=SimpleNamespace(space=space, chamber_volume=lambda x, i: 0.0))
+    bm, calls = _scripted_body(space, monkeypatch)
     out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), schedules, cycles=7)  # the plan's count wins
     expected = [[0.1, 0.04, 0.06], [0, 0.02, 0], [0.08, 0.1, 0], [0] * 3]
     assert np.allclose([s.pressure for s in calls], expected, rtol=1e-12, atol=0)
