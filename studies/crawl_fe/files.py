@@ -37,7 +37,7 @@ from softcrawl.paper import VERTICAL_MM_S, table2
 from softcrawl.provenance import write_summary
 from softcrawl.studies.crawl.files import material_source
 from softcrawl.studies.crawl.schedule import Schedule
-from softcrawl.studies.crawl_fe.cycle import crawl_cycles
+from softcrawl.studies.crawl_fe.cycle import FootProbe, crawl_cycles
 from softcrawl.studies.crawl_fe.mass import mass_summary
 from softcrawl.studies.crawl_fe.model import FEET, build_body
 from softcrawl.studies.crawl_fe.pipe import PIPES, into_pipe, pipe_wall
@@ -65,11 +65,15 @@ def paper_speed(pipe: str, diameter: float) -> tuple[float | None, str]:
     return None, "the paper gives no bend radius for its L-shaped pipe (Fig. 24)"
 
 
-def state_rows(run, crawl) -> list[dict]:
+def state_rows(run, crawl, probe) -> list[dict]:
+    """The rows of states.csv (module docstring); `probe`: the run's `cycle.FootProbe`."""
     rows = []
     for st in run.states:
+        arc = probe.arc(st.x)
         rows.append(
             {"phase": st.phase, "cycle": 0, "time_s": float("nan")}
+            | {f"{f}_z_mm": v for f, v in probe.z(st.x).items()}
+            | {f"{f}_arc_mm": arc[f] for f in FEET}
             | {f"{f}_normal_n": st.normal[f] for f in FEET}
             | {f"{f}_friction_z_n": float(st.friction[f][2]) for f in FEET}
             | {"holds_max_n": max(abs(v) for v in st.holds.values())}
@@ -133,19 +137,33 @@ def write_wall(path: Path, wall, s0: float, s1: float, around: int = 48, along: 
     return path
 
 
-def plot_body(rows: list[dict], path: Path, title: str) -> Path:
+def plot_body(rows: list[dict], rest: dict, cycle_s: float, path: Path, title: str) -> Path:
+    """Top: each foot's advance along the centreline from where it sat in the undeformed body
+    (`rest`: foot -> arc length, mm) against time (the inserted state at t = 0, when states.csv has
+    it); middle: the body's bend and heading (deg); bottom: the three pressures (kPa)."""
     plt = pyplot()
+    value = lambda r, k: float(r[k]) if r.get(k) not in (None, "") else float("nan")  # noqa: E731
+    start = [r for r in rows if r["phase"] != "cycle" and value(r, "rear_arc_mm") == value(r, "rear_arc_mm")]
     cyc = [r for r in rows if r["phase"] == "cycle"]
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
-    k = np.arange(len(cyc))
+    drawn = start[-1:] + cyc
+    t = [
+        0.0 if r["phase"] != "cycle" else value(r, "time_s") + max(int(r["cycle"]) - 1, 0) * cycle_s
+        for r in drawn
+    ]
+    fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
     for f in FEET:
-        top.plot(k, [r[f"{f}_arc_mm"] for r in cyc], marker="o", label=f"{f} foot")
-    top.set_ylabel("position on the centreline (mm)")
+        top.plot(t, [value(r, f"{f}_arc_mm") - rest[f] for r in drawn], marker="o", label=f"{f} foot")
+    top.set_ylabel("advance along the centreline (mm)")
     top.legend()
+    tc = t[len(drawn) - len(cyc) :]
+    middle.plot(tc, [value(r, "bend_deg") for r in cyc], marker=".", label="bend")
+    middle.plot(tc, [value(r, "heading_deg") for r in cyc], marker=".", label="heading")
+    middle.set_ylabel("angle (deg)")
+    middle.legend()
     for i in (1, 2, 3):
-        bottom.plot(k, [r[f"P{i}_kpa"] for r in cyc], marker=".", label=f"chamber {i}")
+        bottom.plot(tc, [value(r, f"P{i}_kpa") for r in cyc], marker=".", label=f"chamber {i}")
     bottom.set_ylabel("pressure (kPa)")
-    bottom.set_xlabel("schedule segment end")
+    bottom.set_xlabel("time (s)")
     bottom.legend()
     top.set_title(title)
     return save(fig, path)
@@ -197,7 +215,9 @@ def run_and_write(
                              factor=factor, wall=wall, on_step=step_line,
                              max_wall_s=left(max_wall_s, t0))  # fmt: skip
     converged = run.converged and crawl.converged
-    rows = state_rows(run, crawl)
+    probe = FootProbe(bm.model.space, wall)
+    rest = probe.arc(np.zeros(bm.n_dofs))
+    rows = state_rows(run, crawl, probe)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(rows, out / "states.csv")
     T = first.cycle_s
@@ -233,6 +253,7 @@ def run_and_write(
         "silicone_shear_modulus_mpa": float(silicone_law.mu),
         "feet_material_source": material_source(setup.material),
         "mass": mass,
+        "rest_arc_mm": rest,
         "strides_mm": list(strides),
         "speeds_mm_s": [s / T for s in strides],
         "turns_deg": list(turns),
@@ -252,6 +273,8 @@ def run_and_write(
     if crawl is not None and crawl.states:
         plot_body(
             rows,
+            rest,
+            T,
             out / "crawl.png",
             f"FE body, {pipe} {setup.pipe_diameter:g} mm pipe, {first.source if plan else first.name}",
         )
