@@ -30,6 +30,7 @@ import resource
 import time
 from pathlib import Path
 
+import meshio
 import numpy as np
 
 from softcrawl.fem.vtu import write_pvd, write_state
@@ -115,8 +116,6 @@ def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, preci
 def write_wall(path: Path, wall, s0: float, s1: float, around: int = 48, along: int = 60) -> Path:
     """The pipe's wall (a `CylinderWall` or an `ElbowPipe`) between centreline arc lengths s0 and
     s1 as a quad surface (meshio), for ParaView beside vtu/crawl.pvd."""
-    import meshio
-
     s = np.linspace(s0, s1, along)
     if hasattr(wall, "frame"):
         c, w, u = wall.frame(s)
@@ -137,13 +136,18 @@ def write_wall(path: Path, wall, s0: float, s1: float, around: int = 48, along: 
     return path
 
 
+def value(row: dict, key: str) -> float:
+    """A number of a states.csv row (as written or as read back), NaN where it has none."""
+    v = row.get(key)
+    return float("nan") if v in (None, "") else float(v)
+
+
 def plot_body(rows: list[dict], rest: dict, cycle_s: float, path: Path, title: str) -> Path:
     """Top: each foot's advance along the centreline from where it sat in the undeformed body
     (`rest`: foot -> arc length, mm) against time (the inserted state at t = 0, when states.csv has
     it); middle: the body's bend and heading (deg); bottom: the three pressures (kPa)."""
     plt = pyplot()
-    value = lambda r, k: float(r[k]) if r.get(k) not in (None, "") else float("nan")  # noqa: E731
-    start = [r for r in rows if r["phase"] != "cycle" and value(r, "rear_arc_mm") == value(r, "rear_arc_mm")]
+    start = [r for r in rows if r["phase"] != "cycle" and np.isfinite(value(r, "rear_arc_mm"))]
     cyc = [r for r in rows if r["phase"] == "cycle"]
     drawn = start[-1:] + cyc
     t = [
