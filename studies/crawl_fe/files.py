@@ -56,6 +56,14 @@ def left(budget: float | None, t0: float) -> float | None:
     return None if budget is None else max(budget - (time.perf_counter() - t0), 1e-6)
 
 
+def ended(message: str, max_wall_s: float | None) -> str:
+    """How the run ended; a stop at the time limit says so with the user's limit first (the
+    solver's own message quotes the budget left to the stage that stopped)."""
+    if max_wall_s is not None and "wall-time budget" in message:
+        return f"time limit of {max_wall_s:g} s reached (checked before each solve attempt): {message}"
+    return message
+
+
 def paper_speed(pipe: str, diameter: float) -> tuple[float | None, str]:
     """The paper's speed for this pipe (mm/s; None: none measured) and where it is from."""
     if pipe == "straight":
@@ -240,7 +248,7 @@ def run_and_write(
     summary = {
         "model": "fe-body",
         "converged": converged,
-        "message": run.message if crawl is None else crawl.message,
+        "message": ended(run.message if crawl is None else crawl.message, max_wall_s),
         "pipe": {
             "kind": pipe,
             "diameter_mm": setup.pipe_diameter,

@@ -85,3 +85,14 @@ def test_the_written_wall_lies_on_the_contact_surface(tmp_path, wall):
     if isinstance(wall, ElbowPipe):
         arc = wall.locate(mesh.points)[1]
         assert arc.min() == pytest.approx(-20.0, abs=1e-9) and arc.max() == pytest.approx(400.0, abs=1e-9)
+
+
+def test_a_stop_at_the_time_limit_is_reported_with_the_users_limit():
+    from softcrawl.studies.crawl_fe.files import ended
+
+    solver = "stage 'cycle1-row2' stopped at the wall-time budget max_wall_s = 2525.97 s; last converged: x"
+    assert ended(solver, 2700.0).startswith("time limit of 2700 s reached") and solver in ended(
+        solver, 2700.0
+    )
+    assert ended("1 cycle(s) reached", 2700.0) == "1 cycle(s) reached"
+    assert ended(solver, None) == solver
