@@ -103,6 +103,11 @@ def state_rows(run, crawl, probe) -> list[dict]:
     return rows
 
 
+def run_time(cycle: int, t: float, cycle_s: float) -> float:
+    """A state's time on the run's clock: `t` in cycle `cycle` (0: the ramp to the first row, at 0)."""
+    return t + (cycle - 1) * cycle_s if cycle else 0.0
+
+
 def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, precision: int) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     entries = []
@@ -113,7 +118,7 @@ def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, preci
             (write_state(folder / f"setup{k}.vtu", bm.model, st.x, factor=f, time=t, precision=precision), t)
         )
     for k, st in enumerate(crawl.states if crawl is not None else ()):
-        t = st.t + (st.cycle - 1) * cycle_s if st.cycle else 0.0
+        t = run_time(st.cycle, st.t, cycle_s)
         P = [kpa_to_mpa(p) for p in st.pressures_kpa]
         path = write_state(folder / f"state{k:04d}.vtu", bm.model, st.x, pressure_mpa=P, factor=factor,
                            time=t, precision=precision)  # fmt: skip
@@ -159,7 +164,7 @@ def plot_body(rows: list[dict], rest: dict, cycle_s: float, path: Path, title: s
     cyc = [r for r in rows if r["phase"] == "cycle"]
     drawn = start[-1:] + cyc
     t = [
-        0.0 if r["phase"] != "cycle" else value(r, "time_s") + max(int(r["cycle"]) - 1, 0) * cycle_s
+        0.0 if r["phase"] != "cycle" else run_time(int(r["cycle"]), value(r, "time_s"), cycle_s)
         for r in drawn
     ]
     fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(7, 8), sharex=True)

@@ -14,7 +14,7 @@ from pathlib import Path
 from softcrawl.studies.html import esc, figure, figure_grid, markdown, missing, table
 
 FOLDER = "crawl-fe"
-STRAIGHT = "softcrawl crawl --body fe --quick --cycles 2 --out results/crawl-fe/straight-70"
+STRAIGHT = "softcrawl crawl --body fe --quick --cycles 2 --time-limit 55 --out results/crawl-fe/straight-70"
 #: Width of a run's figure in the page (pixels).
 WIDTH = 640
 
