@@ -1,7 +1,7 @@
 """Crawl benchmark (issues 17, 31): insertion plus two full cycles, quick feet, one pipe.
 
     python bench/crawl_bench.py [--pipe 70] [--cycles 2] [--runs cold,warm] [--default-mesh]
-                                [--linear split|lu] [--cache DIR]
+                                [--linear split|lu] [--wedge 1,4] [--cache DIR]
 
 The run is `softcrawl crawl --quick --cycles 2` (24-sector revolved feet, 81,984 DOFs, 4
 insertion steps, 4 sub-steps per schedule segment, the "inflate" gait at 100 kPa in 2 s, mu 0.5 on
@@ -20,6 +20,9 @@ peak RSS. The two runs' strides must agree bit for bit (the cached state is the 
 `--linear lu` factorises every non-symmetric tangent by LU, the path before
 docs/decisions/080-symmetric-part.md (the default, "split", factorises its symmetric part and
 runs GMRES); the counts of those factorisations and of the fallbacks to LU are printed.
+`--wedge 1,4` (the default) runs cold and warm on the whole feet (`softcrawl crawl --quick`), then
+on a quarter wedge of them (`--wedge 4`, cyclic symmetry: docs/decisions/082-crawl-wedge.md); each
+has its own insertion cache.
 
 Targets (issue 31, on an idle 2-core machine): cold at most 60 s, warm at most 30 s. The figures
 printed under load are not those: the lead reruns this on an idle machine.
@@ -95,7 +98,7 @@ def _count_symmetric_parts() -> dict:
     return counts
 
 
-def run_case(pipe: float, cycles: int, quick: bool, cache: str, linear: str, queue) -> None:
+def run_case(pipe: float, cycles: int, quick: bool, cache: str, linear: str, copies: int, queue) -> None:
     import dataclasses
 
     from softcrawl.fem.linsolve import _prepare_mkl
@@ -119,6 +122,7 @@ def run_case(pipe: float, cycles: int, quick: bool, cache: str, linear: str, que
         steps=4,
         cycles=cycles,
         sectors=QUICK_SECTORS if quick else None,
+        copies=copies,
     )
     t_start = time.perf_counter()
     design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
@@ -164,6 +168,7 @@ def run_case(pipe: float, cycles: int, quick: bool, cache: str, linear: str, que
             "analyses": counts[11],
             "factorizations": counts[22],
             "linear": linear,
+            "copies": copies,
             "parts": parts["parts"],
             "fallbacks": parts["fallbacks"],
             "substitutions": counts[33],
@@ -177,7 +182,8 @@ def run_case(pipe: float, cycles: int, quick: bool, cache: str, linear: str, que
 def report(name: str, r: dict) -> None:
     ph = r["phases_s"]
     insertion = "cached, read" if r["hit"] else "computed"
-    print(f"{name} ({r['linear']}): {r['dofs']} DOFs; {r['message']}; insertion {insertion}")
+    feet = "whole feet" if r["copies"] == 1 else f"a 1/{r['copies']} wedge of the feet"
+    print(f"{name} ({r['linear']}, {feet}): {r['dofs']} DOFs; {r['message']}; insertion {insertion}")
     print(
         f"  wall {r['total_s']:.1f} s = mesh + model {r['build_s']:.1f} s + run {r['run_s']:.1f} s: "
         + ", ".join(f"{k} {v:.1f} s" for k, v in ph.items())
@@ -216,8 +222,15 @@ def main() -> None:
         choices=("split", "lu"),
         help="non-symmetric tangents: the symmetric part's LDL^T with GMRES (the default), or LU",
     )
+    ap.add_argument("--wedge", default="1,4", help="comma-separated wedge counts (1: the whole feet)")
     args = ap.parse_args()
     runs = args.runs.split(",")
+    try:
+        wedges = [int(w) for w in args.wedge.split(",")]
+    except ValueError:
+        ap.error(f"--wedge: comma-separated integers, not {args.wedge}")
+    if any(w < 1 or 24 % w or 24 // w < 2 for w in wedges):
+        ap.error(f"--wedge: each must divide the quick feet's 24 sectors and leave 2, not {args.wedge}")
     if not set(runs) <= {"cold", "warm"}:
         ap.error(f"--runs: cold and/or warm, not {args.runs}")
     load = os.getloadavg()[0]
@@ -228,16 +241,17 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="crawl-bench-") as tmp:
         cache = args.cache or tmp
         ctx = mp.get_context("spawn")
-        for name in runs:
-            queue = ctx.Queue()
-            proc = ctx.Process(
-                target=run_case,
-                args=(args.pipe, args.cycles, not args.default_mesh, cache, args.linear, queue),
-            )
-            proc.start()
-            result = queue.get()
-            proc.join()
-            report(name, result)
+        for copies in wedges:
+            for name in runs:
+                queue = ctx.Queue()
+                proc = ctx.Process(
+                    target=run_case,
+                    args=(args.pipe, args.cycles, not args.default_mesh, cache, args.linear, copies, queue),
+                )
+                proc.start()
+                result = queue.get()
+                proc.join()
+                report(name, result)
 
 
 if __name__ == "__main__":

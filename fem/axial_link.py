@@ -20,6 +20,10 @@ The force is spread equally over the nodes of each set: use it with a rigid-plat
 (`fem.equal_displacement.EqualDisplacement`) on the same sets when the sets must move as one.
 An internal link (two sets) adds no net force to the body; a ground link puts the force T
 (along +c) on it: a support whose force `tension` reports.
+
+A model of one wedge of a cyclic-symmetric body (`fem.periodic_tie`) carries the `share`
+1 / copies of the link: its residual and tangent are share r and share K, while `set_load`,
+`extension` and `tension` speak of the whole link.
 """
 
 from __future__ import annotations
@@ -53,10 +57,13 @@ class AxialLink:
     preload: float = 0.0  # F0, N
     rest: float = 0.0  # Delta0, mm
     name: str = "link"
+    share: float = 1.0  # the fraction of the link the model carries (module docstring)
 
     def __post_init__(self):
         if self.component not in (0, 1, 2):
             raise SolverInputError("axial_link.component", "must be 0, 1 or 2")
+        if not (np.isfinite(self.share) and 0 < self.share <= 1):
+            raise SolverInputError("axial_link.share", f"must be in (0, 1], got {self.share!r}")
         _finite(self.stiffness, "axial_link.stiffness", 0.0)
         _finite(self.preload, "axial_link.preload")
         _finite(self.rest, "axial_link.rest")
@@ -104,6 +111,7 @@ class AxialLinkTerm:
         return self.preload - self.stiffness * (self.extension(x) - self.rest)
 
     def arrays(self, x, pressures=None, with_tangent=True):
-        r = (-self.tension(x) * self.g)[:, None]
-        K = (self.stiffness * np.outer(self.g, self.g))[None] if with_tangent else None
+        share = self.spec.share
+        r = (-share * self.tension(x) * self.g)[:, None]
+        K = (share * self.stiffness * np.outer(self.g, self.g))[None] if with_tangent else None
         return r, K

@@ -46,8 +46,10 @@ def mesh_foot_with(
     thickness_layers: int | None = None,
     edge_length: float | None = None,
     cache_dir: str | Path | bool | None = None,
+    copies: int = 1,
 ) -> TaggedMesh:
-    """The foot `design` meshed by `mesher` (module docstring); None: the mesher's default."""
+    """The foot `design` meshed by `mesher` (module docstring); None: the mesher's default.
+    `copies` > 1: the revolved mesh's wedge of 2 pi / copies (`foot_revolved.mesh_foot_revolved`)."""
     if mesher == "revolved":
         if edge_length is not None:
             raise DesignError("edge_length", "refines the tetwild mesh; the revolved one takes sectors")
@@ -55,8 +57,11 @@ def mesh_foot_with(
             design,
             n_theta=fr.N_THETA if sectors is None else sectors,
             thickness_layers=fr.THICKNESS_LAYERS if thickness_layers is None else thickness_layers,
+            copies=copies,
         )
     if mesher == "tetwild":
+        if copies != 1:
+            raise DesignError("copies", "a wedge of the feet needs the revolved mesh, not pytetwild's")
         for name, value in (("sectors", sectors), ("thickness_layers", thickness_layers)):
             if value is not None:
                 raise DesignError(name, "refines the revolved mesh, not pytetwild's")

@@ -48,7 +48,7 @@ import numpy as np
 from softcrawl.geometry.design import DesignError, FootDesign
 from softcrawl.geometry.foot import foot_segments, skirt_directions
 from softcrawl.geometry.tagged_mesh import TaggedMesh
-from softcrawl.geometry.tagging import curved_surface_meta, orient_positive
+from softcrawl.geometry.tagging import boundary_facets, curved_surface_meta, orient_positive
 from softcrawl.geometry.tetwild import tag_boundary
 
 #: Defaults of the revolved foot mesh: 48 sectors (5.1 mm arcs at the 39 mm tip), three cells
@@ -168,17 +168,23 @@ def foot_section(
     return xy, tris
 
 
-def revolve_section(xy: np.ndarray, tris: np.ndarray, n_theta: int) -> tuple[np.ndarray, np.ndarray]:
-    """Points (n_theta * n, 3) and positively oriented tets of the section swept about the z axis."""
+def revolve_section(
+    xy: np.ndarray, tris: np.ndarray, n_theta: int, kept: int | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points and positively oriented tets of the section swept about the z axis through `kept`
+    of `n_theta` equal sectors (None: all, closed onto the first; fewer: an open wedge from
+    theta = 0 to 2 pi kept / n_theta, with kept + 1 section planes)."""
     n2 = len(xy)
-    theta = 2 * np.pi * np.arange(n_theta) / n_theta
-    rho, z = np.tile(xy[:, 0], n_theta), np.tile(xy[:, 1], n_theta)
+    kept = n_theta if kept is None else kept
+    planes = n_theta if kept == n_theta else kept + 1
+    theta = 2 * np.pi * np.arange(planes) / n_theta
+    rho, z = np.tile(xy[:, 0], planes), np.tile(xy[:, 1], planes)
     th = np.repeat(theta, n2)
     points = np.column_stack([rho * np.cos(th), rho * np.sin(th), z])
     tris = np.sort(tris, axis=1)
     tets = []
-    for k in range(n_theta):
-        lo, hi = k * n2, ((k + 1) % n_theta) * n2
+    for k in range(kept):
+        lo, hi = k * n2, ((k + 1) % planes) * n2
         a, b, c = (tris[:, i] + lo for i in range(3))
         a1, b1, c1 = (tris[:, i] + hi for i in range(3))
         tets += [np.column_stack(t) for t in ((a, b, c, a1), (b, c, a1, b1), (c, a1, b1, c1))]
@@ -187,14 +193,29 @@ def revolve_section(xy: np.ndarray, tris: np.ndarray, n_theta: int) -> tuple[np.
     return points, tets
 
 
+def _cut_facets(points: np.ndarray, tets: np.ndarray, angle: float, tol: float):
+    """(boundary facets on the plane theta = 0, on the plane theta = angle, the rest) of a wedge."""
+    tris, _ = boundary_facets(tets)
+    normal_end = np.array([-math.sin(angle), math.cos(angle), 0.0])
+    on_start = np.all(np.abs(points[tris][:, :, 1]) < tol, axis=1)
+    on_end = np.all(np.abs(points[tris] @ normal_end) < tol, axis=1)
+    return tris[on_start], tris[on_end], ~(on_start | on_end)
+
+
 def mesh_foot_revolved(
     design: FootDesign | None = None,
     *,
     n_theta: int = N_THETA,
     thickness_layers: int = THICKNESS_LAYERS,
     cell_size: float = CELL_SIZE,
+    copies: int = 1,
 ) -> TaggedMesh:
-    """Revolved tetrahedral mesh of the foot (region ``foot``), with the tags of `geometry.foot`."""
+    """Revolved tetrahedral mesh of the foot (region ``foot``), with the tags of `geometry.foot`.
+
+    `copies` > 1: the wedge 0 <= theta <= 2 pi / copies of the same mesh (its first n_theta /
+    copies sectors, node for node those of the whole mesh), whose cut faces are tagged
+    ``cut_start`` (theta = 0, the plane y = 0) and ``cut_end`` (theta = 2 pi / copies). The whole
+    mesh is the wedge turned `copies` times about z (`fem.periodic_tie` ties the two cuts)."""
     design = design or FootDesign()
     if not (isinstance(n_theta, int) and n_theta >= 12):
         raise DesignError("n_theta", f"needs at least 12 sectors around the axis, got {n_theta!r}")
@@ -203,12 +224,22 @@ def mesh_foot_revolved(
             "thickness_layers", f"needs at least 1 cell through the skirt, got {thickness_layers!r}"
         )
     thickness_cells(design, thickness_layers)
+    if not (isinstance(copies, int) and copies >= 1 and n_theta % copies == 0 and n_theta // copies >= 2):
+        raise DesignError(
+            "copies", f"must divide the {n_theta} sectors into wedges of at least 2, got {copies!r}"
+        )
     if not (isinstance(cell_size, (int, float)) and math.isfinite(cell_size) and cell_size > 0):
         raise DesignError("cell_size", f"must be a positive length in mm, got {cell_size!r}")
     xy, tris = foot_section(design, thickness_layers, float(cell_size))
-    points, tets = revolve_section(xy, tris, n_theta)
+    points, tets = revolve_section(xy, tris, n_theta, n_theta // copies)
     segments = foot_segments(design)
-    points, facets, n_untagged = tag_boundary(points, tets, segments, 1e-9 * design.tip_radius, snap=False)
+    tol = 1e-9 * design.tip_radius
+    rest, cuts = None, {}
+    if copies > 1:
+        start, end, keep = _cut_facets(points, tets, 2 * math.pi / copies, tol)
+        rest, cuts = boundary_facets(tets)[0][keep], {"cut_start": start, "cut_end": end}
+    points, facets, n_untagged = tag_boundary(points, tets, segments, tol, snap=False, tris=rest)
+    facets |= cuts
     if n_untagged:
         raise RuntimeError(f"revolved foot mesh: {n_untagged} boundary facets on no surface of the foot")
     return TaggedMesh(
@@ -226,6 +257,7 @@ def mesh_foot_revolved(
             "n_theta": n_theta,
             "thickness_layers": thickness_layers,
             "cell_size": float(cell_size),
+            "copies": copies,
             "curved_surfaces": curved_surface_meta(segments),
         },
     )

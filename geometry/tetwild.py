@@ -124,14 +124,21 @@ def tetrahedralize(
 
 
 def tag_boundary(
-    points: np.ndarray, tets: np.ndarray, segments: list[RevolvedSegment], tol: float, snap: bool = True
+    points: np.ndarray,
+    tets: np.ndarray,
+    segments: list[RevolvedSegment],
+    tol: float,
+    snap: bool = True,
+    tris: np.ndarray | None = None,
 ) -> tuple[np.ndarray, dict[str, np.ndarray], int]:
-    """Tag the boundary facets; returns (points, facets by tag, number of untagged facets).
+    """Tag the boundary facets (or `tris`, some of them); returns (points, facets by tag, number of
+    untagged facets).
 
     Untagged facets (none expected) are given the tag of the nearest surface regardless of the normal
     and counted, so that a test can insist on zero.
     """
-    tris, _ = boundary_facets(tets)
+    if tris is None:
+        tris, _ = boundary_facets(tets)
     idx = classify_facets(points, tris, segments, tol)
     n_untagged = int(np.count_nonzero(idx < 0))
     if n_untagged:

@@ -182,6 +182,17 @@ def _add_run_options(parser) -> None:
         integer=True,
         metavar="N",
     )
+    add_number(
+        parser,
+        "--wedge",
+        help="crawl: model one wedge of 360/N deg of the feet, tied cyclically (docs/decisions/082-crawl-wedge.md)",
+        default=None,
+        default_text="1, the whole feet",
+        minimum=1,
+        maximum=48,
+        integer=True,
+        metavar="N",
+    )
 
 
 def _check(args) -> None:
@@ -262,6 +273,7 @@ def _request(args: argparse.Namespace) -> StudyRequest:
         simulator=args.simulator,
         max_memory_gb=args.max_memory,
         confirm=args.confirm,
+        wedge=args.wedge,
     )
 
 

@@ -81,6 +81,7 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
         cycles=int(settings.get("cycles", 2)),
         max_wall_s=QUICK_WALL_S if quick else DEFAULT_WALL_S,
         sectors=QUICK_SECTORS if quick else None,
+        copies=int(settings.get("copies", 1)),
     )
     folder = Path(settings["out_dir"]) / "points" / point_stem(params)
     schedule = preset("inflate", 100.0, 2.0)
@@ -122,15 +123,22 @@ def evaluate_crawl(params: dict, fixed: dict, settings: dict):
     return Evaluation(ok=True, values=(attrs["steady_stride_mm"],), attrs=attrs)
 
 
-def run_crawl_study(out, *, quick=False, storage=None, workers=1, progress=True, retry=False) -> StudyOutcome:
-    folder = Path(out) / NAME / ("rubber-70a-quick" if quick else "rubber-70a")
+def run_crawl_study(
+    out, *, quick=False, wedge=1, storage=None, workers=1, progress=True, retry=False
+) -> StudyOutcome:
+    """The study into OUT/crawl/rubber-70a[-quick][-wedgeN] (a wedge of the feet, `wedge` > 1, has
+    its own folder and sweep: its points are another model's, equal to the whole feet's within the
+    tie's tolerance, docs/decisions/082-crawl-wedge.md)."""
+    tail = ("-quick" if quick else "") + (f"-wedge{wedge}" if wedge > 1 else "")
+    folder = Path(out) / NAME / f"rubber-70a{tail}"
     folder.mkdir(parents=True, exist_ok=True)
     spec = SweepSpec(
-        name=f"{NAME}-{'quick' if quick else 'default'}",
+        name=f"{NAME}-{'quick' if quick else 'default'}" + (f"-wedge{wedge}" if wedge > 1 else ""),
         grid=QUICK_GRID if quick else GRID,
         out_dir=str(folder),
         evaluator=EVALUATOR,
-        settings={"quick": bool(quick), "out_dir": str(folder), "cycles": 1 if quick else 2},
+        settings={"quick": bool(quick), "out_dir": str(folder), "cycles": 1 if quick else 2}
+        | ({"copies": int(wedge)} if wedge > 1 else {}),
         storage=storage,
         # best = the longest steady stride among points that converged (a failed point is FAIL);
         # the crawl study decides no Table 1 value, so best only ranks (decision 063)
@@ -231,13 +239,17 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     """`softcrawl study crawl` (the registry's entry point)."""
-    return run_crawl_study(request.out, quick=request.quick, **request.sweep_options())
+    return run_crawl_study(request.out, quick=request.quick, wedge=request.wedge or 1, **request.sweep_options())
 
 
 def check_request(request: StudyRequest) -> None:
     """The crawl study's feet are the foot study's rubber."""
     if request.material != "rubber-70a":
         raise StudyError("material", "the crawl study's feet are rubber-70a (the foot study's rubber)")
+    sectors = QUICK_SECTORS if request.quick else 48
+    wedge = request.wedge or 1
+    if sectors % wedge or sectors // wedge < 2:
+        raise StudyError("wedge", f"must divide the feet's {sectors} sectors and leave at least 2, got {wedge}")
 
 
 def replot_folder(folder: Path) -> list[Path]:

@@ -151,6 +151,7 @@ def summary_text(result, setup, schedule, cmp: dict) -> str:
     lines = [
         f"crawl: {setup.pipe_diameter:g} mm pipe, {schedule.name} ({schedule.source}), feet {setup.feet}, "
         f"mu smooth {setup.mu_smooth:g} / grooved {setup.mu_grooved:g}, {result.n_dofs} DOFs"
+        + (f" (a 1/{setup.copies} wedge of the feet, tied cyclically)" if setup.copies > 1 else "")
     ]
     for c in result.cycles:
         slid = ", ".join(

@@ -27,6 +27,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from softcrawl.fem.model import SolidModel
+from softcrawl.studies.crawl import wedge
 from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.mesh import separation as hub_separation
@@ -39,7 +40,7 @@ from softcrawl.studies.foot.flip import (
 )
 from softcrawl.studies.foot.model import FOLD_HOLD, FOOT_NEWTON
 
-__all__ = ["FOLD_HOLD", "check_pipe", "folded_feet", "rim_springs"]
+__all__ = ["FOLD_HOLD", "check_pipe", "folded_feet", "plate_hold", "rim_springs"]
 
 
 def check_pipe(pipe_diameter: float, foot_design, error, parameter: str = "pipe_diameter") -> None:
@@ -57,6 +58,13 @@ def check_pipe(pipe_diameter: float, foot_design, error, parameter: str = "pipe_
 def rim_springs() -> RimSprings:
     """The springs on both feet's rims (target set by `folded_feet`)."""
     return RimSprings(np.zeros(0), tags=tuple(f"{foot}:rim" for foot in FEET))
+
+
+def plate_hold(model: SolidModel, plates, penalty: float, copies: int = 1) -> float:
+    """k_hold = n k_p (N/mm): a ground spring on a plate's mean axial displacement as stiff as the
+    plate's penalty `penalty` (N/mm per node) holds its n nodes together (the largest n of
+    `plates`, the whole feet's; module docstring, the flipped feet's plates)."""
+    return float(penalty * max(wedge.whole_plate_nodes(model, tag, copies) for tag in plates))
 
 
 def _match(points: np.ndarray, reference: np.ndarray, shifts) -> tuple[np.ndarray, np.ndarray]:
@@ -83,7 +91,7 @@ def folded_feet(
     face held (module docstring), and the springs' target set to it; x0 is None (the message says
     why) when a fold did not converge."""
     separation = hub_separation(foot_design)
-    mesh = mesh_foot_with(foot_design, **setup.mesh_options()).to_skfem(2)
+    mesh = mesh_foot_with(foot_design, **(setup.mesh_options() | {"copies": 1})).to_skfem(2)  # whole feet
     single = SolidModel(mesh, material)
     rim = single.boundary_nodes("rim")
     phi = fold_angle_into(foot_design, single.nodes[:, rim], setup.pipe.radius - FOLD_CLEARANCE)

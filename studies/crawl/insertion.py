@@ -19,7 +19,7 @@ and slip band), the linear solver, `FORMAT`, and the softcrawl version (`fem.che
 Bump `FORMAT` when the insertion's code changes without a version bump (an editable install).
 The flipped feet's key also names how their folds are held (`fold_held`, record 078: each foot's
 actuator face) and how their plates are held until friction (`plates_held`, record 079: ground
-springs of n k_p, `studies.crawl.model.plate_hold`), so that an entry folded with both hub tops
+springs of n k_p, `studies.crawl.flipped.plate_hold`), so that an entry folded with both hub tops
 held, or inserted on GROUND_HOLD, is not taken for it, while the other feet's keys keep their
 value.
 The feet's design and rubber (`CrawlSetup.foot`, `CrawlSetup.material`) reach the key through the
@@ -56,6 +56,7 @@ from softcrawl.fem.checkpoint import content_hash, softcrawl_version
 from softcrawl.fem.linsolve import default_solver
 from softcrawl.geometry.tetwild import default_cache_dir
 from softcrawl.studies.crawl import model as crawl_model
+from softcrawl.studies.crawl import wedge as crawl_wedge
 from softcrawl.studies.crawl.resume import CrawlStore, Resumed, Totals
 from softcrawl.studies.foot import model as foot_model
 
@@ -93,7 +94,12 @@ def insertion_options(cm, mesh, foot_design, law) -> dict[str, Any]:
         if setup.flipped
         else {}
     )
-    return flipped | {
+    # a wedge of the feet (record 082): its mesh is in the mesh hash, its ties' penalty here; the
+    # whole feet's keys keep their value
+    wedge = (
+        {"wedge": {"copies": setup.copies, "tie_penalty": crawl_wedge.TIE_PENALTY}} if setup.copies > 1 else {}
+    )
+    return flipped | wedge | {
         "format": FORMAT,
         "mesh": mesh_hash(mesh),
         "foot_design": foot_design.short_hash(),

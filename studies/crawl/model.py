@@ -20,13 +20,16 @@ friction alone; their forces are reported (and compared with the friction forces
 The flipped feet's plates are held (docs/decisions/079-backward-plates.md). While their wall
 closes and their rim springs are released, each plate's ground spring is as stiff as the plate
 holds its own nodes together, k_hold = n k_p (n the plate's nodes, k_p = 10^3 E h the plate's
-penalty per node, `plate_hold`): the plate then moves by R / (n k_p) under an axial reaction R, as
+penalty per node, `flipped.plate_hold`): the plate then moves by R / (n k_p) under an axial reaction R, as
 little as its nodes move apart, i.e. it is held in all three directions up to the plate's own
 constraint error. On GROUND_HOLD (1000 N/mm) the quick 55 mm crawl's first contact sub-step
 wandered (a stall at 6.6e-2 of the force scale); held, it converges in 5 iterations. Friction
 takes over from that hold exactly as from GROUND_HOLD: the spring is re-based and softened, and
 the force it drops is the plates' reaction after the release, which the frictionless radial wall
 and the released rims leave at the actuator's tension (reported at the handover).
+
+Wedge (`CrawlSetup.copies` > 1; `studies.crawl.wedge`, docs/decisions/082-crawl-wedge.md): one
+wedge of 2 pi / copies of each foot, its cuts tied by cyclic symmetry, carrying 1 / copies of the links.
 
 Stages: insert (the wall shrinks from clear of the tip to the pipe radius, frictionless), friction
 (coefficients on), a ramp to the schedule's start pressures when they are not zero, then each
@@ -50,7 +53,8 @@ from softcrawl.fem.equal_displacement import EqualDisplacement
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.foot_design import FootDesign
-from softcrawl.studies.crawl.flipped import FOLD_HOLD, folded_feet, rim_springs
+from softcrawl.studies.crawl import wedge
+from softcrawl.studies.crawl.flipped import FOLD_HOLD, folded_feet, plate_hold, rim_springs
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
 from softcrawl.studies.crawl.resume import Totals
@@ -101,6 +105,7 @@ class CrawlSetup:
     sectors: int | None = None  # revolved: sectors around the axis (None: 48)
     thickness_layers: int | None = None  # revolved: cells through the skirt (None: 3)
     edge_length: float | None = None  # tetwild: foot mesh edge (mm; None: the pytetwild default)
+    copies: int = 1  # revolved: model one wedge of 2 pi / copies (`studies.crawl.wedge`); 1: whole
 
     @property
     def pipe(self) -> Pipe:
@@ -114,6 +119,7 @@ class CrawlSetup:
             "sectors": self.sectors,
             "thickness_layers": self.thickness_layers,
             "edge_length": self.edge_length,
+            "copies": self.copies,
         }
 
     @property
@@ -173,12 +179,14 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
     contacts = feet_contacts(material, size, foot_design.tip_radius)
     rear, front = (attach_tag(f, m) for f, m in zip(FEET, setup.mirrored))
     k0, _ = law.stiffness_preload((0.0, 0.0, 0.0))
+    share = 1.0 / setup.copies
     terms = [
-        AxialLink(front, rear, 2, k0, 0.0, name="actuator"),
-        AxialLink(rear, None, 2, GROUND_HOLD, name="ground_rear"),
-        AxialLink(front, None, 2, GROUND_HOLD, name="ground_front"),
+        AxialLink(front, rear, 2, k0, 0.0, name="actuator", share=share),
+        AxialLink(rear, None, 2, GROUND_HOLD, name="ground_rear", share=share),
+        AxialLink(front, None, 2, GROUND_HOLD, name="ground_front", share=share),
         EqualDisplacement(rear, 2, PLATE_PENALTY * youngs * size),
         EqualDisplacement(front, 2, PLATE_PENALTY * youngs * size),
+        *wedge.ties(setup.copies, youngs, size),
     ]
     bcs = [Dirichlet(tag, (0, 1), (0.0, 0.0)) for tag in (rear, front)]
     springs = rim_springs() if setup.flipped else None
@@ -191,18 +199,11 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
     }
     cm = CrawlModel(model, law, setup, foot_design.tip_radius, links, springs)
     if springs is not None:
-        cm.ground_hold = plate_hold(model, (rear, front), PLATE_PENALTY * youngs * size)
+        cm.ground_hold = plate_hold(model, (rear, front), PLATE_PENALTY * youngs * size, setup.copies)
         for name in ("ground_rear", "ground_front"):
             links[name].set_load(cm.ground_hold, 0.0)
         cm.folded, cm.fold_message = folded_feet(model, material, foot_design, setup, springs)
     return cm
-
-
-def plate_hold(model: SolidModel, plates, penalty: float) -> float:
-    """k_hold = n k_p (N/mm): a ground spring on a plate's mean axial displacement as stiff as the
-    plate's penalty `penalty` (N/mm per node) holds its n nodes together (the largest n of
-    `plates`; module docstring, the flipped feet's plates)."""
-    return float(penalty * max(model.boundary_nodes(tag).size for tag in plates))
 
 
 def _clear_radius(cm: CrawlModel) -> float:

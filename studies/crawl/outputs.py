@@ -53,13 +53,21 @@ class StateRecorder:
     def __init__(self, cm, on_state=None) -> None:
         self.cm, self.on_state = cm, on_state
         m = cm.model
-        self.tips = {f: m.boundary_nodes(f"{f}:rim") for f in FEET}
-        self.tops = {f: m.boundary_nodes(f"{f}:hub_top") for f in FEET}
+        self.tips = {f: self._whole(m, f, "rim") for f in FEET}
+        self.tops = {f: self._whole(m, f, "hub_top") for f in FEET}
         self.opening = {f: (-1.0 if mirror else 1.0) for f, mirror in zip(FEET, cm.setup.mirrored)}
         self.states: list[dict] = []
         self.cycles: list[dict] = []
         self.start: dict | None = None
         self._cycle_from = 0
+
+    def _whole(self, model, foot: str, tag: str):
+        """The nodes of `foot`'s `tag` whose mean is the whole foot's: a wedge's off its cut at
+        2 pi / copies (the next wedge's cut at 0: `studies.crawl.wedge`)."""
+        nodes = model.boundary_nodes(f"{foot}:{tag}")
+        if self.cm.setup.copies == 1:
+            return nodes
+        return nodes[~np.isin(nodes, model.boundary_nodes(f"{foot}:cut_end"))]
 
     def _positions(self, x) -> dict:
         return {f: self.cm.terms[f"ground_{f}"].extension(x) for f in FEET}
@@ -86,15 +94,16 @@ class StateRecorder:
             "penetration_mm": float(step.penetration),
         }
         balance = 0.0
+        copies = cm.setup.copies  # a wedge's contact forces are 1 / copies of the feet's
         for f in FEET:
             reps = [c.report(x) for c in cm.contacts_of(f)]
             area = sum(r.area_reference for r in reps)
-            friction = float(sum(r.friction_force[2] for r in reps))
+            friction = copies * float(sum(r.friction_force[2] for r in reps))
             ground = cm.terms[f"ground_{f}"].tension(x)
             balance += friction + ground
             row |= {
                 f"{f}_u_mm": cm.terms[f"ground_{f}"].extension(x),
-                f"{f}_normal_n": float(sum(r.normal_force for r in reps)),
+                f"{f}_normal_n": copies * float(sum(r.normal_force for r in reps)),
                 f"{f}_friction_n": friction,
                 f"{f}_slip_share": float(sum(r.slip_fraction * r.area_reference for r in reps) / area)
                 if area > 0
@@ -105,7 +114,7 @@ class StateRecorder:
         row["centre_u_mm"] = 0.5 * (row["rear_u_mm"] + row["front_u_mm"])
         springs = getattr(cm, "springs", None)
         if springs is not None:  # the flipped feet's rim springs act on the body until released
-            row["rim_springs_n"] = springs.axial_force(x)
+            row["rim_springs_n"] = copies * springs.axial_force(x)
             balance += row["rim_springs_n"]
         row["momentum_n"] = balance
         self.states.append(row)

@@ -10,7 +10,7 @@ STUDIES = (
         summary="stride and anchoring of the FE crawl over pipe diameter and friction",
         run="softcrawl.studies.crawl.crawl_study:run_request",
         default_material="rubber-70a",
-        options=frozenset({"workers", "max_memory", "storage", "retry_failed"}),
+        options=frozenset({"workers", "max_memory", "storage", "retry_failed", "wedge"}),
         evaluators={"crawl": "softcrawl.studies.crawl.crawl_study:evaluate_crawl"},
         figure="crawl-study.png",
         tables=("summary.csv", "summary.md"),
@@ -19,7 +19,7 @@ STUDIES = (
         in_review=False,
         help="crawl: stride and anchoring of the FE crawl (two feet, the ePSAs' axial law) over pipe "
         "diameter and friction coefficient (studies/crawl/crawl_study.py), "
-        "DIR/crawl/rubber-70a[-quick]/; shown in the review's crawl section.",
+        "DIR/crawl/rubber-70a[-quick][-wedgeN]/; shown in the review's crawl section.",
     ),
     Study(
         name="feet",

@@ -179,3 +179,18 @@ def test_a_sliding_block_unloads_back_to_stick():
     assert slid["release"] == pytest.approx(u_slide, abs=0.01 * u_slide)  # it stays where it slid to
     rep = model.contacts[0].report(res.x)
     assert rep.friction_force[0] == pytest.approx(-pull.tension(res.x), abs=1e-7 * N)
+
+
+def test_a_share_scales_the_terms_not_the_link():
+    """A wedge model carries `share` of the link: residual and tangent scaled, while tension and
+    extension speak of the whole link."""
+    mesh = _two_blocks()
+    full = SolidModel(mesh, RUBBER, extra_terms=[AxialLink("b_x0", "a_x1", 0, 0.7, 0.3, 0.1)]).terms[-1]
+    part = SolidModel(mesh, RUBBER, extra_terms=[AxialLink("b_x0", "a_x1", 0, 0.7, 0.3, 0.1, share=0.25)]).terms[-1]
+    x = np.random.default_rng(4).normal(size=full.dofs.max() + 1) * 1e-2
+    (r1, K1), (r4, K4) = full.arrays(x), part.arrays(x)
+    assert np.allclose(r4, 0.25 * r1, rtol=1e-14) and np.allclose(K4, 0.25 * K1, rtol=1e-14)
+    assert part.tension(x) == full.tension(x) and part.extension(x) == full.extension(x)
+    for bad in (0.0, 1.5, float("nan")):
+        with pytest.raises(SolverInputError, match="share"):
+            AxialLink("b_x0", "a_x1", share=bad)

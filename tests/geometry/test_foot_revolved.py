@@ -130,3 +130,36 @@ def test_grooves_are_cut_to_their_depth():
 def test_bad_settings_name_the_parameter(kwargs, name):
     with pytest.raises(DesignError, match=name):
         mesh_foot_revolved(FootDesign(), **kwargs)
+
+
+@pytest.mark.parametrize("copies", [2, 4, 6])
+def test_a_wedge_is_the_whole_mesh_cut(copies):
+    """The wedge's nodes are the whole mesh's first ones, its volume and every tag's area the
+    whole's / copies, and its cuts lie on theta = 0 and theta = 2 pi / copies."""
+    whole = mesh_foot_revolved(FootDesign(), n_theta=24)
+    wedge = mesh_foot_revolved(FootDesign(), n_theta=24, copies=copies)
+    assert np.array_equal(wedge.points, whole.points[: len(wedge.points)])
+
+    def volume(m):
+        p = m.points[m.tets]
+        return np.abs(np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])).sum() / 6
+
+    def area(m, tag):
+        p = m.points[m.facets[tag]]
+        return np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1).sum() / 2
+
+    assert volume(wedge) * copies == pytest.approx(volume(whole), rel=1e-12)
+    for tag in whole.facets:
+        assert area(wedge, tag) * copies == pytest.approx(area(whole, tag), rel=1e-12)
+    angle = 2 * math.pi / copies
+    start, end = wedge.points[wedge.facets["cut_start"]], wedge.points[wedge.facets["cut_end"]]
+    assert np.abs(start[..., 1]).max() < 1e-9
+    assert np.abs(end @ np.array([-math.sin(angle), math.cos(angle), 0.0])).max() < 1e-9
+    assert area(wedge, "cut_start") == pytest.approx(area(wedge, "cut_end"), rel=1e-12)
+    assert wedge.meta["copies"] == copies
+
+
+@pytest.mark.parametrize("copies", [0, 5, 24, 2.0])
+def test_a_wedge_must_divide_the_sectors(copies):
+    with pytest.raises(DesignError, match="copies"):
+        mesh_foot_revolved(FootDesign(), n_theta=24, copies=copies)

@@ -76,6 +76,14 @@ CASES: list[tuple[str, str]] = [
     ("crawl --mesher tetwild --sectors 32 --out OUT", "sectors"),
     ("crawl --mesher tetwild --layers 2 --out OUT", "layers"),
     ("crawl --sectors 8 --out OUT", "sectors"),
+    ("crawl --quick --wedge 5 --out OUT", "wedge"),  # does not divide the 24 sectors
+    ("crawl --sectors 24 --wedge 24 --out OUT", "wedge"),  # a wedge of one sector
+    ("crawl --wedge 0 --out OUT", "wedge"),
+    ("crawl --mesher tetwild --wedge 4 --out OUT", "wedge"),
+    ("crawl --body fe --wedge 4 --out OUT", "wedge"),
+    ("study crawl --wedge 5 --out OUT", "wedge"),
+    ("study crawl --quick --wedge 24 --out OUT", "wedge"),
+    ("study fiber-turns --wedge 4 --out OUT", "wedge"),
     ("crawl --sectors 20 --out OUT", "sectors"),  # a valid mesh, but too coarse for the contact faces
     ("crawl --layers 0 --out OUT", "layers"),
     ("crawl --mesher gmsh --out OUT", "mesher"),

@@ -33,14 +33,16 @@ def report(normal, friction_z, area, slip):
     )
 
 
-def stub(contacts=None):
-    nodes = np.zeros((3, 4))
-    nodes[2] = [0.0, 1.0, 10.0, 11.0]
+def stub(contacts=None, copies=1):
+    nodes = np.zeros((3, 6))
+    nodes[2] = [0.0, 1.0, 10.0, 11.0, 7.0, 7.0]
     tags = {"rear:rim": [0], "rear:hub_top": [1], "front:rim": [3], "front:hub_top": [2]}
+    if copies > 1:  # a wedge: one more rim node on each foot's cut at 2 pi / copies
+        tags |= {"rear:rim": [0, 4], "front:rim": [3, 5], "rear:cut_end": [4], "front:cut_end": [5]}
     model = SimpleNamespace(
         boundary_nodes=lambda tag: np.array(tags[tag]),
         nodes=nodes,
-        displacement=lambda x: np.zeros((3, 4)) + np.array([[0.0], [0.0], [x.get("dz", 0.0)]]),
+        displacement=lambda x: np.zeros((3, 6)) + np.array([[0.0], [0.0], [x.get("dz", 0.0)]]),
         n_dofs=12,
     )
     act = SimpleNamespace(
@@ -51,7 +53,7 @@ def stub(contacts=None):
     contacts = contacts or {"rear": [], "front": []}
     return SimpleNamespace(
         model=model,
-        setup=SimpleNamespace(mirrored=(False, True)),
+        setup=SimpleNamespace(mirrored=(False, True), copies=copies),
         terms=terms,
         law=law,
         contacts_of=lambda f: [SimpleNamespace(report=lambda x, r=r: r) for r in contacts[f]],
@@ -179,6 +181,22 @@ def test_state_row_sums_each_foot_its_own_contacts_and_balances_momentum():
     )
 
 
+def test_a_wedge_reports_the_whole_feet():
+    """A 1/4 wedge's contact forces are a quarter of the feet's: the row reports 4x them (the
+    links report the whole link themselves); node means skip the cut at 2 pi / copies, whose
+    nodes are the next wedge's cut at 0."""
+    contacts = {"rear": [report(2.0, -1.0, 3.0, 1.0)], "front": [report(10.0, 0.25, 2.0, 0.5)]}
+    rec = StateRecorder(stub(contacts, copies=4))
+    x = {"rear": 1.0, "front": 5.0, "rear_ground": 1.25, "front_ground": -0.5}
+    record(rec, x, 0, "extend")
+    row = rec.states[-1]
+    assert row["rear_normal_n"] == 8.0 and row["front_normal_n"] == 40.0
+    assert row["rear_friction_n"] == -4.0 and row["front_friction_n"] == 1.0
+    assert row["rear_slip_share"] == 1.0 and row["rear_ground_n"] == 1.25
+    assert row["momentum_n"] == pytest.approx(-4.0 + 1.25 + 1.0 - 0.5)
+    assert row["rear_tip_lead_mm"] == pytest.approx(0.0 - 1.0)  # the cut's rim node (z = 7) skipped
+
+
 def test_no_contact_area_is_no_slip():
     rec = StateRecorder(stub({"rear": [report(0.0, 0.0, 0.0, 1.0)], "front": []}))
     record(rec, {"rear": 0.0, "front": 0.0}, 0, "extend")
@@ -249,7 +267,7 @@ def test_state_row_reads_every_quantity_at_the_recorded_state():
     contacts = {"rear": [report(2.0, -1.0, 0.5, 1.0)], "front": [report(1.0, 0.5, 0.25, 0.5)]}
     cm = stub(contacts)
     # node z: rear rim 0, rear hub top 1, front hub top 10, front rim 11; displaced by x["uz"]
-    cm.model.displacement = lambda x: np.vstack([np.zeros((2, 4)), x["uz"]])
+    cm.model.displacement = lambda x: np.vstack([np.zeros((2, 6)), x["uz"]])
     cm.terms["actuator"] = SimpleNamespace(
         stiffness=2.0, preload=0.5, tension=lambda x: x["T"], extension=lambda x: x["delta"]
     )
@@ -265,7 +283,7 @@ def test_state_row_reads_every_quantity_at_the_recorded_state():
         "delta": 0.5,
         "T": 4.0,
         "live": True,
-        "uz": np.array([3.0, 0.0, 0.0, -4.0]),
+        "uz": np.array([3.0, 0.0, 0.0, -4.0, 0.0, 0.0]),
     }
     s = step()
     s.x, s.penetration = x, 0.125
