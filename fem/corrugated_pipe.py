@@ -94,6 +94,10 @@ class CorrugatedPipe:
     def with_radius(self, radius: float) -> CorrugatedPipe:
         return replace(self, radius=radius)
 
+    def arc_length(self, x: np.ndarray) -> np.ndarray:
+        """Position (n,) of points x (n, 3) along the straight centreline: (x - centre) . axis."""
+        return (np.asarray(x, dtype=float).reshape(-1, 3) - np.asarray(self.centre)) @ self._a
+
     def profile(self, z):
         """(f, f', f'') of the wall radius at axial coordinates z."""
         k, h = self.wavenumber, self.amplitude

@@ -155,6 +155,10 @@ class ElbowPipe:
         return replace(self, radius=radius)
 
     # ------------------------------------------------------------ closest point
+    def arc_length(self, x: np.ndarray) -> np.ndarray:
+        """Arc length (n,) of the nearest centreline point of points x (n, 3), 0 at `start`."""
+        return self.locate(x)[1]
+
     def locate(self, x: np.ndarray):
         """(piece (n,) int into `PIECES`, arc length s (n,) of the nearest centreline point, its
         position c (n, 3), its tangent (n, 3)) for points x (n, 3); s = 0 at `start`."""

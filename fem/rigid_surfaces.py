@@ -93,6 +93,10 @@ class CylinderWall:
     def with_radius(self, radius: float) -> CylinderWall:
         return replace(self, radius=radius)
 
+    def arc_length(self, x: np.ndarray) -> np.ndarray:
+        """Position (n,) of points x (n, 3) along the centreline: (x - centre) . axis."""
+        return (np.asarray(x, dtype=float).reshape(-1, 3) - np.asarray(self.centre)) @ self._a
+
     def project(self, x: np.ndarray):
         """(gap (n,), normal (n, 3), curvature C (n, 3, 3) with dn/dx = -C) at points x (n, 3)."""
         a = self._a

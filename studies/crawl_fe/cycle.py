@@ -31,6 +31,7 @@ import numpy as np
 
 from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
 from softcrawl.studies.crawl.schedule import Schedule
 from softcrawl.studies.crawl_fe.model import FEET, BodyModel
@@ -76,12 +77,13 @@ class BodyCrawl:
 class FootProbe:
     """Each foot's axial displacement and centreline position, the lateral drift, the bend and
     the heading at a state (module docstring), on the discretisation `space` of the body's model
-    in the pipe `wall` (a `CylinderWall` or an `ElbowPipe`; None: the z axis)."""
+    in the pipe `wall` (any surface with `arc_length`: `CylinderWall`, `ElbowPipe`,
+    `CorrugatedPipe`; None: a pipe on the z axis)."""
 
     def __init__(self, space, wall=None):
         self.nodes = {foot: space.boundary_nodes(tag) for foot, tag in FOOT_FACES.items()}
         self.points = {foot: np.asarray(space.nodes)[:, n].T for foot, n in self.nodes.items()}
-        self.wall = wall
+        self.wall = CylinderWall(1.0) if wall is None else wall  # only its centreline is read
 
     def z(self, x: np.ndarray) -> dict:
         return {foot: float(x[3 * n + 2].mean()) for foot, n in self.nodes.items()}
@@ -94,11 +96,7 @@ class FootProbe:
         out = {}
         for foot in self.nodes:
             c = self.deformed(x, foot).mean(axis=0)
-            if hasattr(self.wall, "locate"):
-                out[foot] = float(self.wall.locate(c)[1][0])
-            else:
-                axis = np.asarray(getattr(self.wall, "axis", (0.0, 0.0, 1.0)))
-                out[foot] = float((c - np.asarray(getattr(self.wall, "centre", np.zeros(3)))) @ axis)
+            out[foot] = float(self.wall.arc_length(c)[0])  # each pipe owns its centreline
         return out
 
     def normal(self, x: np.ndarray, foot: str) -> np.ndarray:
