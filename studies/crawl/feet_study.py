@@ -22,7 +22,10 @@ first run's 90, 60 and 30 deg points failed so; record 066 measured the least wo
 each angle gets the least count the project's rule gives. The default 48 sectors at every angle
 would roughly double the unknowns of the 120 deg feet: twelve two-cycle crawls would not fit the
 machine's hour. A wall budget per point (`WALL_S`) turns a stall in cut-backs into a recorded
-failure.
+failure. --wedge N: each foot is one wedge of 360/N deg, tied by cyclic symmetry
+(`studies.crawl.wedge`, docs/decisions/082-crawl-wedge.md), on quick_sectors(foot) rounded up to
+a multiple of N (`point_sectors`: at N = 4, 24 / 36 / 44 / 48 at 120 / 90 / 60 / 30 deg), into
+OUT/feet/D70[-quick]-wedgeN.
 
 Per point (OUT/feet/D70[-quick]/points/S..-A..): `studies.crawl.files` writes states.csv,
 cycles.csv, summary.json, crawl.png (no VTU), each converged state is checkpointed (a stopped point
@@ -97,9 +100,15 @@ def friction(out) -> dict:
     return {k: found[k] for k in keys} | {"identification": STUDY_FILE.as_posix()}
 
 
+def point_sectors(foot: FootDesign, copies: int = 1) -> int:
+    """quick_sectors(foot), rounded up to a multiple of the wedge count `copies`."""
+    return -(-quick_sectors(foot) // copies) * copies
+
+
 def point_setup(params: dict, settings: dict) -> CrawlSetup:
     """The crawl of one grid point (module docstring)."""
     foot = FootDesign(angle=float(params["angle_deg"]))
+    copies = int(settings.get("copies", 1))
     return CrawlSetup(
         pipe_diameter=FIG21_PIPE_MM,
         mu_smooth=float(settings["mu_smooth"]),
@@ -110,7 +119,8 @@ def point_setup(params: dict, settings: dict) -> CrawlSetup:
         steps=4,
         cycles=int(settings.get("cycles", 2)),
         max_wall_s=float(settings.get("wall_s", WALL_S)),
-        sectors=quick_sectors(foot),
+        sectors=point_sectors(foot, copies),
+        copies=copies,
     )
 
 
@@ -172,22 +182,24 @@ def evaluate_feet(params: dict, fixed: dict, settings: dict) -> Evaluation:
     return Evaluation(ok=True, values=(attrs["speed_mm_s"],), attrs=attrs)
 
 
-def study_folder(out, quick: bool) -> Path:
-    return Path(out) / NAME / (f"D{FIG21_PIPE_MM:g}" + ("-quick" if quick else ""))
+def study_folder(out, quick: bool, wedge: int = 1) -> Path:
+    tail = ("-quick" if quick else "") + (f"-wedge{wedge}" if wedge > 1 else "")
+    return Path(out) / NAME / f"D{FIG21_PIPE_MM:g}{tail}"
 
 
 def run_feet_study(
-    out, *, quick=False, storage=None, workers=1, progress=True, retry=False, simulate=None
+    out, *, quick=False, wedge=1, storage=None, workers=1, progress=True, retry=False, simulate=None
 ) -> StudyOutcome:
-    """Run (or resume) the study into OUT/feet/D70[-quick]/ (module docstring)."""
-    folder = study_folder(out, quick)
+    """Run (or resume) the study into OUT/feet/D70[-quick][-wedgeN]/ (module docstring)."""
+    folder = study_folder(out, quick, wedge)
     settings = {"quick": bool(quick), "out_dir": str(folder), "cycles": 1 if quick else 2, "wall_s": WALL_S}
+    settings |= {"copies": int(wedge)} if wedge > 1 else {}
     settings |= friction(out)
     if simulate is not None:
         settings["simulate"] = simulate
     folder.mkdir(parents=True, exist_ok=True)
     spec = SweepSpec(
-        name=f"{NAME}-{'quick' if quick else 'default'}",
+        name=f"{NAME}-{'quick' if quick else 'default'}" + (f"-wedge{wedge}" if wedge > 1 else ""),
         grid=QUICK_GRID if quick else GRID,
         out_dir=str(folder),
         evaluator=NAME,
@@ -343,13 +355,15 @@ def write_study_outputs(spec, folder: Path, table=()) -> StudyOutcome:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     """`softcrawl study feet` (the registry's entry point)."""
-    return run_feet_study(request.out, quick=request.quick, **request.sweep_options())
+    return run_feet_study(request.out, quick=request.quick, wedge=request.wedge or 1, **request.sweep_options())
 
 
 def check_request(request: StudyRequest) -> None:
     """The hardness is the study's grid; the friction must have been identified."""
     if request.material != "rubber-70a":
         raise StudyError("material", "the feet study's rubbers are its grid (rubber-50a, -60a, -70a)")
+    if (request.wedge or 1) > 12:
+        raise StudyError("wedge", f"at most 12 (the 120 deg feet's 24 sectors in wedges of 2), got {request.wedge}")
     friction(request.out)
 
 
@@ -362,8 +376,9 @@ def replot_folder(folder: Path) -> list[Path]:
 
 def report_block(folder: Path) -> str:
     """The study in the design review: its command, friction, verdicts, table and figure."""
-    quick = folder.name.endswith("-quick")
-    command = f"softcrawl study feet{' --quick' if quick else ''} --workers 2 --out results/"
+    quick = "-quick" in folder.name
+    wedge = folder.name.split("-wedge")[1] if "-wedge" in folder.name else ""
+    command = f"softcrawl study feet{' --quick' if quick else ''}{f' --wedge {wedge}' if wedge else ''} --workers 2 --out results/"
     head = f"<h3>Feet: speed over hardness and angle (Fig. 21){' (quick)' if quick else ''}</h3>"
     body = f"<p>Command: <code>{esc(command)}</code></p>"
     if (folder / "summary.md").exists():

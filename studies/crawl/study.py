@@ -26,7 +26,7 @@ STUDIES = (
         summary="speed of the FE crawl over the feet's hardness and angle (Fig. 21)",
         run="softcrawl.studies.crawl.feet_study:run_request",
         default_material="rubber-70a",
-        options=frozenset({"workers", "max_memory", "storage", "retry_failed"}),
+        options=frozenset({"workers", "max_memory", "storage", "retry_failed", "wedge"}),
         evaluators={"feet": "softcrawl.studies.crawl.feet_study:evaluate_feet"},
         figure="feet.png",
         tables=("feet.csv", "summary.md"),
@@ -35,7 +35,7 @@ STUDIES = (
         check="softcrawl.studies.crawl.feet_study:check_request",
         help="feet: the FE crawl's speed in the 70 mm pipe over hardness 50A-70A x foot angle 30-120 deg, "
         "with the identified friction, against Fig. 21's two statements (studies/crawl/feet_study.py), "
-        "DIR/feet/D70[-quick]/.",
+        "DIR/feet/D70[-quick][-wedgeN]/.",
     ),
     Study(
         name="predict-crawl",

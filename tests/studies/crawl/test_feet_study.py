@@ -123,3 +123,18 @@ def test_rising_with_angle_flips_at_one_step_of_70a_only():
     assert fs.rises_with_angle(_rows(just)).verdict == "holds"
     assert fs.rises_with_angle(_rows(rising | {(70.0, 60.0): None})).verdict == "undecided"
     assert fs.rises_with_angle(_rows(rising | {(70.0, 120.0): 0.0})).verdict == "fails"
+
+
+def test_a_wedge_run_has_its_folder_and_multiples_of_its_sectors(tmp_path):
+    """--wedge 4: OUT/feet/D70-quick-wedge4, each point's feet a quarter wedge on quick_sectors
+    rounded up to a multiple of 4 (24 / 44 at 120 / 60 deg), the command in the review block."""
+    out = _out(tmp_path)
+    feet_study.run_feet_study(out, quick=True, wedge=4, simulate=FAKE, progress=False)
+    folder = feet_study.study_folder(out, True, 4)
+    assert folder.name == "D70-quick-wedge4" and (folder / "summary.md").exists()
+    spec = feet_study.sweep_spec_from_file(folder)
+    setups = {p["angle_deg"]: feet_study.point_setup(p, spec.settings) for p in spec.points()}
+    assert {a: (s.sectors, s.copies) for a, s in setups.items()} == {120.0: (24, 4), 60.0: (44, 4)}
+    whole = feet_study.point_setup({"shore_a": 70.0, "angle_deg": 60.0}, {"mu_smooth": 0.3, "mu_grooved": 0.3})
+    assert (whole.sectors, whole.copies) == (42, 1)  # the whole feet keep quick_sectors
+    assert "softcrawl study feet --quick --wedge 4" in feet_study.report_block(folder)
