@@ -64,7 +64,7 @@ class StudyRequest:
     simulator: str | None = None
     max_memory_gb: float | None = None
     confirm: int | None = None
-    wedge: int | None = None  # crawl: one wedge of 360/N deg of the feet (studies.crawl.wedge)
+    wedge: int | None = None  # crawl, feet, optimise-feet: a wedge of 360/N deg (studies.foot.wedge)
 
     def sweep_options(self) -> dict[str, Any]:
         """storage, workers, progress and retry: the sweep engine's options (`run_sweep`), which a

@@ -62,6 +62,8 @@ def design_stem(row: dict) -> str:
 def crawl_setup(row: dict, settings: dict):
     """The `CrawlSetup` of one design (module docstring): the crawl takes the foot and material."""
     design = FootDesign(angle=float(row["angle"]), skirt_thickness=float(row["skirt_thickness"]))
+    copies = int(settings.get("copies", 1))  # the search's wedge (`studies.foot.wedge`)
+    sectors = -(-max(MIN_SECTORS, quick_sectors(design)) // copies) * copies
     return CrawlSetup(
         pipe_diameter=CONFIRM_PIPE_MM,
         mu_smooth=float(settings["mu_smooth"]),
@@ -70,7 +72,8 @@ def crawl_setup(row: dict, settings: dict):
         steps=4,
         cycles=CONFIRM_CYCLES,
         max_wall_s=CONFIRM_WALL_S,
-        sectors=max(MIN_SECTORS, quick_sectors(design)),
+        sectors=sectors,
+        copies=copies,
         foot=design,
         material=str(row["hardness"]),
     )

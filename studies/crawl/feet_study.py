@@ -23,7 +23,7 @@ each angle gets the least count the project's rule gives. The default 48 sectors
 would roughly double the unknowns of the 120 deg feet: twelve two-cycle crawls would not fit the
 machine's hour. A wall budget per point (`WALL_S`) turns a stall in cut-backs into a recorded
 failure. --wedge N: each foot is one wedge of 360/N deg, tied by cyclic symmetry
-(`studies.crawl.wedge`, docs/decisions/082-crawl-wedge.md), on quick_sectors(foot) rounded up to
+(`studies.foot.wedge`, docs/decisions/082-crawl-wedge.md), on quick_sectors(foot) rounded up to
 a multiple of N (`point_sectors`: at N = 4, 24 / 36 / 44 / 48 at 120 / 90 / 60 / 30 deg), into
 OUT/feet/D70[-quick]-wedgeN.
 

@@ -27,10 +27,10 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from softcrawl.fem.model import SolidModel
-from softcrawl.studies.crawl import wedge
 from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.mesh import separation as hub_separation
+from softcrawl.studies.foot import wedge
 from softcrawl.studies.foot.flip import (
     FOLD_CLEARANCE,
     RimSprings,
@@ -64,7 +64,7 @@ def plate_hold(model: SolidModel, plates, penalty: float, copies: int = 1) -> fl
     """k_hold = n k_p (N/mm): a ground spring on a plate's mean axial displacement as stiff as the
     plate's penalty `penalty` (N/mm per node) holds its n nodes together (the largest n of
     `plates`, the whole feet's; module docstring, the flipped feet's plates)."""
-    return float(penalty * max(wedge.whole_plate_nodes(model, tag, copies) for tag in plates))
+    return float(penalty * max(wedge.whole_nodes(model, tag, copies) for tag in plates))
 
 
 def _match(points: np.ndarray, reference: np.ndarray, shifts) -> tuple[np.ndarray, np.ndarray]:

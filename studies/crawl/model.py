@@ -28,7 +28,7 @@ takes over from that hold exactly as from GROUND_HOLD: the spring is re-based an
 the force it drops is the plates' reaction after the release, which the frictionless radial wall
 and the released rims leave at the actuator's tension (reported at the handover).
 
-Wedge (`CrawlSetup.copies` > 1; `studies.crawl.wedge`, docs/decisions/082-crawl-wedge.md): one
+Wedge (`CrawlSetup.copies` > 1; `studies.foot.wedge`, docs/decisions/082-crawl-wedge.md): one
 wedge of 2 pi / copies of each foot, its cuts tied by cyclic symmetry, carrying 1 / copies of the links.
 
 Stages: insert (the wall shrinks from clear of the tip to the pipe radius, frictionless), friction
@@ -53,12 +53,12 @@ from softcrawl.fem.equal_displacement import EqualDisplacement
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.foot_design import FootDesign
-from softcrawl.studies.crawl import wedge
 from softcrawl.studies.crawl.flipped import FOLD_HOLD, folded_feet, plate_hold, rim_springs
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
 from softcrawl.studies.crawl.resume import Totals
 from softcrawl.studies.crawl.schedule import AxialLaw, Schedule
+from softcrawl.studies.foot import wedge
 from softcrawl.studies.foot.model import (
     AUGMENT,
     FOOT_NEWTON,
@@ -105,7 +105,7 @@ class CrawlSetup:
     sectors: int | None = None  # revolved: sectors around the axis (None: 48)
     thickness_layers: int | None = None  # revolved: cells through the skirt (None: 3)
     edge_length: float | None = None  # tetwild: foot mesh edge (mm; None: the pytetwild default)
-    copies: int = 1  # revolved: model one wedge of 2 pi / copies (`studies.crawl.wedge`); 1: whole
+    copies: int = 1  # revolved: model one wedge of 2 pi / copies (`studies.foot.wedge`); 1: whole
 
     @property
     def pipe(self) -> Pipe:
@@ -186,7 +186,7 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
         AxialLink(front, None, 2, GROUND_HOLD, name="ground_front", share=share),
         EqualDisplacement(rear, 2, PLATE_PENALTY * youngs * size),
         EqualDisplacement(front, 2, PLATE_PENALTY * youngs * size),
-        *wedge.ties(setup.copies, youngs, size),
+        *wedge.ties(setup.copies, youngs, size, FEET),
     ]
     bcs = [Dirichlet(tag, (0, 1), (0.0, 0.0)) for tag in (rear, front)]
     springs = rim_springs() if setup.flipped else None

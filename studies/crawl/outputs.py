@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from softcrawl.studies.crawl.mesh import FEET
+from softcrawl.studies.foot import wedge
 
 SLID_SHARE = 0.95
 
@@ -53,21 +54,14 @@ class StateRecorder:
     def __init__(self, cm, on_state=None) -> None:
         self.cm, self.on_state = cm, on_state
         m = cm.model
-        self.tips = {f: self._whole(m, f, "rim") for f in FEET}
-        self.tops = {f: self._whole(m, f, "hub_top") for f in FEET}
+        copies = cm.setup.copies  # a wedge: its means skip the cut at 2 pi / copies
+        self.tips = {f: wedge.off_cut(m, f"{f}:rim", copies) for f in FEET}
+        self.tops = {f: wedge.off_cut(m, f"{f}:hub_top", copies) for f in FEET}
         self.opening = {f: (-1.0 if mirror else 1.0) for f, mirror in zip(FEET, cm.setup.mirrored)}
         self.states: list[dict] = []
         self.cycles: list[dict] = []
         self.start: dict | None = None
         self._cycle_from = 0
-
-    def _whole(self, model, foot: str, tag: str):
-        """The nodes of `foot`'s `tag` whose mean is the whole foot's: a wedge's off its cut at
-        2 pi / copies (the next wedge's cut at 0: `studies.crawl.wedge`)."""
-        nodes = model.boundary_nodes(f"{foot}:{tag}")
-        if self.cm.setup.copies == 1:
-            return nodes
-        return nodes[~np.isin(nodes, model.boundary_nodes(f"{foot}:cut_end"))]
 
     def _positions(self, x) -> dict:
         return {f: self.cm.terms[f"ground_{f}"].extension(x) for f in FEET}

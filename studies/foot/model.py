@@ -34,12 +34,14 @@ import numpy as np
 
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.errors import InputError
+from softcrawl.geometry.design import DesignError
 from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.studies.foot.flip import FOLD_CLEARANCE, RimSprings, fold, fold_angle_into
+from softcrawl.studies.foot import wedge
 from softcrawl.studies.foot.outputs import face_metrics
 
 #: Newton settings of the foot: a failing sub-step is cut back after at most 25 iterations (each
@@ -97,10 +99,12 @@ def foot_model(
     penalty: float | None = None,
     tangential_ratio: float = TANGENTIAL_RATIO,
     extra_terms=(),
+    copies: int = 1,
 ):
     """The foot on `mesh` (skfem MeshTet2 with the foot's tags), wall clear of the tip; the
     tangential penalty is `tangential_ratio` x the normal one; `extra_terms` go to the model (the
-    flipped foot's rim springs)."""
+    flipped foot's rim springs); `copies` > 1: `mesh` is a wedge of the foot, its cuts tied
+    (`studies.foot.wedge`)."""
     youngs = small_strain_youngs(material)
     size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
     eps = penalty if penalty is not None else 10.0 * youngs / size
@@ -118,7 +122,8 @@ def foot_model(
         for name, tags in FACES.items()
     ]
     bcs = [Dirichlet("hub_top", (0, 1, 2), (0.0, 0.0, drag))]
-    return SolidModel(mesh, material, dirichlet=bcs, contacts=specs, extra_terms=extra_terms)
+    ties = wedge.ties(copies, youngs, size)
+    return SolidModel(mesh, material, dirichlet=bcs, contacts=specs, extra_terms=[*extra_terms, *ties])
 
 
 @dataclass(frozen=True)
@@ -230,7 +235,9 @@ def _flipped_stages(mesh, material, design, pipe: Pipe, mu_smooth, mu_grooved, s
     )
 
 
-def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes, on_state=None, budget=None):
+def _drag(
+    model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes, on_state=None, budget=None, copies=1
+):
     for term, (lam, stick, surface) in zip(model.contacts, snapshot):
         term.multiplier, term.stick, term.surface = lam.copy(), stick.copy(), surface
     sign = 1.0 if direction == "forward" else -1.0
@@ -238,7 +245,7 @@ def _drag(model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes,
 
     def record(step):
         reps = [c.report(step.x) for c in model.contacts]
-        fz = sum(r.friction_force[2] for r in reps)
+        fz = copies * sum(r.friction_force[2] for r in reps)  # a wedge's share times copies
         u = model.displacement(step.x)
         z = model.nodes[2] + u[2]
         normal = sum(r.normal_force for r in reps)
@@ -305,10 +312,17 @@ def run_foot(
     max_wall_s: float | None = FOOT_MAX_WALL_S,
     flipped: bool = False,
     directions: tuple[str, ...] = ("forward", "backward"),
+    copies: int = 1,
 ) -> FootResult:
     """Insert the foot into the pipe and drag it both ways (module docstring; `directions`: the
     drags to run, in order); stop, not converged, once `max_wall_s` seconds have passed (None: no
-    limit). `flipped`: the skirt starts everted, grooved face out (`_flipped_stages`)."""
+    limit). `flipped`: the skirt starts everted, grooved face out (`_flipped_stages`).
+    `copies` > 1: `mesh` is a wedge of 2 pi / copies of the foot (`studies.foot.wedge`); the
+    forces reported are the whole foot's."""
+    if copies > 1 and flipped:
+        raise DesignError("copies", "the flipped foot is folded whole: a wedge of it is not modelled")
+    if ("cut_start" in mesh.boundaries) != (copies > 1):
+        raise DesignError("copies", f"{copies} does not match the mesh (a wedge has cut faces)")
     started = time.perf_counter()
 
     def budget():
@@ -324,7 +338,7 @@ def run_foot(
             return FootResult(pipe.diameter, False, message, nan, nan, nan, nan, {}, {}, None, None,
                               time.perf_counter() - started, 0, flipped=True)  # fmt: skip
     else:
-        model = foot_model(mesh, material, design, pipe.radius, drag)
+        model = foot_model(mesh, material, design, pipe.radius, drag, copies=copies)
         stages = _insert_stages(model, design, pipe, mu_smooth, mu_grooved, insert_steps)
     res = run_stages(
         model,
@@ -347,16 +361,17 @@ def run_foot(
     if on_state is not None:
         on_state("inserted", model, x0)
     snapshot = [(c.multiplier.copy(), c.stick.copy(), c.surface) for c in model.contacts]
-    tip = model.boundary_nodes("rim")
-    hub = model.boundary_nodes("hub_top")
+    tip, hub = wedge.off_cut(model, "rim", copies), wedge.off_cut(model, "hub_top", copies)
     curves, wall = {}, res.wall_s
     for direction in directions:
-        curve, r = _drag(model, x0, snapshot, direction, drag, drag_steps, tip, hub, on_state, budget())
+        curve, r = _drag(
+            model, x0, snapshot, direction, drag, drag_steps, tip, hub, on_state, budget(), copies
+        )
         curves[direction] = curve
         its[direction] = [s.iterations[0] for s in r.steps]
         wall += r.wall_s
-    normal = sum(r.normal_force for r in reps)
-    area = sum(r.area_current for r in reps)
+    normal = copies * sum(r.normal_force for r in reps)
+    area = copies * sum(r.area_current for r in reps)
     metrics = face_metrics(model, x0, "front", "hub_top") | face_metrics(model, x0, "back", "hub_top")
     ok = all(c.converged for c in curves.values())
     return FootResult(
@@ -367,7 +382,7 @@ def run_foot(
         contact_area=area,
         mean_pressure=normal / area if area > 0 else 0.0,
         max_pressure=max(r.max_pressure for r in reps),
-        face_forces={r.name: r.normal_force for r in reps},
+        face_forces={r.name: copies * r.normal_force for r in reps},
         metrics=metrics,
         forward=curves.get("forward"),
         backward=curves.get("backward"),

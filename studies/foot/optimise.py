@@ -34,7 +34,7 @@ where the slide and the hold inequalities are tightest) on the quick foot mesh
 (`studies.foot.simulate`: 24+ sectors, 2 mm drags).
 
 The paper's foot (120 deg, 3 mm, 70A) is enqueued as the first trial. Outputs in
-DIR/optimise-feet/rubber[-quick]/: spec.json, trials.csv (one row per trial: status and failure
+DIR/optimise-feet/rubber[-quick][-wedgeN]/: spec.json, trials.csv (one row per trial: status and failure
 reason, both objectives, the forces per pipe), pareto.png (`studies.foot.optimise_plot`),
 summary.md (the front, the paper's foot against it, the flags), study.db without --storage.
 """
@@ -55,7 +55,7 @@ from softcrawl.studies.html import esc, figure, markdown
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.plots.style import number
 from softcrawl.studies.sweeps.search import run_search
-from softcrawl.studies.sweeps.spec import SearchSpec, read_spec
+from softcrawl.studies.sweeps.spec import SearchSpec, StudyError, read_spec
 from softcrawl.studies.sweeps.tables import read_csv, write_csv
 
 NAME = "optimise-feet"
@@ -79,8 +79,9 @@ QUICK_PIPES = (55.0, 75.0)
 MAX_WALL_S = 4.0 * FOOT_MAX_WALL_S
 
 
-def folder_of(out, quick: bool) -> Path:
-    return Path(out) / NAME / ("rubber" + ("-quick" if quick else ""))
+def folder_of(out, quick: bool, wedge: int = 1) -> Path:
+    """OUT/optimise-feet/rubber[-quick][-wedgeN] (a wedge of the foot: `studies.foot.wedge`)."""
+    return Path(out) / NAME / ("rubber" + ("-quick" if quick else "") + (f"-wedge{wedge}" if wedge > 1 else ""))
 
 
 def identified_mu(out) -> dict:
@@ -89,10 +90,13 @@ def identified_mu(out) -> dict:
     return {k: friction[k] for k in ("mu_smooth", "mu_grooved", "mu_smooth_flag", "mu_grooved_flag")}
 
 
-def search_spec(out, *, quick=False, trials=None, sampler="nsga2", seed=0, storage=None, simulator=None):
-    folder = folder_of(out, quick)
+def search_spec(
+    out, *, quick=False, trials=None, sampler="nsga2", seed=0, storage=None, simulator=None, wedge=1
+):
+    folder = folder_of(out, quick, wedge)
     pipes = QUICK_PIPES if quick else tuple(float(d) for d in PIPE_DIAMETERS_MM)
     settings = {"pipes": list(pipes), "quick": bool(quick), "max_wall_s": MAX_WALL_S} | identified_mu(out)
+    settings |= {"copies": int(wedge)} if wedge > 1 else {}
     if simulator:
         settings["simulator"] = simulator
     return SearchSpec(
@@ -185,10 +189,11 @@ def _title(settings: dict) -> str:
 
 
 def run_optimise_feet(out, *, quick=False, trials=None, sampler="nsga2", seed=0, storage=None,
-                      workers=1, progress=True, simulator=None) -> StudyOutcome:  # fmt: skip
+                      workers=1, progress=True, simulator=None, wedge=1) -> StudyOutcome:  # fmt: skip
     spec = search_spec(
-        out, quick=quick, trials=trials, sampler=sampler, seed=seed, storage=storage, simulator=simulator
-    )
+        out, quick=quick, trials=trials, sampler=sampler, seed=seed, storage=storage, simulator=simulator,
+        wedge=wedge,
+    )  # fmt: skip
     folder = Path(spec.out_dir)
     folder.mkdir(parents=True, exist_ok=True)
     jsonio.write(folder / "spec.json", spec.to_dict())
@@ -199,7 +204,9 @@ def run_optimise_feet(out, *, quick=False, trials=None, sampler="nsga2", seed=0,
 
 
 def check_request(request: StudyRequest) -> None:
-    """Before any work: the identification the run reads exists."""
+    """Before any work: the identification the run reads exists; a wedge leaves 2 sectors."""
+    if (request.wedge or 1) > 12:
+        raise StudyError("wedge", f"at most 12 (the quick foot's 24 sectors in wedges of 2), got {request.wedge}")
     identified_mu(request.out)
 
 
@@ -215,10 +222,11 @@ def run_request(request: StudyRequest) -> StudyOutcome:
         workers=request.workers,
         progress=request.progress,
         simulator=request.simulator,
+        wedge=request.wedge or 1,
     )
     if not request.confirm:
         return outcome
-    folder = folder_of(request.out, request.quick)
+    folder = folder_of(request.out, request.quick, request.wedge or 1)
     settings = read_spec(folder)["settings"]
     rows = resolve(CONFIRM)(folder, read_csv(folder / "trials.csv"), settings, request.confirm)
     done = sum(r.get("converged") is True for r in rows)

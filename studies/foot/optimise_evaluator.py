@@ -87,6 +87,7 @@ def evaluate_feet_design(params: Mapping[str, Any], fixed: Mapping[str, Any], se
             mu_grooved=mu_g,
             quick=bool(settings.get("quick", False)),
             max_wall_s=settings.get("max_wall_s"),
+            **({"wedge": int(settings["copies"])} if int(settings.get("copies", 1)) > 1 else {}),
         )
         wall += float(r.wall_s)
         key = pipe_key(diameter)

@@ -17,6 +17,7 @@ from softcrawl.analytic.pipe import Pipe
 from softcrawl.checks import number
 from softcrawl.geometry.design import DesignError, FootDesign
 from softcrawl.geometry.foot_meshers import mesh_foot_with, quick_sectors
+from softcrawl.geometry.foot_revolved import N_THETA
 from softcrawl.materials import Material, get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.foot.contact_studies import DEFAULT_MATERIAL, DRAG_MM, FOOT, FOOT_FRICTION, FOOT_MESHER
@@ -43,12 +44,15 @@ def simulate_foot(
     sectors: int | None = None,
     max_wall_s: float | None = FOOT_MAX_WALL_S,
     flipped: bool = False,
+    wedge: int = 1,
 ) -> FootResult:
     """The foot (Table 1 by default) inserted into a pipe of `pipe_diameter` mm and dragged `drag`
     mm forward and backward -> `FootResult` (normal force, resistances F_fwd, F_bwd and their
     `ratio`). `material`: a preset name (`material_names()`) or a `Material`; unset numbers take
     the foot study's values, or the quick ones with `quick=True`. `flipped`: the skirt starts
-    everted, its grooved face on the wall (the backward crawl's foot, `studies.foot.flip`)."""
+    everted, its grooved face on the wall (the backward crawl's foot, `studies.foot.flip`).
+    `wedge` > 1: one wedge of 360/wedge deg of the revolved foot, its cuts tied by cyclic symmetry
+    (`studies.foot.wedge`), on the sectors rounded up to a multiple of `wedge`."""
     design = design or FootDesign()
     if not isinstance(flipped, bool):
         raise DesignError("flipped", f"must be True or False, got {flipped!r}")
@@ -69,10 +73,16 @@ def simulate_foot(
                   error=DesignError)  # fmt: skip
     count = {"minimum": 1, "maximum": 200, "integer": True, "error": DesignError}
     steps = {k: number(v, k, **count) for k, v in chosen.items()}
+    number(wedge, "wedge", minimum=1, maximum=12, integer=True, error=DesignError)
+    if wedge > 1 and (flipped or mesher != "revolved"):
+        raise DesignError("wedge", "a wedge needs the revolved, unflipped foot (the same in every sector)")
     if sectors is None and quick and mesher == "revolved":
         sectors = max(QUICK["sectors"], quick_sectors(design))  # more for a skirt nearer the axis
+    if wedge > 1:
+        sectors = -(-(sectors or N_THETA) // wedge) * wedge  # a multiple of the wedge count
     mat = material if isinstance(material, Material) else get_material(material)
-    mesh = mesh_foot_with(design, mesher, sectors=sectors).to_skfem(2)
+    extra = {"copies": wedge} if wedge > 1 else {}
+    mesh = mesh_foot_with(design, mesher, sectors=sectors, **extra).to_skfem(2)
     return run_foot(
         mesh,
         solid_law(mat, hyperelastic_only=True),
@@ -83,5 +93,6 @@ def simulate_foot(
         drag=drag,
         max_wall_s=max_wall_s,
         flipped=flipped,
+        copies=wedge,
         **steps,
     )

@@ -60,7 +60,7 @@ STUDIES = (
         run="softcrawl.studies.foot.optimise:run_request",
         default_material=None,
         options=frozenset(
-            {"workers", "max_memory", "storage", "trials", "sampler", "seed", "simulator", "confirm"}
+            {"workers", "max_memory", "storage", "trials", "sampler", "seed", "simulator", "confirm", "wedge"}
         ),
         evaluators={"optimise-feet": "softcrawl.studies.foot.optimise_evaluator:evaluate_feet_design"},
         figure="pareto.png",

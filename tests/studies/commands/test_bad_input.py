@@ -85,6 +85,7 @@ CASES: list[tuple[str, str]] = [
     ("study crawl --quick --wedge 24 --out OUT", "wedge"),
     ("study fiber-turns --wedge 4 --out OUT", "wedge"),
     ("study feet --wedge 13 --out OUT", "wedge"),
+    ("study optimise-feet --wedge 13 --out OUT", "wedge"),
     ("crawl --sectors 20 --out OUT", "sectors"),  # a valid mesh, but too coarse for the contact faces
     ("crawl --layers 0 --out OUT", "layers"),
     ("crawl --mesher gmsh --out OUT", "mesher"),

@@ -1,4 +1,4 @@
-"""The quick crawl on a quarter wedge of the feet against the whole feet (`studies.crawl.wedge`,
+"""The quick crawl on a quarter wedge of the feet against the whole feet (`studies.foot.wedge`,
 docs/decisions/082-crawl-wedge.md): one inflate cycle at 70 mm, mu 0.5, state by state.
 
 Slow (about 100 s idle): `python -m pytest -m slow tests/studies/crawl/test_wedge_slow.py`.

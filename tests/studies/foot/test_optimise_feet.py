@@ -5,6 +5,7 @@ reason, resume, replot, the identification it needs, and the search engine's cat
 from __future__ import annotations
 
 import csv
+import json
 import shutil
 from pathlib import Path
 
@@ -175,3 +176,19 @@ def test_the_confirm_setup_is_the_crawls():
     assert isinstance(setup, CrawlSetup) and setup.material == "rubber-50a"
     assert (setup.foot.angle, setup.foot.skirt_thickness, setup.sectors) == (60.0, 2.25, 42)
     assert (setup.pipe_diameter, setup.cycles, setup.insert_steps) == (70.0, 2, 4)
+
+
+def test_a_wedge_search_has_its_folder_and_passes_the_wedge_on(tmp_path):
+    """--wedge 4: OUT/optimise-feet/rubber-quick-wedge4, `copies` in the spec's settings (the
+    evaluator hands it to the foot simulator), the confirm crawl on a multiple of 4 sectors."""
+    from softcrawl.studies.crawl.confirm_feet import crawl_setup
+
+    out = _out(tmp_path)
+    assert _run(out, 2, "--wedge", "4") == 0
+    folder = folder_of(out, True, 4)
+    assert folder.name == "rubber-quick-wedge4" and (folder / "trials.csv").exists()
+    settings = json.loads((folder / "spec.json").read_text())["settings"]
+    assert settings["copies"] == 4
+    row = {"angle": "60", "skirt_thickness": "2.25", "hardness": "rubber-50a"}
+    setup = crawl_setup(row, settings)
+    assert (setup.sectors, setup.copies) == (44, 4)
