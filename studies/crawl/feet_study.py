@@ -279,10 +279,16 @@ def mu_short(settings: dict) -> str:
 def write_markdown(rows, settings: dict, path: Path) -> Path:
     """summary.md: the table, the friction, the statements' verdicts and the failures."""
     cycles = int(settings.get("cycles", 2))
+    copies = int(settings.get("copies", 1))
+    feet = (
+        "the revolved feet at quick_sectors(angle) sectors"
+        if copies == 1
+        else f"the revolved feet at quick_sectors(angle) sectors rounded up to a multiple of {copies}, "
+        f"each foot a 1/{copies} wedge tied by cyclic symmetry"
+    )
     lines = [
         f"Fig. 21's test in FE: {FIG21_PIPE_MM:g} mm pipe, inflate {PRESSURE_KPA:g} kPa, {FIG21_CYCLE_S:g} s "
-        f"cycles, {cycles} cycle(s); the revolved feet at quick_sectors(angle) sectors, 3 cells through "
-        "the skirt.",
+        f"cycles, {cycles} cycle(s); {feet}, 3 cells through the skirt.",
         "",
         f"Friction: {mu_text(settings)}.",
         "",
