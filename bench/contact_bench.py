@@ -71,9 +71,8 @@ def foot_case(pipe: float, mesher: str, mesh_cache) -> None:
     t0 = time.perf_counter()
     res = fm.run_stages(model, stages, options=fm.FOOT_NEWTON, max_cutbacks=fm.MAX_CUTBACKS, **fm.AUGMENT)
     snap = [(c.multiplier.copy(), c.stick.copy(), c.surface) for c in model.contacts]
-    curve, drag = fm._drag(
-        model, res.x, snap, "forward", 10.0, 10, model.boundary_nodes("rim"), model.boundary_nodes("hub_top")
-    )
+    ends = (model.boundary_nodes("rim"), model.boundary_nodes("hub_top"))
+    curve, drag = fm._drag(model, res.x, snap, "forward", 10.0, 10, ends)
     wall = time.perf_counter() - t0
     full, contact = contact_share(model, drag.x if drag.steps else res.x, repeat=2)
     its = [s.iterations[0] for s in res.steps + drag.steps]

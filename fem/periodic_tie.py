@@ -52,7 +52,9 @@ class PeriodicTie:
 
     def __post_init__(self):
         if not (np.isfinite(self.angle) and 0 < abs(self.angle) < 2 * math.pi):
-            raise SolverInputError("periodic_tie.angle", f"must be a wedge angle in (0, 2 pi), got {self.angle!r}")
+            raise SolverInputError(
+                "periodic_tie.angle", f"must be a wedge angle in (0, 2 pi), got {self.angle!r}"
+            )
         if not (np.isfinite(self.stiffness) and self.stiffness > 0):
             raise SolverInputError("periodic_tie.stiffness", f"must be positive, got {self.stiffness!r}")
 
@@ -64,14 +66,17 @@ def cut_pairs(space, tag_a: str, tag_b: str, angle: float) -> tuple[np.ndarray, 
     """(nodes a on `tag_a`, their partners b on `tag_b`): b = a turned by `angle` about z."""
     a, b = space.boundary_nodes(tag_a), space.boundary_nodes(tag_b)
     if a.size != b.size or a.size == 0:
-        raise SolverInputError("periodic_tie.tags", f"the cuts have {a.size} and {b.size} nodes: they must pair up")
+        raise SolverInputError(
+            "periodic_tie.tags", f"the cuts have {a.size} and {b.size} nodes: they must pair up"
+        )
     turned = (rotation_z(angle) @ space.nodes[:, a]).T
     dist, idx = cKDTree(space.nodes[:, b].T).query(turned)
     scale = max(float(np.ptp(space.nodes, axis=1).max()), 1.0)
     if np.any(dist > 1e-8 * scale) or np.unique(idx).size != a.size:
         raise SolverInputError(
             "periodic_tie.tags",
-            f"{int(np.sum(dist > 1e-8 * scale))} nodes of {tag_a!r} turned by the angle lie on no node of {tag_b!r}",
+            f"{int(np.sum(dist > 1e-8 * scale))} nodes of {tag_a!r} turned by the angle lie on no "
+            f"node of {tag_b!r}",
         )
     return a, b[idx]
 
@@ -129,7 +134,9 @@ class PeriodicTieTerm:
         self.a, self.b = cut_pairs(space, spec.tag_a, spec.tag_b, spec.angle)
         R = rotation_z(spec.angle)
         self.R = R
-        self.dofs = np.concatenate([3 * self.a[None] + np.arange(3)[:, None], 3 * self.b[None] + np.arange(3)[:, None]])
+        self.dofs = np.concatenate(
+            [3 * self.a[None] + np.arange(3)[:, None], 3 * self.b[None] + np.arange(3)[:, None]]
+        )
         self.B = np.hstack([-R, np.eye(3)])  # g = B [u_a; u_b]
         self.K = spec.stiffness * (self.B.T @ self.B)
 

@@ -43,7 +43,7 @@ geometry.foot_meshers.quick_sectors of the foot (24 at 120 deg, 34 at 90, 42 at 
 --sectors is given (2 sub-steps per schedule segment stalled where the actuator force changes
 sign, 4 pass, so --steps keeps 4). --wedge N (revolved feet): model one wedge of 360/N deg of
 each foot, its cuts tied by cyclic symmetry (`studies.foot.wedge`, docs/decisions/082-crawl-wedge.md:
-the quick crawl 5x faster, its stride within 1e-5 of the whole feet's); N must divide the sectors
+the quick crawl 5x faster, its stride within 1e-6 of the whole feet's); N must divide the sectors
 and leave at least 2 in the wedge; 1 (the default): the whole feet.
 
 Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the

@@ -185,7 +185,8 @@ def _add_run_options(parser) -> None:
     add_number(
         parser,
         "--wedge",
-        help="crawl, feet, optimise-feet: model one wedge of 360/N deg of the feet, tied cyclically (docs/decisions/082-crawl-wedge.md)",
+        help="crawl, feet, optimise-feet: model one wedge of 360/N deg of the feet, tied cyclically "
+        "(docs/decisions/082-crawl-wedge.md)",
         default=None,
         default_text="1, the whole feet",
         minimum=1,

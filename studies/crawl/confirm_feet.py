@@ -33,6 +33,7 @@ from softcrawl.studies.crawl.files import run_and_write
 from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.outputs import steady_stride
 from softcrawl.studies.crawl.schedule import preset
+from softcrawl.studies.foot.wedge import wedge_sectors
 from softcrawl.studies.plots.style import number
 from softcrawl.studies.sweeps.tables import write_csv
 
@@ -63,7 +64,7 @@ def crawl_setup(row: dict, settings: dict):
     """The `CrawlSetup` of one design (module docstring): the crawl takes the foot and material."""
     design = FootDesign(angle=float(row["angle"]), skirt_thickness=float(row["skirt_thickness"]))
     copies = int(settings.get("copies", 1))  # the search's wedge (`studies.foot.wedge`)
-    sectors = -(-max(MIN_SECTORS, quick_sectors(design)) // copies) * copies
+    sectors = wedge_sectors(max(MIN_SECTORS, quick_sectors(design)), copies)
     return CrawlSetup(
         pipe_diameter=CONFIRM_PIPE_MM,
         mu_smooth=float(settings["mu_smooth"]),

@@ -239,7 +239,9 @@ def write_study_outputs(spec, folder: Path) -> StudyOutcome:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     """`softcrawl study crawl` (the registry's entry point)."""
-    return run_crawl_study(request.out, quick=request.quick, wedge=request.wedge or 1, **request.sweep_options())
+    return run_crawl_study(
+        request.out, quick=request.quick, wedge=request.wedge or 1, **request.sweep_options()
+    )
 
 
 def check_request(request: StudyRequest) -> None:
@@ -249,7 +251,9 @@ def check_request(request: StudyRequest) -> None:
     sectors = QUICK_SECTORS if request.quick else 48
     wedge = request.wedge or 1
     if sectors % wedge or sectors // wedge < 2:
-        raise StudyError("wedge", f"must divide the feet's {sectors} sectors and leave at least 2, got {wedge}")
+        raise StudyError(
+            "wedge", f"must divide the feet's {sectors} sectors and leave at least 2, got {wedge}"
+        )
 
 
 def replot_folder(folder: Path) -> list[Path]:

@@ -57,6 +57,7 @@ from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
 from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.declaration import StudyRequest
 from softcrawl.studies.foot.identify import STUDY_FILE, study_friction
+from softcrawl.studies.foot.wedge import wedge_sectors
 from softcrawl.studies.html import esc, figure, markdown
 from softcrawl.studies.outcome import StudyOutcome
 from softcrawl.studies.sweeps.faults import SweepStopped
@@ -102,7 +103,7 @@ def friction(out) -> dict:
 
 def point_sectors(foot: FootDesign, copies: int = 1) -> int:
     """quick_sectors(foot), rounded up to a multiple of the wedge count `copies`."""
-    return -(-quick_sectors(foot) // copies) * copies
+    return wedge_sectors(quick_sectors(foot), copies)
 
 
 def point_setup(params: dict, settings: dict) -> CrawlSetup:
@@ -361,7 +362,9 @@ def write_study_outputs(spec, folder: Path, table=()) -> StudyOutcome:
 
 def run_request(request: StudyRequest) -> StudyOutcome:
     """`softcrawl study feet` (the registry's entry point)."""
-    return run_feet_study(request.out, quick=request.quick, wedge=request.wedge or 1, **request.sweep_options())
+    return run_feet_study(
+        request.out, quick=request.quick, wedge=request.wedge or 1, **request.sweep_options()
+    )
 
 
 def check_request(request: StudyRequest) -> None:
@@ -369,7 +372,9 @@ def check_request(request: StudyRequest) -> None:
     if request.material != "rubber-70a":
         raise StudyError("material", "the feet study's rubbers are its grid (rubber-50a, -60a, -70a)")
     if (request.wedge or 1) > 12:
-        raise StudyError("wedge", f"at most 12 (the 120 deg feet's 24 sectors in wedges of 2), got {request.wedge}")
+        raise StudyError(
+            "wedge", f"at most 12 (the 120 deg feet's 24 sectors in wedges of 2), got {request.wedge}"
+        )
     friction(request.out)
 
 
@@ -384,7 +389,8 @@ def report_block(folder: Path) -> str:
     """The study in the design review: its command, friction, verdicts, table and figure."""
     quick = "-quick" in folder.name
     wedge = folder.name.split("-wedge")[1] if "-wedge" in folder.name else ""
-    command = f"softcrawl study feet{' --quick' if quick else ''}{f' --wedge {wedge}' if wedge else ''} --workers 2 --out results/"
+    options = (" --quick" if quick else "") + (f" --wedge {wedge}" if wedge else "")
+    command = f"softcrawl study feet{options} --workers 2 --out results/"
     head = f"<h3>Feet: speed over hardness and angle (Fig. 21){' (quick)' if quick else ''}</h3>"
     body = f"<p>Command: <code>{esc(command)}</code></p>"
     if (folder / "summary.md").exists():

@@ -99,23 +99,27 @@ def insertion_options(cm, mesh, foot_design, law) -> dict[str, Any]:
     wedge = (
         {"wedge": {"copies": setup.copies, "tie_penalty": feet_wedge.TIE_PENALTY}} if setup.copies > 1 else {}
     )
-    return flipped | wedge | {
-        "format": FORMAT,
-        "mesh": mesh_hash(mesh),
-        "foot_design": foot_design.short_hash(),
-        "feet": setup.feet,
-        "pipe_diameter": float(setup.pipe_diameter),
-        "insert_steps": int(setup.insert_steps),
-        "law": type(law).__name__,
-        "law_parameters": dataclasses.asdict(law) if dataclasses.is_dataclass(law) else repr(law),
-        "actuator_k0": [float(v) for v in cm.law.stiffness_preload((0.0, 0.0, 0.0))],
-        "newton": dataclasses.asdict(crawl_model.CRAWL_NEWTON),
-        "augment": dict(foot_model.AUGMENT),
-        "max_cutbacks": crawl_model.MAX_CUTBACKS,
-        "ground_hold": crawl_model.GROUND_HOLD,
-        "contact": {"smoothing": foot_model.SMOOTHING, "slip_band": foot_model.SLIP_BAND},
-        "solver": default_solver(),
-    }
+    return (
+        flipped
+        | wedge
+        | {
+            "format": FORMAT,
+            "mesh": mesh_hash(mesh),
+            "foot_design": foot_design.short_hash(),
+            "feet": setup.feet,
+            "pipe_diameter": float(setup.pipe_diameter),
+            "insert_steps": int(setup.insert_steps),
+            "law": type(law).__name__,
+            "law_parameters": dataclasses.asdict(law) if dataclasses.is_dataclass(law) else repr(law),
+            "actuator_k0": [float(v) for v in cm.law.stiffness_preload((0.0, 0.0, 0.0))],
+            "newton": dataclasses.asdict(crawl_model.CRAWL_NEWTON),
+            "augment": dict(foot_model.AUGMENT),
+            "max_cutbacks": crawl_model.MAX_CUTBACKS,
+            "ground_hold": crawl_model.GROUND_HOLD,
+            "contact": {"smoothing": foot_model.SMOOTHING, "slip_band": foot_model.SLIP_BAND},
+            "solver": default_solver(),
+        }
+    )
 
 
 class InsertionCache:

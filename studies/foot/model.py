@@ -34,14 +34,14 @@ import numpy as np
 
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.errors import InputError
-from softcrawl.geometry.design import DesignError
 from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.newton import NewtonOptions
 from softcrawl.fem.rigid_surfaces import CylinderWall
-from softcrawl.studies.foot.flip import FOLD_CLEARANCE, RimSprings, fold, fold_angle_into
+from softcrawl.geometry.design import DesignError
 from softcrawl.studies.foot import wedge
+from softcrawl.studies.foot.flip import FOLD_CLEARANCE, RimSprings, fold, fold_angle_into
 from softcrawl.studies.foot.outputs import face_metrics
 
 #: Newton settings of the foot: a failing sub-step is cut back after at most 25 iterations (each
@@ -235,9 +235,9 @@ def _flipped_stages(mesh, material, design, pipe: Pipe, mu_smooth, mu_grooved, s
     )
 
 
-def _drag(
-    model, x0, snapshot, direction, distance, steps, tip_nodes, hub_nodes, on_state=None, budget=None, copies=1
-):
+def _drag(model, x0, snapshot, direction, distance, steps, ends, on_state=None, budget=None, copies=1):
+    """One drag from the inserted state; `ends`: (the rim's, the hub top's) nodes."""
+    tip_nodes, hub_nodes = ends
     for term, (lam, stick, surface) in zip(model.contacts, snapshot):
         term.multiplier, term.stick, term.surface = lam.copy(), stick.copy(), surface
     sign = 1.0 if direction == "forward" else -1.0
@@ -365,7 +365,7 @@ def run_foot(
     curves, wall = {}, res.wall_s
     for direction in directions:
         curve, r = _drag(
-            model, x0, snapshot, direction, drag, drag_steps, tip, hub, on_state, budget(), copies
+            model, x0, snapshot, direction, drag, drag_steps, (tip, hub), on_state, budget(), copies
         )
         curves[direction] = curve
         its[direction] = [s.iterations[0] for s in r.steps]

@@ -81,7 +81,9 @@ MAX_WALL_S = 4.0 * FOOT_MAX_WALL_S
 
 def folder_of(out, quick: bool, wedge: int = 1) -> Path:
     """OUT/optimise-feet/rubber[-quick][-wedgeN] (a wedge of the foot: `studies.foot.wedge`)."""
-    return Path(out) / NAME / ("rubber" + ("-quick" if quick else "") + (f"-wedge{wedge}" if wedge > 1 else ""))
+    return (
+        Path(out) / NAME / ("rubber" + ("-quick" if quick else "") + (f"-wedge{wedge}" if wedge > 1 else ""))
+    )
 
 
 def identified_mu(out) -> dict:
@@ -206,7 +208,9 @@ def run_optimise_feet(out, *, quick=False, trials=None, sampler="nsga2", seed=0,
 def check_request(request: StudyRequest) -> None:
     """Before any work: the identification the run reads exists; a wedge leaves 2 sectors."""
     if (request.wedge or 1) > 12:
-        raise StudyError("wedge", f"at most 12 (the quick foot's 24 sectors in wedges of 2), got {request.wedge}")
+        raise StudyError(
+            "wedge", f"at most 12 (the quick foot's 24 sectors in wedges of 2), got {request.wedge}"
+        )
     identified_mu(request.out)
 
 

@@ -23,6 +23,7 @@ from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.foot.contact_studies import DEFAULT_MATERIAL, DRAG_MM, FOOT, FOOT_FRICTION, FOOT_MESHER
 from softcrawl.studies.foot.flip import flipped_min_diameter
 from softcrawl.studies.foot.model import FOOT_MAX_WALL_S, FootResult, run_foot
+from softcrawl.studies.foot.wedge import wedge_sectors
 
 #: The foot study's settings and the quick ones of the module docstring (drag in mm).
 FULL = {"drag": DRAG_MM[FOOT], "drag_steps": 8, "insert_steps": 8}
@@ -79,7 +80,7 @@ def simulate_foot(
     if sectors is None and quick and mesher == "revolved":
         sectors = max(QUICK["sectors"], quick_sectors(design))  # more for a skirt nearer the axis
     if wedge > 1:
-        sectors = -(-(sectors or N_THETA) // wedge) * wedge  # a multiple of the wedge count
+        sectors = wedge_sectors(sectors or N_THETA, wedge)
     mat = material if isinstance(material, Material) else get_material(material)
     extra = {"copies": wedge} if wedge > 1 else {}
     mesh = mesh_foot_with(design, mesher, sectors=sectors, **extra).to_skfem(2)

@@ -27,7 +27,13 @@ from softcrawl.fem.periodic_tie import PeriodicPressureTie, PeriodicTie
 #: The tie's penalty per node pair in units of E h (E the rubber's small-strain modulus, h the
 #: feet's median edge): the gap it leaves is the force across the cut at a node over k
 #: (measured in record 082).
-TIE_PENALTY = 1.0e3
+TIE_PENALTY = 1.0e4
+
+
+def wedge_sectors(sectors: int, copies: int) -> int:
+    """`sectors` rounded up to a multiple of `copies`: the least mesh a wedge of 2 pi / copies
+    can cut, no coarser than asked (`studies.crawl.feet_study`, the optimiser's foot and crawls)."""
+    return -(-int(sectors) // copies) * copies
 
 
 def _tag(foot: str, tag: str) -> str:
@@ -65,4 +71,3 @@ def off_cut(model, tag: str, copies: int) -> np.ndarray:
 def whole_nodes(model, tag: str, copies: int) -> int:
     """How many nodes the whole foot's boundary `tag` has (a wedge's: copies x `off_cut`)."""
     return int(copies * off_cut(model, tag, copies).size)
-

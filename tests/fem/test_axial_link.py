@@ -186,7 +186,9 @@ def test_a_share_scales_the_terms_not_the_link():
     extension speak of the whole link."""
     mesh = _two_blocks()
     full = SolidModel(mesh, RUBBER, extra_terms=[AxialLink("b_x0", "a_x1", 0, 0.7, 0.3, 0.1)]).terms[-1]
-    part = SolidModel(mesh, RUBBER, extra_terms=[AxialLink("b_x0", "a_x1", 0, 0.7, 0.3, 0.1, share=0.25)]).terms[-1]
+    part = SolidModel(
+        mesh, RUBBER, extra_terms=[AxialLink("b_x0", "a_x1", 0, 0.7, 0.3, 0.1, share=0.25)]
+    ).terms[-1]
     x = np.random.default_rng(4).normal(size=full.dofs.max() + 1) * 1e-2
     (r1, K1), (r4, K4) = full.arrays(x), part.arrays(x)
     assert np.allclose(r4, 0.25 * r1, rtol=1e-14) and np.allclose(K4, 0.25 * K1, rtol=1e-14)

@@ -339,9 +339,14 @@ def test_every_pipe_gives_a_points_position_along_its_centreline():
 
     axis = np.array([1.0, 2.0, 2.0]) / 3.0
     x = np.array([[1.0, 2.0, 3.0], [-4.0, 0.5, 7.0]])
-    for pipe in (CylinderWall(35.0, centre=(1.0, 1.0, 0.0), axis=axis), CorrugatedPipe(35.0, 2.0, 10.0, (1.0, 1.0, 0.0), axis)):
+    for pipe in (
+        CylinderWall(35.0, centre=(1.0, 1.0, 0.0), axis=axis),
+        CorrugatedPipe(35.0, 2.0, 10.0, (1.0, 1.0, 0.0), axis),
+    ):
         assert np.allclose(pipe.arc_length(x), (x - [1.0, 1.0, 0.0]) @ axis, rtol=0, atol=1e-12)
-    points = np.array([[0.0, 0.0, ENTRY - 5.0], [3.0, 0.0, ENTRY + 10.0], [R_BEND + 40.0, 0.0, ENTRY + R_BEND]])
+    points = np.array(
+        [[0.0, 0.0, ENTRY - 5.0], [3.0, 0.0, ENTRY + 10.0], [R_BEND + 40.0, 0.0, ENTRY + R_BEND]]
+    )
     arc = ELBOW.arc_length(points)
     assert arc[0] == pytest.approx(ENTRY - 5.0, abs=1e-12)
     assert np.array_equal(arc, ELBOW.locate(points)[1])

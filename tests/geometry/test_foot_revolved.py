@@ -142,7 +142,12 @@ def test_a_wedge_is_the_whole_mesh_cut(copies):
 
     def volume(m):
         p = m.points[m.tets]
-        return np.abs(np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])).sum() / 6
+        return (
+            np.abs(
+                np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+            ).sum()
+            / 6
+        )
 
     def area(m, tag):
         p = m.points[m.facets[tag]]

@@ -302,7 +302,9 @@ class FakeFoot:
     wall_s: float = 0.0
 
 
-def fake_foot(design, pipe_diameter, *, material, mu_smooth, mu_grooved, quick=False, max_wall_s=None, wedge=1):
+def fake_foot(
+    design, pipe_diameter, *, material, mu_smooth, mu_grooved, quick=False, max_wall_s=None, wedge=1
+):
     """A foot without FE, `simulate_foot`'s call: a normal force that grows with the squeeze
     (78 - D), the skirt's thickness and the modulus, F_fwd = mu_smooth N, F_bwd = 2 mu_grooved N
     x angle / 120. While SOFTCRAWL_FAKE_FOOT_FAIL is set to an angle, a skirt narrower than it

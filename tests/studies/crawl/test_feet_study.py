@@ -135,6 +135,8 @@ def test_a_wedge_run_has_its_folder_and_multiples_of_its_sectors(tmp_path):
     spec = feet_study.sweep_spec_from_file(folder)
     setups = {p["angle_deg"]: feet_study.point_setup(p, spec.settings) for p in spec.points()}
     assert {a: (s.sectors, s.copies) for a, s in setups.items()} == {120.0: (24, 4), 60.0: (44, 4)}
-    whole = feet_study.point_setup({"shore_a": 70.0, "angle_deg": 60.0}, {"mu_smooth": 0.3, "mu_grooved": 0.3})
+    whole = feet_study.point_setup(
+        {"shore_a": 70.0, "angle_deg": 60.0}, {"mu_smooth": 0.3, "mu_grooved": 0.3}
+    )
     assert (whole.sectors, whole.copies) == (42, 1)  # the whole feet keep quick_sectors
     assert "softcrawl study feet --quick --wedge 4" in feet_study.report_block(folder)

@@ -36,7 +36,9 @@ def test_bad_wedges_are_refused_before_any_work(kwargs):
 def test_the_quarter_wedge_drags_as_the_whole_foot():
     """Quick foot, 70 mm, mu 0.3: insertion, forward and backward drags (record 082 measured
     52.300307 / 12.908830 / 19.695945 N on the quarter against 52.300315 / 12.908832 / 19.695947 N)."""
-    runs = [simulate_foot(FootDesign(), 70.0, quick=True, mu_smooth=0.3, mu_grooved=0.3, wedge=w) for w in (1, 4)]
+    runs = [
+        simulate_foot(FootDesign(), 70.0, quick=True, mu_smooth=0.3, mu_grooved=0.3, wedge=w) for w in (1, 4)
+    ]
     whole, quarter = runs
     assert whole.converged and quarter.converged
     assert quarter.n_dofs < 0.3 * whole.n_dofs
