@@ -302,10 +302,14 @@ def mesh_settings(args) -> dict:
         copies = args.wedge or 1
         n = sectors if sectors is not None else 48
         if n % copies or n // copies < 2:
-            raise CommandLineError("wedge", f"must divide the feet's {n} sectors and leave at least 2, got {copies}")
+            raise CommandLineError(
+                "wedge", f"must divide the feet's {n} sectors and leave at least 2, got {copies}"
+            )
         return {"mesher": "revolved", "sectors": sectors, "thickness_layers": args.layers, "copies": copies}
     if args.wedge not in (None, 1):
-        raise CommandLineError("wedge", "needs the revolved feet (the same in every sector), not --mesher tetwild")
+        raise CommandLineError(
+            "wedge", "needs the revolved feet (the same in every sector), not --mesher tetwild"
+        )
     for name, value in (("sectors", args.sectors), ("layers", args.layers)):
         if value is not None:
             raise CommandLineError(name, "refines the revolved feet, not --mesher tetwild")
