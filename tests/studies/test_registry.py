@@ -156,7 +156,9 @@ def test_the_crawl_and_feet_studies_pass_the_sweep_options_through(module, runne
     request = StudyRequest(study="x", out="OUT", quick=True, **options)
     assert request.sweep_options() == options
     importlib.import_module(module).run_request(request)
-    assert calls == [(("OUT",), {"quick": True, **request.sweep_options()})]
+    assert calls == [(("OUT",), {"quick": True, "wedge": 1, **request.sweep_options()})]
+    importlib.import_module(module).run_request(StudyRequest(study="x", out="OUT", wedge=4, **options))
+    assert calls[-1] == (("OUT",), {"quick": False, "wedge": 4, **request.sweep_options()})
 
 
 def test_the_python_api_refuses_a_material_for_a_study_that_takes_none(tmp_path):
