@@ -22,6 +22,7 @@ energy Pi(u, p) is concave in p (the -p^2 / (2K) of `fem.solid`), so its penalty
 that sign, k_p in mm^3/MPa per vertex pair (`PeriodicPressureTie`):
 
     Pi += -k_p/2 sum_pairs (p_b - p_a)^2,    r = -k_p (p_b - p_a) [-1, 1],    K = -k_p [[1, -1], [-1, 1]].
+
 Pairs are found by position (the cut faces of `geometry.foot_revolved` with `copies`: every node
 of one cut turned by the angle lies on a node of the other, to round-off).
 """
@@ -51,15 +52,20 @@ class PeriodicTie:
     name: str = "periodic"
 
     def __post_init__(self):
-        if not (np.isfinite(self.angle) and 0 < abs(self.angle) < 2 * math.pi):
-            raise SolverInputError(
-                "periodic_tie.angle", f"must be a wedge angle in (0, 2 pi), got {self.angle!r}"
-            )
-        if not (np.isfinite(self.stiffness) and self.stiffness > 0):
-            raise SolverInputError("periodic_tie.stiffness", f"must be positive, got {self.stiffness!r}")
+        _check(self)
 
     def build(self, space) -> PeriodicTieTerm:
         return PeriodicTieTerm(space, self)
+
+
+def _check(spec) -> None:
+    """The angle and the penalty of a tie (`PeriodicTie`, `PeriodicPressureTie`)."""
+    if not (np.isfinite(spec.angle) and 0 < abs(spec.angle) < 2 * math.pi):
+        raise SolverInputError(
+            "periodic_tie.angle", f"must be a wedge angle in (0, 2 pi), got {spec.angle!r}"
+        )
+    if not (np.isfinite(spec.stiffness) and spec.stiffness > 0):
+        raise SolverInputError("periodic_tie.stiffness", f"must be positive, got {spec.stiffness!r}")
 
 
 def cut_pairs(space, tag_a: str, tag_b: str, angle: float) -> tuple[np.ndarray, np.ndarray]:
@@ -91,6 +97,9 @@ class PeriodicPressureTie:
     stiffness: float  # k_p, mm^3/MPa per vertex pair
     name: str = "periodic_pressure"
 
+    def __post_init__(self):
+        _check(self)
+
     def build(self, space) -> PeriodicPressureTerm:
         return PeriodicPressureTerm(space, self)
 
@@ -99,8 +108,6 @@ class PeriodicPressureTerm:
     symmetric = True
 
     def __init__(self, space, spec: PeriodicPressureTie) -> None:
-        if not (np.isfinite(spec.stiffness) and spec.stiffness > 0):
-            raise SolverInputError("periodic_tie.stiffness", f"must be positive, got {spec.stiffness!r}")
         if not space.mixed:
             raise SolverInputError("periodic_tie", "a pressure tie needs the mixed (p2p1) formulation")
         self.spec, self.name = spec, spec.name

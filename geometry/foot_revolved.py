@@ -199,7 +199,7 @@ def _cut_facets(points: np.ndarray, tets: np.ndarray, angle: float, tol: float):
     normal_end = np.array([-math.sin(angle), math.cos(angle), 0.0])
     on_start = np.all(np.abs(points[tris][:, :, 1]) < tol, axis=1)
     on_end = np.all(np.abs(points[tris] @ normal_end) < tol, axis=1)
-    return tris[on_start], tris[on_end], ~(on_start | on_end)
+    return tris[on_start], tris[on_end], tris[~(on_start | on_end)]
 
 
 def mesh_foot_revolved(
@@ -236,8 +236,8 @@ def mesh_foot_revolved(
     tol = 1e-9 * design.tip_radius
     rest, cuts = None, {}
     if copies > 1:
-        start, end, keep = _cut_facets(points, tets, 2 * math.pi / copies, tol)
-        rest, cuts = boundary_facets(tets)[0][keep], {"cut_start": start, "cut_end": end}
+        start, end, rest = _cut_facets(points, tets, 2 * math.pi / copies, tol)
+        cuts = {"cut_start": start, "cut_end": end}
     points, facets, n_untagged = tag_boundary(points, tets, segments, tol, snap=False, tris=rest)
     facets |= cuts
     if n_untagged:

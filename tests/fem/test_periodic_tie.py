@@ -80,3 +80,10 @@ def test_cuts_that_do_not_pair_up_are_refused():
         SolidModel(_foot(4), RUBBER, extra_terms=[PeriodicTie("cut_start", "cut_end", math.pi / 3, 1.0)])
     with pytest.raises(SolverInputError, match="angle"):
         PeriodicTie("cut_start", "cut_end", 0.0, 1.0)
+
+
+def test_a_pressure_tie_checks_its_spec():
+    with pytest.raises(SolverInputError, match="stiffness"):
+        PeriodicPressureTie("cut_start", "cut_end", math.pi / 2, -1.0)
+    with pytest.raises(SolverInputError, match="angle"):
+        PeriodicPressureTie("cut_start", "cut_end", 7.0, 1.0)
