@@ -3,7 +3,7 @@ r"""A meshed solid with its loads: the residual and consistent tangent that Newt
 The model composes one mechanics item per module:
 
     Discretisation   P2 displacements (+ P1 pressures)            `fem.discretisation`
-    Constraints      Dirichlet conditions, condensed out          `fem.dirichlet`
+    Constraints      Dirichlet conditions and ties, condensed out `fem.dirichlet`
     Solid            the hyperelastic body                         `fem.solid`
     terms            chamber pressures (`fem.chamber`), embedded fiber lines (`fem.fibers`),
                      fiber sheets (`fem.sheets`)
@@ -114,6 +114,8 @@ class SolidModel:
     dead_loads: mapping boundary tag -> total force (Fx, Fy, Fz) in N.
     contacts: `fem.contact.ContactSpec`s, each a set of boundary tags against a rigid surface
         with its own friction coefficient (`model.contacts` holds the terms).
+    ties: linear ties of dofs with `links(space)` (`fem.periodic_tie.CyclicTie`: a wedge's cuts),
+        condensed out exactly (`fem.dirichlet`).
     extra_terms: other term specifications with `build(space) -> term` (e.g.
         `fem.equal_displacement.EqualDisplacement`, a rigid plate's common translation).
     pressure_fields: "per-material" (one P1 pressure field per distinct material law, see
@@ -138,11 +140,12 @@ class SolidModel:
         extra_terms: Sequence = (),
         pressure_fields: str = "per-material",
         body_forces=None,
+        ties: Sequence = (),
     ) -> None:
         groups = _pressure_groups(mesh, materials, pressure_fields)
         self.space = Discretisation(mesh, formulation, intorder, groups)
         self.solid = Solid(self.space, materials)
-        self.constraints = Constraints(self.space, dirichlet)
+        self.constraints = Constraints(self.space, dirichlet, ties)
         touched = np.zeros(self.space.n_dofs, dtype=bool)
         touched[self.space.element_dofs.reshape(-1)] = True
         self.constraints.pin(np.flatnonzero(~touched))  # unknowns of no element (orphan vertices)
@@ -160,7 +163,7 @@ class SolidModel:
         self.terms += [spec.build(self.space) for spec in extra_terms]
         self.dead_load = dead_load_vector(self.space, dead_loads) + body_force_vector(self.space, body_forces)
         groups = self.solid.groups + [c.u_dofs for c in self.chambers] + [t.dofs for t in self.terms]
-        self.pattern = Pattern(self.constraints.free_index, groups)
+        self.pattern = Pattern(self.constraints.free_index, groups, self.constraints.links)
         self._memo = None  # see `_at`
         self._symmetric = None  # see `symmetric_tangent`
 
@@ -186,7 +189,20 @@ class SolidModel:
         return np.zeros(self.n_dofs)
 
     def apply_dirichlet(self, x: np.ndarray, factor: float) -> np.ndarray:
+        """x with the prescribed dofs at `factor` times their values and the tied dofs following."""
         return self.constraints.apply(x, factor)
+
+    def reduce(self, R: np.ndarray) -> np.ndarray:
+        """A vector on all dofs (a residual, a load) as the equations of the free dofs, T^T R."""
+        return self.constraints.reduce(R)
+
+    def fold(self, v: np.ndarray) -> np.ndarray:
+        """A vector on all dofs with the tied rows added to their masters' (`fem.dirichlet`)."""
+        return self.constraints.fold(v)
+
+    def step(self, x: np.ndarray, dq: np.ndarray, alpha: float = 1.0) -> np.ndarray:
+        """x moved by alpha dq on the free dofs, the tied dofs following (a copy)."""
+        return self.constraints.step(x, dq, alpha)
 
     def displacement(self, x: np.ndarray) -> np.ndarray:
         """Nodal displacements, shape (3, n_nodes)."""

@@ -12,6 +12,9 @@ on a body with no displacement prescribed (held only by springs and contact term
 body of docs/decisions/076-one-body.md) it equals the residual, and the relative residual would be
 1 at every state. There the solid's own force div(sigma) (`SolidModel.body_force`), which the terms
 balance at equilibrium, joins the scale; a model with any prescribed dof is unchanged.
+Tied dofs (`fem.dirichlet`) are no unknowns: T^T K T dq = -T^T R, x moves by T dq, and the norms
+fold the tied rows onto their masters (`SolidModel.fold`): a wedge's merit is the whole body's
+(docs/decisions/083-exact-wedge.md).
 Each iteration evaluates the residual first and assembles the tangent only when the state has
 not converged (the tangent of a converged state is never needed by Newton itself).
 
@@ -143,12 +146,13 @@ class NewtonSolver:
         self.iterations = 0
         symmetric = model.symmetric_tangent
         self.linear = StepSolver(options.solver, symmetric, options.reuse_factor, options.symmetric_part)
-        self.free_u = self.free[self.free < model.n_u]
-        self._unheld = len(self.free_u) == model.n_u  # no displacement prescribed (module docstring)
+        self._u_rows = self.free < model.n_u  # the free displacement dofs among the free dofs
+        self._unheld = not np.any(model.fixed_dofs < model.n_u)  # no displacement prescribed (docstring)
         self._volume = float(model.dx.sum())
         x0 = model.initial_state()
-        self._q0 = [model.pressure_load(x0, i)[: model.n_u] for i in range(len(model.chambers))]
-        self._dead_norm = np.linalg.norm(model.dead_load)
+        self._q0 = [model.fold(model.pressure_load(x0, i))[: model.n_u] for i in range(len(model.chambers))]
+        self._dead = model.fold(model.dead_load)
+        self._dead_norm = np.linalg.norm(self._dead)
         self._floor = force_floor(model)
         self._converged_factor = None  # the state whose last Newton iteration factorised (load_tangent)
 
@@ -196,7 +200,6 @@ class NewtonSolver:
         """Equilibrium at fixed (P, factor) from the predicted state x; returns (x, NewtonRecord);
         raises Diverged. With `start` (the last converged state), a prediction that inverts an
         element is drawn back towards `start` (halved up to three times) before Newton begins."""
-        free = self.free
         x = self._admissible(self.model.apply_dirichlet(x, factor), start, P, factor)
         history = []
         self._converged_factor = None
@@ -216,7 +219,7 @@ class NewtonSolver:
                 return x, NewtonRecord(tuple(history), True)
             self._check_progress(history)
             R, K = self._tangent(x, P, factor)
-            dx = -self._solve(K, R[free], self._forcing(merit), self._weights(R, scale), it == 0)
+            dx = -self._solve(K, self.model.reduce(R), self._forcing(merit), self._weights(R, scale), it == 0)
             x = self._line_search(x, dx, R, P, factor, history)
         raise Diverged(f"no convergence in {self.opt.max_iter} Newton iterations")
 
@@ -251,14 +254,16 @@ class NewtonSolver:
         constraint residual is below tol x the solid volume (it has units of volume), and the
         force scale."""
         m = self.model
-        fint = R[: m.n_u] + f * m.dead_load[: m.n_u]
+        R = m.fold(R)  # tied rows on their masters': a wedge's forces as the whole body's, once each
+        fint = R[: m.n_u] + f * self._dead[: m.n_u]
         if m.chambers:
-            fint = fint + m.pressure_force(x, P)[: m.n_u]
+            fint = fint + m.fold(m.pressure_force(x, P))[: m.n_u]
         scale = max(norm(fint), self._reference_pressure_force(P), abs(f) * self._dead_norm, self._floor)
         if self._unheld:  # no reactions: fint is the residual itself, the solid's own force is not
-            scale = max(scale, norm(m.body_force(x)[: m.n_u]))
-        merit = norm(R[self.free_u]) / scale  # fem.krylov.norm: no BLAS threads on long vectors
-        p_ok = (not m.mixed) or norm(R[m.n_u :]) <= self.opt.tol * self._volume
+            scale = max(scale, norm(m.fold(m.body_force(x))[: m.n_u]))
+        Rf = R[self.free]  # the free dofs' equations, T^T R
+        merit = norm(Rf[self._u_rows]) / scale  # fem.krylov.norm: no BLAS threads on long vectors
+        p_ok = (not m.mixed) or norm(Rf[~self._u_rows]) <= self.opt.tol * self._volume
         return merit, p_ok, scale
 
     @staticmethod
@@ -281,8 +286,7 @@ class NewtonSolver:
 
     def _trial(self, x, dx, alpha, P, f):
         """(state, merit, residual) at x + alpha dx; merit inf and residual None if inverted."""
-        trial = x.copy()
-        trial[self.free] += alpha * dx
+        trial = self.model.step(x, dx, alpha)
         try:
             R = self._residual(trial, P, f)
         except InvertedElement:
@@ -293,22 +297,20 @@ class NewtonSolver:
         """The full step if it is acceptable, else Crisfield's secant line search (module
         docstring); the residual of the accepted state is remembered by the model for the next
         iteration, so a full step costs nothing extra."""
-        free = self.free
+        reduce = self.model.reduce
         reference = max(history[-3:])
-        trial = x.copy()
-        trial[free] += dx
         if history[-1] <= 1e-3:
-            return trial
+            return self.model.step(x, dx)
         trial, merit, R = self._trial(x, dx, 1.0, P, f)
         if np.isfinite(merit) and merit < reference:
             return trial
-        s0 = dot(dx, R0[free])
+        s0 = dot(dx, reduce(R0))
         alpha = 1.0
         for _ in range(self.opt.max_backtracks):
             if R is None or s0 >= 0:
                 alpha *= 0.5
             else:
-                s1 = dot(dx, R[free])
+                s1 = dot(dx, reduce(R))
                 root = alpha * s0 / (s0 - s1) if s1 != s0 else 0.5 * alpha
                 # at least halve: after k trials the step is no longer than plain bisection's
                 # (a penalty contact that first penetrates decreases only at small steps)
@@ -329,7 +331,7 @@ class NewtonSolver:
         quadratically convergent update before x: K changes by O(||R||), below 1e-4 relative),
         that factorisation is used as K(x): one substitution, no assembly and no GMRES. Otherwise
         K(x) is assembled and solved to 1e-4."""
-        m, free = self.model, self.free
+        m = self.model
         d = np.asarray(direction, dtype=float)
         delta = 1e-6
         x1 = m.apply_dirichlet(x, L[-1] + delta * d[-1])
@@ -339,13 +341,13 @@ class NewtonSolver:
         else:
             R0, K = self._tangent(x, L[:-1], L[-1])
         R1 = self._checked_residual(x1, L[:-1] + delta * d[:-1], L[-1] + delta * d[-1])
-        g = (R1 - R0)[free] / delta
-        v = np.zeros_like(x)
+        g = m.reduce(R1 - R0) / delta
         if reuse:
-            v[free] = -self.linear.substitute(g)
+            dq = -self.linear.substitute(g)
         else:
             scale = self._merit(R0, x, L[:-1], L[-1])[2]
-            v[free] = -self.linear.solve(K, g, 1e-4, self._weights(R0, scale))
+            dq = -self.linear.solve(K, g, 1e-4, self._weights(R0, scale))
+        v = m.step(np.zeros_like(x), dq)
         v[m.fixed_dofs] = (x1 - x)[m.fixed_dofs] / delta
         return v
 
@@ -354,7 +356,7 @@ class NewtonSolver:
         """Equilibrium with the volume of `chamber` prescribed and the pressures moving along
         `direction` from P (module docstring); returns (x, P, NewtonRecord); raises Diverged.
         P and the returned pressures are arrays of one pressure per chamber."""
-        m, free = self.model, self.free
+        m = self.model
         P = np.array(m.pressures(P), dtype=float)
         d = np.ones_like(P) if direction is None else np.asarray(direction, dtype=float)
         x = m.apply_dirichlet(x, factor)
@@ -375,13 +377,12 @@ class NewtonSolver:
                 break
             self._check_progress(history)
             rtol = min(self._forcing(merit), 1e-6)  # dlambda divides by q.b: b needs accuracy
-            B = np.column_stack([-R[free], q_d[free]])
+            B = np.column_stack([-m.reduce(R), m.reduce(q_d)])
             ab = self._solve(K, B, rtol, self._weights(R, scale), it == 0)
             a, b = ab[:, 0], ab[:, 1]
-            qf = q[free]
+            qf = m.reduce(q)
             dlam = (-g - qf @ a) / (qf @ b)
-            x = x.copy()
-            x[free] += a + dlam * b
+            x = m.step(x, a + dlam * b)
             P = P + dlam * d
         raise Diverged(f"no convergence in {self.opt.max_iter} Newton iterations (volume control)")
 

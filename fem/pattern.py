@@ -23,6 +23,13 @@ repeatedly can keep such an array (`new_values`), write each group's values into
 (`views`) and scatter it with `assemble_values`; this saves the concatenation of `assemble` (a full
 copy of the values, as expensive as the scatter itself).
 
+Tied dofs (`fem.dirichlet`, a dof s that is sum_j c_sj x_mj of free dofs m_j) come as `links`:
+the pattern then assembles T^T K T. An entry (r, c) on a tied row or column has free number -1
+(dropped by the main scatter) and is re-entered at (m_r, m_c) with weight c_r c_c for each pair
+of masters (a free dof is its own master with weight 1); a `Mirrored` entry is re-entered in
+both orientations (once on the element's diagonal). Few entries touch a cut: their gather and
+scatter cost little.
+
 The pattern also knows its transpose permutation (a symmetry check costs one gather) and its upper
 triangle (the input of symmetric solvers), also of the symmetric part (A + A^T) / 2.
 """
@@ -69,8 +76,56 @@ def unique_inverse(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return s[keep], inverse
 
 
+def _linked(free_index, links, groups, order, shapes):
+    """The re-entered entries of the tied dofs (module docstring): (flat value index, row, col,
+    weight), rows and columns in free numbers. `order` is the groups' flat value order."""
+    slaves, masters, coefs = links
+    k = masters.shape[1]
+    which = np.full(free_index.size, -1, dtype=np.int64)
+    which[slaves] = np.arange(slaves.size)
+    # every dof's masters and weights: itself (weight 1) if free, none if prescribed, a tied one's
+    own = np.where(free_index >= 0, free_index, -1)
+    out, start = [], 0
+    for g in order:
+        group = groups[g]
+        if isinstance(group, Mirrored):
+            r, c = group.rows.T, group.cols.T  # (n_items, n_entries), the flat order
+            pairs = [(r, c), (c, r)]
+        else:
+            rd, cd = group if isinstance(group, tuple) else (group, group)
+            shape = shapes[g]
+            r = np.broadcast_to(rd.T[:, :, None], shape)
+            c = np.broadcast_to(cd.T[:, None, :], shape)
+            pairs = [(r, c)]
+        index = start + np.arange(r.size).reshape(r.shape)
+        for n, (rr, cc) in enumerate(pairs):
+            hit = (which[rr] >= 0) | (which[cc] >= 0)
+            if n == 1:
+                hit &= rr != cc  # a mirrored diagonal entry stands once
+            if hit.any():
+                out.append((index[hit], rr[hit], cc[hit]))
+        start += r.size
+    if not out:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
+    src, rows, cols = (np.concatenate(a) for a in zip(*out))
+
+    def expand(dofs):
+        s = which[dofs]
+        m = np.where(s[:, None] >= 0, masters[np.maximum(s, 0)], -1)
+        w = np.where(s[:, None] >= 0, coefs[np.maximum(s, 0)], 0.0)
+        m[:, 0] = np.where(s >= 0, m[:, 0], own[dofs])
+        w[:, 0] = np.where(s >= 0, w[:, 0], (own[dofs] >= 0).astype(float))
+        return m, w
+
+    (mr, wr), (mc, wc) = expand(rows), expand(cols)
+    R, C = np.repeat(mr, k, axis=1), np.tile(mc, (1, k))
+    W = np.repeat(wr, k, axis=1) * np.tile(wc, (1, k))
+    keep = (R >= 0) & (C >= 0) & (W != 0)
+    return np.broadcast_to(src[:, None], R.shape)[keep], R[keep], C[keep], W[keep]
+
+
 class Pattern:
-    def __init__(self, free_index: np.ndarray, groups: list):
+    def __init__(self, free_index: np.ndarray, groups: list, links=None):
         self.n = int(free_index.max()) + 1
         n = self.n
         self.shapes = []  # value shape of each group, in the caller's order
@@ -104,6 +159,10 @@ class Pattern:
         # 54 s set-up at 165k DOFs (loaded machine).
         every = [keys(r, c) for _, r, c in mirrored] + [keys(c, r) for _, r, c in mirrored]
         every += [keys(r, c) for _, r, c in plain]
+        has_links = links is not None and links[0].size > 0
+        if has_links:
+            src, lr, lc, lw = _linked(free_index, links, groups, self._order, self.shapes)
+            every.append(lr * n + lc)
         values, inverse = unique_inverse(np.concatenate(every)) if every else (np.zeros(0, np.int64),) * 2
         del every
         discard = int(values.size > 0 and values[0] < 0)
@@ -119,7 +178,9 @@ class Pattern:
         self._inverse_mirrored = np.where(lower, position[m : 2 * m], position[:m])
         # The other groups touch few positions (facets, fiber segments): their bincount runs
         # over those positions only and is added there.
-        self._plain_positions, self._inverse = unique_inverse(position[2 * m :])
+        n_plain = self.size - m
+        self._plain_positions, self._inverse = unique_inverse(position[2 * m : 2 * m + n_plain])
+        self._links = (src, position[2 * m + n_plain :], lw) if has_links else None
         del position
         col = unique % n
         row = unique // n
@@ -167,6 +228,9 @@ class Pattern:
             sums = np.bincount(self._inverse, weights=values[m:], minlength=self._plain_positions.size)
             keep = self._plain_positions < self.nnz  # drop the discard bin
             data[self._plain_positions[keep]] += sums[keep]
+        if self._links is not None:
+            src, pos, w = self._links
+            data += np.bincount(pos, weights=values[src] * w, minlength=self.nnz)
         A = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
         A.pattern = self
         return A
