@@ -127,8 +127,8 @@ def run_crawl_study(
     out, *, quick=False, wedge=1, storage=None, workers=1, progress=True, retry=False
 ) -> StudyOutcome:
     """The study into OUT/crawl/rubber-70a[-quick][-wedgeN] (a wedge of the feet, `wedge` > 1, has
-    its own folder and sweep: its points are another model's, equal to the whole feet's within the
-    tie's tolerance, docs/decisions/082-crawl-wedge.md)."""
+    its own folder and sweep: its points are the whole feet's within the solver's and the contact
+    tolerance's path dependence, docs/decisions/083-exact-wedge.md)."""
     tail = ("-quick" if quick else "") + (f"-wedge{wedge}" if wedge > 1 else "")
     folder = Path(out) / NAME / f"rubber-70a{tail}"
     folder.mkdir(parents=True, exist_ok=True)

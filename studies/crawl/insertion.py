@@ -58,7 +58,6 @@ from softcrawl.geometry.tetwild import default_cache_dir
 from softcrawl.studies.crawl import model as crawl_model
 from softcrawl.studies.crawl.resume import CrawlStore, Resumed, Totals
 from softcrawl.studies.foot import model as foot_model
-from softcrawl.studies.foot import wedge as feet_wedge
 
 #: Bumped when what the insertion computes changes without a softcrawl version bump.
 FORMAT = 2  # 2: feet "backward" are the flipped feet (record 067), no longer mirrored ones
@@ -94,11 +93,9 @@ def insertion_options(cm, mesh, foot_design, law) -> dict[str, Any]:
         if setup.flipped
         else {}
     )
-    # a wedge of the feet (record 082): its mesh is in the mesh hash, its ties' penalty here; the
-    # whole feet's keys keep their value
-    wedge = (
-        {"wedge": {"copies": setup.copies, "tie_penalty": feet_wedge.TIE_PENALTY}} if setup.copies > 1 else {}
-    )
+    # a wedge of the feet (records 082, 083): its mesh is in the mesh hash, its tie here (exact
+    # since 083: a penalty tie's cached states are not reused); the whole feet's keys keep their value
+    wedge = {"wedge": {"copies": setup.copies, "tie": "exact"}} if setup.copies > 1 else {}
     return (
         flipped
         | wedge

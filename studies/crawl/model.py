@@ -28,8 +28,9 @@ takes over from that hold exactly as from GROUND_HOLD: the spring is re-based an
 the force it drops is the plates' reaction after the release, which the frictionless radial wall
 and the released rims leave at the actuator's tension (reported at the handover).
 
-Wedge (`CrawlSetup.copies` > 1; `studies.foot.wedge`, docs/decisions/082-crawl-wedge.md): one
-wedge of 2 pi / copies of each foot, its cuts tied by cyclic symmetry, carrying 1 / copies of the links.
+Wedge (`CrawlSetup.copies` > 1; `studies.foot.wedge`, docs/decisions/082-crawl-wedge.md and 083):
+one wedge of 2 pi / copies of each foot, its cuts tied exactly by cyclic symmetry, carrying
+1 / copies of the links.
 
 Stages: insert (the wall shrinks from clear of the tip to the pipe radius, frictionless), friction
 (coefficients on), a ramp to the schedule's start pressures when they are not zero, then each
@@ -186,12 +187,12 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
         AxialLink(front, None, 2, GROUND_HOLD, name="ground_front", share=share),
         EqualDisplacement(rear, 2, PLATE_PENALTY * youngs * size),
         EqualDisplacement(front, 2, PLATE_PENALTY * youngs * size),
-        *wedge.ties(setup.copies, youngs, size, FEET),
     ]
     bcs = [Dirichlet(tag, (0, 1), (0.0, 0.0)) for tag in (rear, front)]
     springs = rim_springs() if setup.flipped else None
     terms += [springs] if springs is not None else []
-    model = SolidModel(mesh, material, dirichlet=bcs, contacts=contacts, extra_terms=terms)
+    ties = wedge.ties(setup.copies, FEET)
+    model = SolidModel(mesh, material, dirichlet=bcs, contacts=contacts, extra_terms=terms, ties=ties)
     links = {
         t.name: t
         for t in model.terms

@@ -122,8 +122,8 @@ def foot_model(
         for name, tags in FACES.items()
     ]
     bcs = [Dirichlet("hub_top", (0, 1, 2), (0.0, 0.0, drag))]
-    ties = wedge.ties(copies, youngs, size)
-    return SolidModel(mesh, material, dirichlet=bcs, contacts=specs, extra_terms=[*extra_terms, *ties])
+    ties = wedge.ties(copies)
+    return SolidModel(mesh, material, dirichlet=bcs, contacts=specs, extra_terms=extra_terms, ties=ties)
 
 
 @dataclass(frozen=True)

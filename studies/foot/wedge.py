@@ -7,8 +7,8 @@ way in every wedge of 2 pi / copies (until a bifurcation breaks that, which the 
 this mesh does not follow either: its lateral drift stays at round-off). The wedge model keeps
 the first n_theta / copies sectors of each foot (`geometry.foot_revolved`, node for node the
 whole mesh's), ties each foot's cut at theta = 2 pi / copies to its cut at theta = 0 turned by
-that angle (`fem.periodic_tie`, a penalty of `TIE_PENALTY` E h per node pair, and the mixed
-pressure's), and carries 1 / copies of every axial link (`fem.axial_link`, `share`). Forces it
+that angle (`fem.periodic_tie`, exact: the tied dofs are condensed out, and the mixed pressure's
+too), and carries 1 / copies of every axial link (`fem.axial_link`, `share`). Forces it
 reports are the whole foot's: the contact terms' times `copies`; the links already speak of the
 whole link. Means over a tag's nodes skip the cut at 2 pi / copies (`off_cut`): those nodes are
 the next wedge's cut at 0.
@@ -22,12 +22,7 @@ import math
 
 import numpy as np
 
-from softcrawl.fem.periodic_tie import PeriodicPressureTie, PeriodicTie
-
-#: The tie's penalty per node pair in units of E h (E the rubber's small-strain modulus, h the
-#: feet's median edge): the gap it leaves is the force across the cut at a node over k
-#: (measured in record 082).
-TIE_PENALTY = 1.0e4
+from softcrawl.fem.periodic_tie import CyclicTie
 
 
 def wedge_sectors(sectors: int, copies: int) -> int:
@@ -40,22 +35,14 @@ def _tag(foot: str, tag: str) -> str:
     return f"{foot}:{tag}" if foot else tag
 
 
-def ties(copies: int, youngs: float, size: float, feet=("",), mixed: bool = True) -> list:
-    """Each foot's periodic ties (`feet`: the tags' prefixes, "" for a lone foot's plain tags), of
-    the displacements (k = TIE_PENALTY E h per node pair) and of the mixed pressure
-    (k_p = TIE_PENALTY h^3 / E per vertex pair: the pressure equations' scale is a cell's volume
-    over the modulus); none for the whole feet, copies = 1."""
+def ties(copies: int, feet=("",)) -> list:
+    """Each foot's cyclic tie (`feet`: the tags' prefixes, "" for a lone foot's plain tags), of the
+    displacements and the mixed pressure, for `SolidModel(ties=...)`; none for the whole feet,
+    copies = 1."""
     if copies == 1:
         return []
     angle = 2 * math.pi / copies
-    k, k_p = TIE_PENALTY * youngs * size, TIE_PENALTY * size**3 / youngs
-    out = []
-    for f in feet:
-        cuts = (_tag(f, "cut_start"), _tag(f, "cut_end"), angle)
-        out.append(PeriodicTie(*cuts, k, name=_tag(f, "tie")))
-        if mixed:
-            out.append(PeriodicPressureTie(*cuts, k_p, name=_tag(f, "pressure_tie")))
-    return out
+    return [CyclicTie(_tag(f, "cut_start"), _tag(f, "cut_end"), angle) for f in feet]
 
 
 def off_cut(model, tag: str, copies: int) -> np.ndarray:
