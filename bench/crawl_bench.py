@@ -21,7 +21,7 @@ peak RSS. The two runs' strides must agree bit for bit (the cached state is the 
 docs/decisions/080-symmetric-part.md (the default, "split", factorises its symmetric part and
 runs GMRES); the counts of those factorisations and of the fallbacks to LU are printed.
 `--wedge 1,4` (the default) runs cold and warm on the whole feet (`softcrawl crawl --quick`), then
-on a quarter wedge of them (`--wedge 4`, cyclic symmetry: docs/decisions/082-crawl-wedge.md); each
+on a quarter wedge of them (`--wedge 4`, cyclic symmetry, tied exactly: records 082, 083); each
 has its own insertion cache.
 
 Targets (issue 31, on an idle 2-core machine): cold at most 60 s, warm at most 30 s. The figures
