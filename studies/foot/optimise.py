@@ -41,6 +41,7 @@ summary.md (the front, the paper's foot against it, the flags), study.db without
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from softcrawl import jsonio
@@ -92,6 +93,19 @@ def identified_mu(out) -> dict:
     return {k: friction[k] for k in ("mu_smooth", "mu_grooved", "mu_smooth_flag", "mu_grooved_flag")}
 
 
+def _stored_trials(folder: Path) -> int | None:
+    """The trial budget of the search already in `folder` (its spec.json), or None. A resume or a
+    `--confirm N` without --trials keeps it: the default (40) once silently extended a finished
+    20-trial search by 20 more trials when only its confirm crawls were asked for."""
+    path = folder / "spec.json"
+    if not path.is_file():
+        return None
+    try:
+        return int(json.loads(path.read_text())["n_trials"])
+    except (ValueError, KeyError, TypeError):
+        return None
+
+
 def search_spec(
     out, *, quick=False, trials=None, sampler="nsga2", seed=0, storage=None, simulator=None, wedge=1
 ):
@@ -105,7 +119,7 @@ def search_spec(
         name=f"{NAME}-{folder.name}",
         space=SPACE,
         out_dir=str(folder),
-        n_trials=trials or (FEET_QUICK_TRIALS if quick else FEET_TRIALS),
+        n_trials=trials or _stored_trials(folder) or (FEET_QUICK_TRIALS if quick else FEET_TRIALS),
         directions=DIRECTIONS,
         evaluator=EVALUATOR,
         sampler=sampler,

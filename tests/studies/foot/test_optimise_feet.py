@@ -63,6 +63,10 @@ def test_the_study_runs_resumes_and_marks_the_paper_foot(tmp_path, capsys):
     # resume: the budget is spent, nothing new; replot redraws the same figure from the table
     assert _run(out) == 0
     assert len(_rows(out)) == 8
+    # without --trials (as `--confirm N` is run) the stored budget of 8 stands, not the default 12
+    argv = ["study", "optimise-feet", "--quick", "--simulator", FAKE, "--out", str(out), "--no-progress"]
+    assert main(argv) == 0
+    assert len(_rows(out)) == 8
     assert replot_folder(folder) == [folder / "pareto.png"]
     assert (folder / "pareto.png").read_bytes() == png
     assert "the paper's foot" in capsys.readouterr().out.lower()
