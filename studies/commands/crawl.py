@@ -42,8 +42,9 @@ before the revolved one). --quick: 4 insertion steps instead of 8 and, on the re
 geometry.foot_meshers.quick_sectors of the foot (24 at 120 deg, 34 at 90, 42 at 60, 47 at 30) unless
 --sectors is given (2 sub-steps per schedule segment stalled where the actuator force changes
 sign, 4 pass, so --steps keeps 4). --wedge N (revolved feet): model one wedge of 360/N deg of
-each foot, its cuts tied exactly by cyclic symmetry (`studies.foot.wedge`, docs/decisions/082 and 083:
-the quick crawl 6x faster, its strides within 2.3e-7 mm of the whole feet's); N must divide the sectors
+each foot, its cuts tied exactly by cyclic symmetry (`studies.foot.wedge`,
+docs/decisions/083-exact-wedge.md: the quick crawl 6x faster, its strides within 2.3e-7 mm of the
+whole feet's); N must divide the sectors
 and leave at least 2 in the wedge; 1 (the default): the whole feet.
 
 Prints per cycle the stride (advance of the centre) and speed = stride / cycle time beside the
