@@ -84,7 +84,7 @@ def _linked(free_index, links, groups, order, shapes):
     which = np.full(free_index.size, -1, dtype=np.int64)
     which[slaves] = np.arange(slaves.size)
     # every dof's masters and weights: itself (weight 1) if free, none if prescribed, a tied one's
-    own = np.where(free_index >= 0, free_index, -1)
+    own = free_index  # -1 for a prescribed or tied dof
     out, start = [], 0
     for g in order:
         group = groups[g]
