@@ -12,8 +12,8 @@ Condensation. With q the free dofs, every state is x = T q + x_D: T has a 1 in t
 free dof and the coefficients c_sj in the row of a tied dof s; x_D holds the prescribed values.
 The equations on q are the reduced residual T^T R and tangent T^T K T (the pattern assembles the
 latter): a tie is exact, unlike a penalty, and adds no unknown. A tie whose dof and masters are
-all prescribed is left to the prescribed values; one that mixes free and prescribed dofs, or
-ties a dof to a tied dof, is refused.
+all prescribed is left to the prescribed values, and kept only to fold its reaction row (the
+norms below); one that mixes free and prescribed dofs, or ties a dof to a tied dof, is refused.
 """
 
 from __future__ import annotations
@@ -88,6 +88,8 @@ class Constraints:
         all_held = held.all(axis=1) & fixed[slaves]
         if np.any(~all_held & (held.any(axis=1) | fixed[slaves])):
             raise SolverInputError("tie", "a tied dof and its masters must be all free or all prescribed")
+        # an all-prescribed tie condenses nothing, but its reaction row still folds (`fold`)
+        self._held = slaves[all_held], masters[all_held], coefs[all_held]
         slaves, masters, coefs = slaves[~all_held], masters[~all_held], coefs[~all_held]
         if np.unique(slaves).size != slaves.size or np.isin(masters[coefs != 0], slaves).any():
             raise SolverInputError("tie", "a dof is tied twice, or to a tied dof")
@@ -109,14 +111,18 @@ class Constraints:
     def fold(self, v: np.ndarray) -> np.ndarray:
         """v on all dofs with each tied dof's row added to its masters' (times the coefficients)
         and set to 0: a wedge's forces as the whole body's on its own nodes, each counted once
-        (the norms of `fem.newton` compare them). v itself when nothing is tied."""
-        if not self.slave_dofs.size:
+        (the norms of `fem.newton` compare them). The all-prescribed ties fold too: a held cut
+        node's reaction is then the whole body's, not split between the two cuts. v itself when
+        nothing is tied."""
+        held = self._held[0].size
+        if not self.slave_dofs.size and not held:
             return v
         out = v.copy()
-        keep = self.slave_coefs != 0
-        w = self.slave_coefs * v[self.slave_dofs][:, None]
-        np.add.at(out, self.slave_masters[keep], w[keep])
-        out[self.slave_dofs] = 0.0
+        for slaves, masters, coefs in ((self.slave_dofs, self.slave_masters, self.slave_coefs), self._held):
+            keep = coefs != 0
+            w = coefs * v[slaves][:, None]
+            np.add.at(out, masters[keep], w[keep])
+            out[slaves] = 0.0
         return out
 
     def reduce(self, R: np.ndarray) -> np.ndarray:
