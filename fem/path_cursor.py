@@ -6,8 +6,6 @@ the sub-steps and attempts spent on it, the predictors' history (the last two co
 their loads; the tangent is recomputed from them), the step memory of the next segment, and the
 path so far (the `Step` of every target reached, and the events). `to_arrays` and `from_arrays`
 turn it into the arrays and JSON metadata of a `fem.checkpoint` state and back, bit for bit.
-`warm_start` is the cursor of a converged state found elsewhere (a neighbouring path of a study):
-the path starts there, at its first target's segment, instead of at zero load.
 
 Two limits, stated where they bite: the cursor holds no contact history (`load_path` refuses to
 resume a model with contact terms: `fem.contact_stages` has its own cursor), and it is emitted
@@ -119,13 +117,3 @@ def from_arrays(meta: dict, arrays: dict[str, np.ndarray]) -> PathCursor:
         events=tuple(meta["events"]),
         stats=SolveStats(**meta["stats"]),
     )
-
-
-def warm_start(x: np.ndarray, load: np.ndarray) -> PathCursor:
-    """The cursor of the converged state `x` under the load vector `load` (pressures and load
-    factor, `fem.steps.LoadShape.vector`), before the path's first target: `load_path` then
-    starts its first segment there. The state must be an equilibrium of the same model: the path
-    continues from it and does not check."""
-    zero = SolveStats(0, 0.0, 0.0, 0.0)
-    load = np.asarray(load, dtype=float)
-    return PathCursor(0, load, 0.0, None, 0, 0, x, load, None, None, (None, None), (), (), zero)

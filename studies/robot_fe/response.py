@@ -177,22 +177,16 @@ def simulate_robot(
     gravity: bool = False,
     checkpoints=None,
     resume: bool = False,
-    warm=None,
 ) -> RobotRun:
     """Follow the pressure triples `targets_mpa` (MPa) from zero; the outputs of every converged
     state. A path that stops early is a result whose message names the last converged load.
     `checkpoints` (a `fem.checkpoint.Checkpoints`): every converged pressure-controlled sub-step is
     written to it (`fem.path_cursor`); with `resume`, the path continues from its newest state
-    (none: from the start). `warm` = (x, pressure triple MPa): start from that converged state of
-    the same robot (and load factor) instead of from zero (`fem.path_cursor.warm_start`)."""
+    (none: from the start)."""
     f = 1.0 if gravity else 0.0
-    targets = [((0.0, 0.0, 0.0), 1.0)] if gravity and warm is None else []
+    targets = [((0.0, 0.0, 0.0), 1.0)] if gravity else []
     targets += [(tuple(float(v) for v in P), f) for P in targets_mpa]
     start, on_cursor = None, None
-    if warm is not None:
-        if checkpoints is not None:
-            raise ValueError("simulate_robot: give a warm start or checkpoints, not both")
-        start = path_cursor.warm_start(warm[0], np.r_[np.asarray(warm[1], dtype=float), f])
     if checkpoints is not None:
         start, index = _latest(checkpoints) if resume else (None, 0)
 

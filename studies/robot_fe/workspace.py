@@ -9,15 +9,10 @@ P1 = max(P1, P2, P3) and P2 <= P3 and obtains the rest by mirroring and turning 
 sections are translated, not turned, copies: the symmetry holds for the physics and to the
 discretisation error for the mesh).
 
-Continuation. For each (P2, P3) on the grid one path to (max(P2, P3), P2, P3), then P1 up through
-the grid levels, each converged state the start of the next (`fem.path`), with targets at most
-10 kPa apart (the bending robot needs small steps). A path starts from the computed grid state
-nearest (largest chamber difference) to its first point when that is nearer than zero load, else
-from zero: a warm start, 102 path targets on the default grid instead of 163. The robot is
-elastic and has no contact, so its state at a pressure triple does not depend on the path to it;
-the warm start changes only where Newton starts, and the states agree with cold starts to the
-solver tolerance (checked on the whole default grid: docs/decisions/084-study-warm-starts.md). A
-path that stops keeps its converged points; the missing points are reported.
+Continuation. For each (P2, P3) on the grid one path: proportional from zero to
+(max(P2, P3), P2, P3), then P1 up through the grid levels, each converged state the start of the
+next (`fem.path`), with targets at most 10 kPa apart (the bending robot needs small
+steps). A path that stops keeps its converged points; the missing points are reported.
 
 Comparison. The FE end point is the robot centreline at the actuators' top level z = L0
 (`studies.robot_fe.response`), where the arc of eqs. 4-9 ends; the constant-curvature (CC) end
@@ -87,33 +82,18 @@ def _dense(points):
     return out or [points[0]]
 
 
-def nearest_start(solved: dict, first) -> tuple:
-    """The computed grid triple of `solved` ({P kPa: x}) nearest to `first` (largest chamber
-    difference; the first found on a tie), if nearer than zero load; else (0, 0, 0)."""
-    best, gap = (0.0, 0.0, 0.0), max(abs(v) for v in first)
-    for P in solved:
-        d = max(abs(a - b) for a, b in zip(P, first))
-        if d < gap:
-            best, gap = P, d
-    return best
-
-
-def fe_cloud(robot, levels, progress=None, on_line=None, warm=True) -> tuple[dict, list[str]]:
+def fe_cloud(robot, levels, progress=None, on_line=None) -> tuple[dict, list[str]]:
     """{(P1, P2, P3) kPa: RobotState} over the whole grid (computed and turned), and messages.
-    The paths run cheapest first (least bending: smallest spread of the pressures), each from the
-    nearest computed state (`warm`, the module docstring) or from zero; `on_line`, if given, gets
-    (grid so far, messages) after every path, so partial results are kept."""
-    states, messages, solved = {}, [], {}
+    The paths run cheapest first (least bending: smallest spread of the pressures); `on_line`,
+    if given, gets (grid so far, messages) after every path, so partial results are kept."""
+    states, messages = {}, []
     for line in sorted(fe_lines(levels), key=lambda ln: max(max(P) - min(P) for P in ln)):
-        start = nearest_start(solved, line[0]) if warm else (0.0, 0.0, 0.0)
-        targets = _dense([start, *line])
-        from_state = (solved[start], tuple(kpa_to_mpa(v) for v in start)) if start in solved else None
-        run = simulate_robot(robot, [tuple(kpa_to_mpa(v) for v in P) for P in targets], warm=from_state)
-        for s, step in zip(run.states, run.path.steps):
+        targets = _dense([(0.0, 0.0, 0.0), *line])
+        run = simulate_robot(robot, [tuple(kpa_to_mpa(v) for v in P) for P in targets])
+        for s in run.states:
             for P in line:  # a target reached on volume control reads e.g. 100.0006 kPa
                 if max(abs(a - b) for a, b in zip(s.pressures_kpa, P)) < 0.01:
                     states[tuple(float(v) for v in P)] = s
-                    solved[tuple(float(v) for v in P)] = step.x
         if not run.converged:
             messages.append(f"path {line[0]}..{line[-1]} kPa: {run.message}")
         if progress:

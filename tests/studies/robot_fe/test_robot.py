@@ -18,7 +18,6 @@ import pytest
 
 from softcrawl.studies.robot_fe.model import build_robot_model
 from softcrawl.studies.robot_fe.response import arc_fit_rms, simulate_robot
-from softcrawl.studies.robot_fe.workspace import nearest_start
 
 KPA = 1e-3
 
@@ -82,32 +81,3 @@ def test_theta_at_the_table1_load_is_mesh_converged():
         assert run.converged, run.message
         theta[mesh] = run.states[-1].theta_deg
     assert theta["default"] == pytest.approx(theta["fine"], rel=0.02)
-
-
-def test_a_warm_start_reaches_the_cold_starts_state(robot):
-    """The workspace starts a path from a neighbouring computed state (`studies.robot_fe.
-    workspace.fe_cloud`). The robot is elastic, so the state at (0, 10, 15) kPa reached from
-    (0, 10, 10) kPa is the one reached from zero, to the Newton tolerance; the warm path is the
-    shorter one."""
-    cold = simulate_robot(robot, [(0.0, 10 * KPA, 15 * KPA)])
-    first = simulate_robot(robot, [(0.0, 10 * KPA, 10 * KPA)])
-    start = (first.path.steps[-1].x, (0.0, 10 * KPA, 10 * KPA))
-    warm = simulate_robot(robot, [(0.0, 10 * KPA, 15 * KPA)], warm=start)
-    assert cold.converged and first.converged and warm.converged
-    a, b = cold.states[-1], warm.states[-1]
-    assert b.pressures_kpa == pytest.approx((0.0, 10.0, 15.0), abs=1e-12)
-    assert np.abs(np.subtract(a.end_mm, b.end_mm)).max() < 1e-7  # mm; measured 1.5e-9
-    assert np.abs(np.subtract(a.lengths_mm, b.lengths_mm)).max() < 1e-7  # measured 4.7e-10
-    # 5 iterations against 7; told the start was at zero load, the path takes 11 (same state)
-    assert warm.newton_iterations < cold.newton_iterations
-
-
-def test_a_workspace_path_starts_from_the_nearest_computed_state():
-    solved = {(25.0, 0.0, 25.0): None, (50.0, 0.0, 0.0): None, (50.0, 25.0, 50.0): None}
-    assert nearest_start(solved, (50.0, 0.0, 50.0)) == (25.0, 0.0, 25.0)  # 25 kPa, the first found
-    assert nearest_start(solved, (100.0, 50.0, 75.0)) == (50.0, 25.0, 50.0)  # 50 kPa
-    assert nearest_start(solved, (25.0, 25.0, 25.0)) == (0.0, 0.0, 0.0)  # 25 kPa from both: zero
-    assert nearest_start(solved, (0.0, 0.0, 0.0)) == (0.0, 0.0, 0.0)  # zero is nearest
-    assert nearest_start({}, (100.0, 100.0, 100.0)) == (0.0, 0.0, 0.0)
-    # as far as zero: zero (a warm start must be strictly nearer)
-    assert nearest_start({(0.0, 0.0, 100.0): None}, (50.0, 0.0, 50.0)) == (0.0, 0.0, 0.0)
