@@ -25,6 +25,7 @@ import resource
 import sys
 import time
 from pathlib import Path
+from queue import Empty
 
 import numpy as np
 
@@ -142,14 +143,19 @@ def run_felupe(points, tets, queue):
 
 
 def in_child(target, points, tets):
+    """`target`'s result from a child process; a child that dies (a missing FElupe, out of
+    memory) is a row with its exit code, not a wait for the queue's timeout."""
     ctx = mp.get_context("spawn")
     queue = ctx.Queue()
     proc = ctx.Process(target=target, args=(points, tets, queue))
     proc.start()
-    try:
-        result = queue.get(timeout=3600)
-    except Exception as exc:  # noqa: BLE001 - the child died: report, do not crash the benchmark
-        result = {"code": target.__name__, "error": repr(exc)}
+    result = None
+    while result is None:
+        try:
+            result = queue.get(timeout=5)
+        except Empty:
+            if not proc.is_alive():
+                result = {"code": target.__name__, "error": f"the child exited with code {proc.exitcode}"}
     proc.join()
     return result
 
