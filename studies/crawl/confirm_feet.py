@@ -27,6 +27,7 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
+from softcrawl import jsonio
 from softcrawl.geometry.design import FootDesign
 from softcrawl.geometry.foot_meshers import quick_sectors
 from softcrawl.studies.crawl.files import run_and_write
@@ -110,7 +111,7 @@ def confirm_best(folder: Path, rows: list[dict], settings: dict, n: int,
             except Exception as exc:  # noqa: BLE001 - one design's failure is its row, not the stage's end
                 numbers = {"converged": False, "message": f"{type(exc).__name__}: {exc}"}
             target.mkdir(parents=True, exist_ok=True)
-            done.write_text(json.dumps(numbers, default=str, indent=1) + "\n")
+            done.write_text(jsonio.dumps(numbers, indent=1) + "\n")  # a NaN speed is null
         keep = ("trial", "angle", "skirt_thickness", "hardness", "margin", "mass_g", "front")
         out.append({k: r.get(k, "") for k in keep} | {"pipe_mm": CONFIRM_PIPE_MM} | numbers)
     write_csv(out, folder / "confirm.csv")

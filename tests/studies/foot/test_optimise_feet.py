@@ -154,7 +154,8 @@ def test_confirm_crawls_the_best_designs_once(tmp_path, monkeypatch):
         calls.append(setup)
         if setup.material == "rubber-60a":
             raise RuntimeError("diverged in cycle 1")
-        return {"converged": True, "message": "", "strides_mm": "5.0;2.0", "speed_mm_s": 1.0}
+        return {"converged": True, "message": "", "strides_mm": "5.0;2.0", "speed_mm_s": 1.0,
+                "steady_stride_mm": float("nan")}  # fmt: skip
 
     settings = {"mu_smooth": 0.3, "mu_grooved": 0.3, "mu_smooth_flag": "outside the sourced range"}
     out = confirm_best(tmp_path, rows, settings, 2, crawl=crawl)
@@ -166,6 +167,8 @@ def test_confirm_crawls_the_best_designs_once(tmp_path, monkeypatch):
     assert out[0]["speed_mm_s"] == 1.0 and out[1]["converged"] is False and "diverged" in out[1]["message"]
     text = (tmp_path / "confirm.md").read_text()
     assert "diverged in cycle 1" in text and "outside the sourced range" in text
+    for done in tmp_path.glob("confirm/*/confirm.json"):  # strict JSON: a NaN is null
+        json.loads(done.read_text(), parse_constant=lambda c: pytest.fail(f"bare {c} in a confirm.json"))
     confirm_best(tmp_path, rows, settings, 2, crawl=crawl)
     assert len(calls) == 2  # read back, not crawled again
 
