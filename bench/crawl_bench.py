@@ -31,13 +31,14 @@ printed under load are not those: the lead reruns this on an idle machine.
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import os
 import resource
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from child import in_child
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
@@ -240,17 +241,14 @@ def main() -> None:
           f"MKL_NUM_THREADS={os.environ.get('MKL_NUM_THREADS', '-')}")  # fmt: skip
     with tempfile.TemporaryDirectory(prefix="crawl-bench-") as tmp:
         cache = args.cache or tmp
-        ctx = mp.get_context("spawn")
         for copies in wedges:
             for name in runs:
-                queue = ctx.Queue()
-                proc = ctx.Process(
-                    target=run_case,
-                    args=(args.pipe, args.cycles, not args.default_mesh, cache, args.linear, copies, queue),
+                result = in_child(
+                    run_case, args.pipe, args.cycles, not args.default_mesh, cache, args.linear, copies
                 )
-                proc.start()
-                result = queue.get()
-                proc.join()
+                if "error" in result:
+                    print(f"{name}: {result['error']}")
+                    continue
                 report(name, result)
 
 

@@ -25,12 +25,13 @@ of issue 18 in). At h = 2.5 mm run `--only default` (a "no reuse" ramp takes ~tw
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import os
 import resource
 import sys
 import time
 from pathlib import Path
+
+from child import in_child
 
 from softcrawl.units import kpa_to_mpa
 
@@ -76,19 +77,6 @@ def run_ramp(mesh_size, options, queue):
     )
 
 
-def in_child(mesh_size, options):
-    ctx = mp.get_context("spawn")
-    queue = ctx.Queue()
-    proc = ctx.Process(target=run_ramp, args=(mesh_size, options, queue))
-    proc.start()
-    try:
-        result = queue.get(timeout=7200)
-    except Exception as exc:  # noqa: BLE001 - the child died (out of memory?): report it
-        result = {"error": repr(exc)}
-    proc.join()
-    return result
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh-size", type=float, default=None, help="element size (mm); default mesh if unset")
@@ -106,7 +94,7 @@ def main(argv=None):
         f"{'s/iter':>7}{'lin %':>6}{'asm %':>6}{'path s':>7}{'total s':>8}{'RSS MB':>7}{'L100 mm':>10}"
     )
     for name in names:
-        r = in_child(args.mesh_size, CONFIGS[name])
+        r = in_child(run_ramp, args.mesh_size, CONFIGS[name])
         if "error" in r:
             print(f"{name:<10} failed: {r['error']}")
             continue

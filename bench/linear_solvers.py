@@ -22,13 +22,13 @@ scikit-umfpack ships no wheel (it builds against SuiteSparse headers) and is not
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import sys
 import time
 import tracemalloc
 from pathlib import Path
 
 import numpy as np
+from child import in_child
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -118,13 +118,11 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mesh-size", default="5", help="comma list of element sizes (mm)")
     args = ap.parse_args(argv)
-    ctx = mp.get_context("spawn")
     for h in (float(v) for v in args.mesh_size.split(",")):
-        queue = ctx.Queue()
-        proc = ctx.Process(target=compare, args=(h, queue))
-        proc.start()
-        out = queue.get(timeout=7200)
-        proc.join()
+        out = in_child(compare, h)
+        if "error" in out:
+            print(f"h = {h} mm: {out['error']}")
+            continue
         print(f"h = {h} mm: {out.pop('DOFs')} DOFs, {out.pop('free')} free, nnz {out.pop('nnz')}")
         for name, figures in out.items():
             text = ", ".join(

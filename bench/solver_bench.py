@@ -19,15 +19,14 @@ FElupe is the optional `bench` extra (pip install -e ".[bench]").
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import os
 import resource
 import sys
 import time
 from pathlib import Path
-from queue import Empty
 
 import numpy as np
+from child import in_child
 
 from softcrawl.units import mpa_to_kpa
 
@@ -142,24 +141,6 @@ def run_felupe(points, tets, queue):
     queue.put(out)
 
 
-def in_child(target, points, tets):
-    """`target`'s result from a child process; a child that dies (a missing FElupe, out of
-    memory) is a row with its exit code, not a wait for the queue's timeout."""
-    ctx = mp.get_context("spawn")
-    queue = ctx.Queue()
-    proc = ctx.Process(target=target, args=(points, tets, queue))
-    proc.start()
-    result = None
-    while result is None:
-        try:
-            result = queue.get(timeout=5)
-        except Empty:
-            if not proc.is_alive():
-                result = {"code": target.__name__, "error": f"the child exited with code {proc.exitcode}"}
-    proc.join()
-    return result
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="only the ~20k-DOF mesh")
@@ -179,7 +160,7 @@ def main(argv=None):
         points, tets = linear_mesh(cells)
         codes = [run_softcrawl] + ([] if args.no_felupe else [run_felupe])
         for target in codes:
-            r = in_child(target, points, tets)
+            r = {"code": target.__name__} | in_child(target, points, tets)
             r["mesh"] = name
             rows.append(r)
     print(header)

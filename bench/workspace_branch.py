@@ -21,7 +21,7 @@ import numpy as np
 from softcrawl.fem.stability import split_tangent, unstable_count
 from softcrawl.studies.robot_fe.model import build_robot_model
 from softcrawl.studies.robot_fe.response import simulate_robot
-from softcrawl.studies.robot_fe.workspace import _dense as dense
+from softcrawl.studies.robot_fe.workspace import path_targets
 from softcrawl.units import kpa_to_mpa
 
 MATERIAL = "ecoflex-00-50@mu=0.0638"
@@ -47,7 +47,7 @@ def main(argv=None) -> None:
     states = {}
     for name, points in paths.items():
         t0 = time.perf_counter()
-        targets = dense(points)
+        targets = path_targets(points)
         run = simulate_robot(robot, [tuple(kpa_to_mpa(p) for p in P) for P in targets])
         s = run.states[-1]
         n = unstable_modes(robot, run.path.steps[-1].x, s.pressures_kpa)

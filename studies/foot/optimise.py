@@ -41,7 +41,6 @@ summary.md (the front, the paper's foot against it, the flags), study.db without
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from softcrawl import jsonio
@@ -97,11 +96,10 @@ def _stored_trials(folder: Path) -> int | None:
     """The trial budget of the search already in `folder` (its spec.json), or None. A resume or a
     `--confirm N` without --trials keeps it: the default (40) once silently extended a finished
     20-trial search by 20 more trials when only its confirm crawls were asked for."""
-    path = folder / "spec.json"
-    if not path.is_file():
+    if not (folder / "spec.json").is_file():
         return None
     try:
-        return int(json.loads(path.read_text())["n_trials"])
+        return int(read_spec(folder)["n_trials"])
     except (ValueError, KeyError, TypeError):
         return None
 

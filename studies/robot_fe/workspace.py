@@ -73,7 +73,7 @@ def fe_lines(levels) -> list[list[tuple[float, float, float]]]:
 TARGET_STEP_KPA = 10.0
 
 
-def _dense(points):
+def path_targets(points):
     """The path through `points` with targets at most TARGET_STEP_KPA apart (in every chamber)."""
     out = []
     for a, b in zip(points, points[1:]):
@@ -88,7 +88,7 @@ def fe_cloud(robot, levels, progress=None, on_line=None) -> tuple[dict, list[str
     if given, gets (grid so far, messages) after every path, so partial results are kept."""
     states, messages = {}, []
     for line in sorted(fe_lines(levels), key=lambda ln: max(max(P) - min(P) for P in ln)):
-        targets = _dense([(0.0, 0.0, 0.0), *line])
+        targets = path_targets([(0.0, 0.0, 0.0), *line])
         run = simulate_robot(robot, [tuple(kpa_to_mpa(v) for v in P) for P in targets])
         for s in run.states:
             for P in line:  # a target reached on volume control reads e.g. 100.0006 kPa
