@@ -100,6 +100,7 @@ class Cursor:
     newton_iterations: int  # this call's so far
     assembly_s: float
     solve_s: float
+    factorizations: int = 0  # this call's so far (of the tangent or its symmetric part)
 
 
 @dataclass(frozen=True)
@@ -113,6 +114,7 @@ class StagedResult:
     solve_s: float
     end_x: np.ndarray | None = field(default=None, repr=False)  # the last state (a resumed call
     # at the end of its stages has no step)
+    factorizations: int = 0  # of the tangent (or its symmetric part), this call's
 
     @property
     def x(self) -> np.ndarray:
@@ -222,6 +224,7 @@ def run_stages(
             solver.assembly_s,
             solver.linear.seconds,
             x,
+            solver.linear.factorizations,
         )
 
     last = "the start" if start is None else f"stage {stages[start.stage].name!r} at s = {start.t:.4g}"
@@ -293,6 +296,7 @@ def run_stages(
             if its[0] <= 6:
                 h = min(2.0 * h, 1.0 / stage.steps)  # never past the stage's own step (curves)
             if on_cursor is not None:
-                work = (solver.iterations, solver.assembly_s, solver.linear.seconds)
+                lin = solver.linear
+                work = (solver.iterations, solver.assembly_s, lin.seconds, lin.factorizations)
                 on_cursor(Cursor(index, t, h, x, prev[0], prev[1], P0, f0, P.copy(), f, *work))
     return result(True, "all stages reached")

@@ -19,8 +19,9 @@ vertical (under its weight, heading up or down) or elbow pipe (its bend of centr
 --bend-radius towards +x, starting 5 mm ahead of the front skirt); --quick is the quick body mesh,
 otherwise the default one (~2x the DOFs). It writes states.csv, cycles.csv, summary.json, crawl.png
 and vtu/ (`studies.crawl_fe.files`); the reduced model's feet options (--backward, --symmetric,
---mesher, --sectors, --layers, --mesh-size, --foot-angle), --resume, --insertion-cache and the GIF
-are refused with --body fe (exit 2). --gait-plan GAIT_CSV (--body fe): the gait.csv that
+--mesher, --sectors, --layers, --mesh-size, --foot-angle), --insertion-cache and the GIF are
+refused with --body fe (exit 2); --resume continues an FE-body run stopped at its --time-limit or
+killed (`studies.crawl_fe.resume`; --cycles may grow). --gait-plan GAIT_CSV (--body fe): the gait.csv that
 `softcrawl model plan` writes, replayed cycle by cycle (`studies.crawl_fe.gait_plan`).
 
 The friction coefficients not given take the committed feet identification's
@@ -180,7 +181,7 @@ def run(args) -> int:
     from pathlib import Path
 
     from softcrawl.geometry.foot_design import FootDesign
-    from softcrawl.studies.commands.options import CommandLineError, body_material, output_folder
+    from softcrawl.studies.commands.options import CommandLineError, body_material, checkpoint, output_folder
     from softcrawl.studies.crawl.files import run_and_write
     from softcrawl.studies.crawl.model import CrawlSetup
     from softcrawl.studies.crawl.resume import FOLDER, CrawlStore, crawl_options
@@ -242,29 +243,6 @@ def run(args) -> int:
     if animation is not None:
         write_animation(Path(out), animation)
     return 0 if result.converged else 1
-
-
-def checkpoint(store, resume: bool):
-    """The state to continue from (`--resume`), or None for a fresh start; one line either way
-    when there is something to say, and a `CommandLineError` (exit 2) for a checkpoint that is
-    not this run's or an unfinished run without --resume."""
-    from softcrawl.studies.commands.options import CommandLineError
-
-    if not resume:
-        if store.unfinished():
-            raise CommandLineError(
-                "resume",
-                f"{store.folder} holds the checkpoint of an unfinished run; add --resume to continue it, "
-                "or remove the folder to start again",
-            )
-        store.clear()  # a manifest without states: nothing to keep
-        return None
-    resumed = store.load()
-    if resumed is None:
-        print(f"crawl: no checkpoint in {store.folder}; starting from the beginning")
-    else:
-        print(f"crawl: resuming from {resumed.describe()} in {store.folder}")
-    return resumed
 
 
 def friction_settings(args) -> dict:

@@ -6,6 +6,11 @@ work) and runs `studies.crawl_fe.files.run_and_write`. The friction not given is
 feet identification's, as for the reduced crawl, so that the two crawl models differ only in how
 the body is modelled. The body's silicone is `studies.robot_fe.model.DEFAULT_MATERIAL` (the
 calibrated mu = 0.0638 MPa), stated in summary.json.
+
+Checkpoints (`studies.crawl_fe.resume`): the inserted state and every converged sub-step of the
+cycles go to OUT/checkpoints (the newest 3 kept). A run that ends clears them; one stopped at
+its `--time-limit` (or killed) keeps them, and the same command with --resume continues from the
+newest, with more `--cycles` if wanted (the count is not part of the checkpoint's key).
 """
 
 from __future__ import annotations
@@ -22,7 +27,6 @@ REDUCED_ONLY = (
     ("wedge", "wedge", None),
     ("edge_length", "mesh-size", None),
     ("foot_angle", "foot-angle", 120.0),
-    ("resume", "resume", False),
     ("insertion_cache", "insertion-cache", False),
     ("gif", "gif", False),
     ("animation", "animation", None),
@@ -33,7 +37,6 @@ WHY = {
     "symmetric": "the FE body has the paper's feet only so far",
     "foot-angle": "the FE body has the paper's 120 deg feet only so far",
     "wedge": "the FE body's three ePSAs are not the same in every wedge of the feet",
-    "resume": "the FE-body run is not checkpointed yet",
     "insertion-cache": "the cache holds the reduced model's insertions",
     "gif": "the FE body's states are in vtu/crawl.pvd (open them in ParaView)",
     "animation": "the FE body's states are in vtu/crawl.pvd (open them in ParaView)",
@@ -74,11 +77,13 @@ def run_body(args, friction_settings) -> int:
     from pathlib import Path
 
     from softcrawl.console import progress
-    from softcrawl.studies.commands.options import CommandLineError, body_material, output_folder
+    from softcrawl.studies.commands.options import CommandLineError, body_material, checkpoint, output_folder
     from softcrawl.studies.crawl.model import CrawlSetup
     from softcrawl.studies.crawl.schedule import preset, read_csv
     from softcrawl.studies.crawl_fe.files import run_and_write
     from softcrawl.studies.crawl_fe.gait_plan import read_gait_plan
+    from softcrawl.studies.crawl_fe.resume import FOLDER, BodyStore, body_options
+    from softcrawl.studies.robot_fe.model import DEFAULT_MATERIAL
 
     check_options(args)
     friction = friction_settings(args)
@@ -102,6 +107,11 @@ def run_body(args, friction_settings) -> int:
         cycles=args.cycles,
     )
     mesh = "quick" if args.quick else "default"
+    schedules = schedule if args.gait_plan else (schedule,)
+    key = body_options(setup, schedules, pipe=args.pipe, bend_radius=args.bend_radius, mesh=mesh,
+                       silicone=DEFAULT_MATERIAL, design=None)  # fmt: skip
+    store = BodyStore(out / FOLDER, key)
+    resumed = checkpoint(store, args.resume)
     what = (
         f"gait plan {args.gait_plan}, {len(schedule)}"
         if args.gait_plan
@@ -119,6 +129,10 @@ def run_body(args, friction_settings) -> int:
         progress=progress,
         friction_source=friction["source"],
         max_wall_s=None if args.time_limit is None else 60.0 * args.time_limit,
+        store=store,
+        resumed=resumed,
     )
     print(summary["text"])
+    if store.unfinished():
+        print(f"crawl: stopped at the time limit; the same command with --resume continues ({store.folder})")
     return 0 if converged else 1

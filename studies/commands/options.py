@@ -368,3 +368,25 @@ def add_vtu_precision(parser) -> None:
         metavar="{32,64}",
         help="bits of the floats in the VTU files (default 32: half the size, 7 digits; 64: full)",
     )
+
+
+def checkpoint(store, resume: bool, command: str = "crawl"):
+    """The state of a crawl's checkpoint `store` (`studies.crawl.resume.CrawlStore`,
+    `studies.crawl_fe.resume.BodyStore`) to continue from (`--resume`), or None for a fresh start;
+    one line either way when there is something to say, and a `CommandLineError` (exit 2) for a
+    checkpoint that is not this run's or an unfinished run without --resume."""
+    if not resume:
+        if store.unfinished():
+            raise CommandLineError(
+                "resume",
+                f"{store.folder} holds the checkpoint of an unfinished run; add --resume to continue it, "
+                "or remove the folder to start again",
+            )
+        store.clear()  # a manifest without states: nothing to keep
+        return None
+    resumed = store.load()
+    if resumed is None:
+        print(f"{command}: no checkpoint in {store.folder}; starting from the beginning")
+    else:
+        print(f"{command}: resuming from {resumed.describe()} in {store.folder}")
+    return resumed

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.contact_stages import Cursor, Stage, run_stages
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
@@ -61,6 +61,20 @@ class BodyState:
     x: np.ndarray = field(repr=False)
 
 
+@dataclass
+class CycleLog:
+    """The bookkeeping of `crawl_cycles` so far (what a checkpoint stores besides the solver's state):
+    the states recorded, the strides and turns of the cycles completed, where the current cycle
+    began (each foot's centreline position, the heading) and the Newton iterations of the current
+    segment's converged sub-steps."""
+
+    start: tuple[dict, float]
+    states: list[BodyState] = field(default_factory=list)
+    strides: list[float] = field(default_factory=list)
+    turns: list[float] = field(default_factory=list)
+    segment: int = 0
+
+
 @dataclass(frozen=True)
 class BodyCrawl:
     converged: bool
@@ -72,6 +86,7 @@ class BodyCrawl:
     assembly_s: float
     solve_s: float
     wall_s: float
+    factorizations: int = 0
 
 
 class FootProbe:
@@ -126,13 +141,19 @@ def crawl_cycles(
     on_step=None,
     factor: float = 0.0,
     wall=None,
+    log: CycleLog | None = None,
+    start: Cursor | None = None,
+    on_cursor=None,
 ) -> BodyCrawl:
     """`cycles` cycles of `schedule` from the inserted state x0 (module docstring). All segments
     are the stages of one `run_stages` call, so that each starts from the pressures where the last
     ended; the outputs are read at each stage's end, with the contact history of that state.
     `factor`: the load factor held (x0's: 1 once the body's weight is on); `wall`: the pipe
     (`FootProbe`). `schedule` may be a sequence of schedules, one per cycle (a gait plan,
-    `studies.crawl_fe.gait_plan`): then `cycles` is its length."""
+    `studies.crawl_fe.gait_plan`): then `cycles` is its length. Resuming (`studies.crawl_fe.resume`):
+    `on_cursor(cursor, log)` is called after every converged sub-step with where the run stands and
+    its bookkeeping so far; `start` and `log` (a stored cursor and its log, the model's history
+    restored) continue from there, the stages before `start.stage` skipped."""
     if not isinstance(schedule, Schedule):
         per_cycle = list(schedule)
         cycles = len(per_cycle)
@@ -154,11 +175,8 @@ def crawl_cycles(
         Stage(f"cycle{c}-row{k}", pressure=[kpa_to_mpa(p) for p in of(c)[1][k]], steps=steps) for c, k in plan
     ]
     where = {stage.name: item for stage, item in zip(stages, plan)}
-    states: list[BodyState] = []
-    strides: list[float] = []
-    turns: list[float] = []
-    segment = [0]  # Newton iterations of the converged sub-steps of the current segment
-    start = [(probe.arc(x0), probe.angles(x0)[1])]
+    log = log or CycleLog(start=(probe.arc(x0), probe.angles(x0)[1]))
+    states, strides, turns = log.states, log.strides, log.turns
 
     def at_step(step) -> None:
         if on_step is not None:
@@ -185,19 +203,19 @@ def crawl_cycles(
                 pipe.normal,
                 {foot: float(pipe.friction[foot][2]) for foot in FEET},
                 max(abs(v) for v in pipe.holds.values()),
-                segment[0],
+                log.segment,
                 x,
             )
         )
         if cycle >= 1 and row == last:
-            strides.append(float(np.mean([arc[f] - start[0][0][f] for f in FEET])))
-            turns.append(heading - start[0][1])
+            strides.append(float(np.mean([arc[f] - log.start[0][f] for f in FEET])))
+            turns.append(heading - log.start[1])
         if row == last or cycle == 0:
-            start[0] = (arc, heading)  # the next cycle begins here
-        segment[0] = 0
+            log.start = (arc, heading)  # the next cycle begins here
+        log.segment = 0
 
     def count(step) -> None:
-        segment[0] += sum(step.iterations)
+        log.segment += sum(step.iterations)
         at_step(step)
 
     res = run_stages(
@@ -209,6 +227,8 @@ def crawl_cycles(
         max_cutbacks=MAX_CUTBACKS,
         max_wall_s=max_wall_s,
         on_step=count,
+        start=start,
+        on_cursor=None if on_cursor is None else (lambda cursor: on_cursor(cursor, log)),
         **AUGMENT,
     )
     message = f"{cycles} cycle(s) reached" if res.converged else res.message
@@ -222,4 +242,5 @@ def crawl_cycles(
         res.assembly_s,
         res.solve_s,
         res.wall_s,
+        res.factorizations,
     )

@@ -42,6 +42,7 @@ from softcrawl.studies.crawl_fe.cycle import FootProbe, crawl_cycles
 from softcrawl.studies.crawl_fe.mass import mass_summary
 from softcrawl.studies.crawl_fe.model import FEET, build_body
 from softcrawl.studies.crawl_fe.pipe import PIPES, into_pipe, pipe_wall
+from softcrawl.studies.crawl_fe.resume import Totals
 from softcrawl.studies.epsa.model import solid_material
 from softcrawl.studies.plots.style import pyplot, save
 from softcrawl.studies.sweeps.tables import write_csv
@@ -200,12 +201,17 @@ def run_and_write(
     progress=print,
     friction_source: str = "given by the caller",
     max_wall_s: float | None = None,
+    store=None,
+    resumed=None,
 ) -> tuple:
     """One FE-body crawl of `setup.cycles` cycles of `schedule` (or of a gait plan: a sequence of
     schedules, one per cycle, `studies.crawl_fe.gait_plan`) in `pipe`, its files in `out`
     (module docstring); returns (converged, summary). `max_wall_s`: the run's wall-time budget
     (s; None: none): past it the run stops where it stands and writes what it has. `mesh`:
-    "quick", "default" or a `BodyMeshSettings`; `design`: the robot (None: Table 1's; `build_body`)."""
+    "quick", "default" or a `BodyMeshSettings`; `design`: the robot (None: Table 1's; `build_body`).
+    `store` (`resume.BodyStore`): the inserted state and every converged sub-step of the cycles
+    are written to it; it is cleared once the files are written, unless the run stopped at its
+    time limit (then it is kept to be resumed); `resumed` (its `load()`): continue from there."""
     t0 = time.perf_counter()
     plan = not isinstance(schedule, Schedule)
     cycles = len(schedule) if plan else setup.cycles
@@ -223,15 +229,33 @@ def run_and_write(
         progress(f"  {step.stage} s={step.s:.3g}: {sum(step.iterations)} Newton iterations, "
                  f"{time.perf_counter() - t0:.0f} s")  # fmt: skip
 
-    run = into_pipe(bm, insert_steps=setup.insert_steps, load_steps=LOAD_STEPS if gravity else 0,
-                    wall=wall, on_step=step_line, max_wall_s=max_wall_s)  # fmt: skip
+    if resumed is not None:
+        store.restore(bm, wall, resumed)
+        run = resumed.run
+        progress(f"resumed from {resumed.describe()}")
+    else:
+        run = into_pipe(bm, insert_steps=setup.insert_steps, load_steps=LOAD_STEPS if gravity else 0,
+                        wall=wall, on_step=step_line, max_wall_s=max_wall_s)  # fmt: skip
+        if store is not None and run.converged:
+            store.save_inserted(bm, run)
     factor = 1.0 if gravity else 0.0
-    crawl = None
+    before = resumed.crawl if resumed is not None else Totals()  # the cycles' effort in earlier processes
+    crawl, t_crawl = None, time.perf_counter()
+
+    def saving(cursor, log) -> None:
+        c, wall_s = cursor, time.perf_counter() - t_crawl
+        work = Totals(c.newton_iterations, c.assembly_s, c.solve_s, wall_s, c.factorizations)
+        store.save_cycle(bm, run, cursor, log, before.plus(work))
+
     if run.converged:
         crawl = crawl_cycles(bm, run.states[-1].x, schedule, cycles=cycles, steps=setup.steps,
-                             factor=factor, wall=wall, on_step=step_line,
-                             max_wall_s=left(max_wall_s, t0))  # fmt: skip
+                             factor=factor, wall=wall, on_step=step_line, max_wall_s=left(max_wall_s, t0),
+                             log=getattr(resumed, "log", None), start=getattr(resumed, "cursor", None),
+                             on_cursor=saving if store is not None else None)  # fmt: skip
     converged = run.converged and crawl.converged
+    spent = before.plus(crawl) if crawl is not None else before
+    earlier = run.wall_s + before.wall_s if resumed is not None else 0.0  # earlier processes' wall time
+    contact_s = sum(c.seconds for c in bm.model.contacts)
     probe = FootProbe(bm.model.space, wall)
     rest = probe.arc(np.zeros(bm.n_dofs))
     rows = state_rows(run, crawl, probe)
@@ -278,10 +302,15 @@ def run_and_write(
         "paper_source": paper_source,
         "solver": {
             "dofs": bm.n_dofs,
-            "newton_iterations": run.newton_iterations + (crawl.newton_iterations if crawl else 0),
-            "assembly_s": run.assembly_s + (crawl.assembly_s if crawl else 0.0),
-            "linear_s": run.solve_s + (crawl.solve_s if crawl else 0.0),
-            "wall_s": time.perf_counter() - t0,
+            "newton_iterations": run.newton_iterations + spent.newton_iterations,
+            "assembly_s": run.assembly_s + spent.assembly_s,
+            "linear_s": run.solve_s + spent.solve_s,
+            "wall_s": earlier + time.perf_counter() - t0,
+            "factorizations": run.factorizations + spent.factorizations,
+            # this process's: the contact terms' assembly time and its share of the wall time
+            "contact_s": contact_s,
+            "contact_share": contact_s / (time.perf_counter() - t0),
+            "resumed": resumed is not None,
             "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2,
         },
     }
@@ -299,7 +328,14 @@ def run_and_write(
     z = np.asarray(bm.model.nodes)[2]
     end = getattr(wall, "entry", 0.0) + getattr(wall, "bend_radius", 0.0) * getattr(wall, "bend_angle", 0.0)
     write_wall(out / "vtu" / "pipe.vtu", wall, float(z.min()) - 20.0, max(float(z.max()), end) + 100.0)
+    if store is not None and not stopped(summary["message"]):
+        store.clear()
     return converged, summary
+
+
+def stopped(message: str) -> bool:
+    """The run stopped at its time limit (`ended`): its checkpoints are kept to resume it."""
+    return message.startswith("time limit of")
 
 
 def summary_mesh(mesh) -> str:
@@ -322,6 +358,8 @@ def summary_text(s: dict) -> str:
     m = s["mass"]
     lines.append(f"  mass {m['total_g']:.1f} g (prototype {m['prototype_g']:g} g)")
     v = s["solver"]
-    lines.append(f"  {v['dofs']} DOFs, {v['newton_iterations']} Newton iterations, {v['wall_s']:.0f} s, "
-                 f"peak {v['peak_rss_gb']:.2f} GB")  # fmt: skip
+    lines.append(f"  {v['dofs']} DOFs, {v['newton_iterations']} Newton iterations, {v['factorizations']} "
+                 f"factorisations, {v['wall_s']:.0f} s, peak {v['peak_rss_gb']:.2f} GB")  # fmt: skip
+    lines.append(f"  wall time: linear solves {v['linear_s'] / v['wall_s']:.0%}, the contact terms' assembly "
+                 f"{v['contact_share']:.0%} (this process's)")  # fmt: skip
     return "\n".join(lines)

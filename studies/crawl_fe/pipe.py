@@ -92,6 +92,7 @@ class PipeRun:
     solve_s: float
     wall_s: float
     n_dofs: int
+    factorizations: int = 0
 
 
 def record(bm: BodyModel, phase: str, x: np.ndarray) -> PipeState:
@@ -148,7 +149,7 @@ def into_pipe(
     phases.append(("friction", [Stage("friction", friction=mu)]))
     if load_steps:
         phases.append(("load", [Stage("load", factor=1.0, steps=load_steps)]))
-    x, states, totals = None, [], [0, 0.0, 0.0]
+    x, states, totals, factorizations = None, [], [0, 0.0, 0.0], 0
     for name, stages in phases:
         if name == "friction":
             bm.set_holds(HOLD_SOFT, x)
@@ -164,6 +165,7 @@ def into_pipe(
             **AUGMENT,
         )
         totals = [totals[0] + res.newton_iterations, totals[1] + res.assembly_s, totals[2] + res.solve_s]
+        factorizations += res.factorizations
         if not res.converged:
             return PipeRun(
                 False,
@@ -172,7 +174,9 @@ def into_pipe(
                 *totals,
                 time.perf_counter() - t0,
                 model.n_dofs,
+                factorizations,
             )
         x = res.x
         states.append(record(bm, name, x))
-    return PipeRun(True, "inserted", tuple(states), *totals, time.perf_counter() - t0, model.n_dofs)
+    wall = time.perf_counter() - t0
+    return PipeRun(True, "inserted", tuple(states), *totals, wall, model.n_dofs, factorizations)

@@ -40,6 +40,8 @@ def run_row(name: str, s: dict) -> dict:
         "turns (deg)": _numbers(s["turns_deg"], "+.2f"),
         "mass (g; prototype 70.2)": f"{s['mass']['total_g']:.1f}",
         "Newton iterations": v["newton_iterations"],
+        "factorisations": v.get("factorizations", "not recorded"),  # runs before they were counted
+        "contact assembly (of wall)": f"{v['contact_share']:.0%}" if "contact_share" in v else "not recorded",
         "wall (s)": f"{v['wall_s']:.0f}",
         "peak (GB)": f"{v['peak_rss_gb']:.2f}",
         "ended": s["message"],

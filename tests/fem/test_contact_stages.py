@@ -70,7 +70,7 @@ class _GrindingSolver:
 
     def __init__(self, model, options, h_ok=1e-3, seconds=0.02):
         self.h_ok, self.seconds, self.iterations, self.assembly_s = h_ok, seconds, 0, 0.0
-        self.linear = SimpleNamespace(seconds=0.0)
+        self.linear = SimpleNamespace(seconds=0.0, factorizations=0)
         self.last = 0.0
 
     def load_step(self, x, P, f):
@@ -154,7 +154,7 @@ class _RecordingSolver:
 
     def __init__(self, model, options):
         self.factors, self.iterations, self.assembly_s = [], 0, 0.0
-        self.linear = SimpleNamespace(seconds=0.0)
+        self.linear = SimpleNamespace(seconds=0.0, factorizations=0)
         _RecordingSolver.last = self
 
     def load_step(self, x, P, f):

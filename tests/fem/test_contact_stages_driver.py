@@ -41,7 +41,7 @@ class _Solver:
 
     def __init__(self, model, options, iterations=2, diverge=None):
         self.model, self.options, self.n, self.diverge = model, options, iterations, diverge
-        self.iterations, self.assembly_s, self.linear = 0, 0.0, SimpleNamespace(seconds=0.0)
+        self.iterations, self.assembly_s, self.linear = 0, 0.0, SimpleNamespace(seconds=0.0, factorizations=0)
         self.calls = []
 
     def load_step(self, x, P, f):

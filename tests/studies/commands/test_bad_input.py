@@ -58,7 +58,7 @@ CASES: list[tuple[str, str]] = [
     ("crawl --body fe --mesher tetwild --out OUT", "mesher"),
     ("crawl --body fe --sectors 32 --out OUT", "sectors"),
     ("crawl --body fe --foot-angle 60 --out OUT", "foot-angle"),
-    ("crawl --body fe --resume --out OUT", "resume"),
+    ("crawl --body fe --insertion-cache --out OUT", "insertion-cache"),
     ("crawl --body fe --gif --out OUT", "gif"),
     ("crawl --body fe --material unobtainium --out OUT", "material"),
     ("crawl --gait-plan FILE --out OUT", "gait-plan"),  # the reduced model has no plan

@@ -240,7 +240,7 @@ class _TighteningSolver:
         from types import SimpleNamespace
 
         self.h_ok, self.last, self.iterations, self.assembly_s = 0.05, 0.0, 0, 0.0
-        self.linear = SimpleNamespace(seconds=0.0)
+        self.linear = SimpleNamespace(seconds=0.0, factorizations=0)
 
     def load_step(self, x, P, f):
         from softcrawl.fem.newton import Diverged, NewtonRecord

@@ -101,7 +101,13 @@ def _scripted(space, advance_per_segment):
                 on_step(SimpleNamespace(stage=stage.name, s=s, x=x, iterations=(3,)))
         n = 6 * len(stages)
         return SimpleNamespace(
-            converged=True, message="", newton_iterations=n, assembly_s=0.0, solve_s=0.0, wall_s=0.0
+            converged=True,
+            message="",
+            newton_iterations=n,
+            assembly_s=0.0,
+            solve_s=0.0,
+            wall_s=0.0,
+            factorizations=0,
         )
 
     return run_stages, calls
