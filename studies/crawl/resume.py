@@ -54,15 +54,21 @@ def crawl_options(setup, schedule, material: str) -> dict[str, Any]:
     }
 
 
-@dataclass
+@dataclass(frozen=True)
 class Totals:
     """The solver's effort and the wall time of the run so far (carried over a resume); a
-    `StagedResult`-like item of `run_crawl`'s statistics."""
+    `StagedResult`-like item of `run_crawl`'s statistics (and of the FE-body crawl's,
+    `studies.crawl_fe.resume`)."""
 
     newton_iterations: int = 0
     assembly_s: float = 0.0
     solve_s: float = 0.0
     wall_s: float = 0.0
+    factorizations: int = 0
+
+    def plus(self, other) -> Totals:
+        """These and `other`'s (any object with the five fields: a `StagedResult`, a body crawl)."""
+        return Totals(*(getattr(self, f.name) + getattr(other, f.name) for f in dataclasses.fields(self)))
 
 
 @dataclass

@@ -37,12 +37,12 @@ from softcrawl.fem.vtu import write_pvd, write_state
 from softcrawl.paper import VERTICAL_MM_S, table2
 from softcrawl.provenance import write_summary
 from softcrawl.studies.crawl.files import material_source
+from softcrawl.studies.crawl.resume import Totals
 from softcrawl.studies.crawl.schedule import Schedule
 from softcrawl.studies.crawl_fe.cycle import FootProbe, crawl_cycles
 from softcrawl.studies.crawl_fe.mass import mass_summary
 from softcrawl.studies.crawl_fe.model import FEET, build_body
 from softcrawl.studies.crawl_fe.pipe import PIPES, into_pipe, pipe_wall
-from softcrawl.studies.crawl_fe.resume import Totals
 from softcrawl.studies.epsa.model import solid_material
 from softcrawl.studies.plots.style import pyplot, save
 from softcrawl.studies.sweeps.tables import write_csv

@@ -40,12 +40,13 @@ import numpy as np
 
 from softcrawl.fem.checkpoint import CheckpointError, Checkpoints
 from softcrawl.fem.contact_stages import Cursor
+from softcrawl.studies.crawl.resume import Totals
 from softcrawl.studies.crawl_fe.cycle import BodyState, CycleLog
 from softcrawl.studies.crawl_fe.pipe import PipeRun, PipeState
 
 FOLDER = "checkpoints"
 #: The solver's effort and wall time carried over a resume (`Totals`' fields).
-TOTALS = ("newton_iterations", "assembly_s", "solve_s", "wall_s", "factorizations")
+TOTALS = tuple(f.name for f in dataclasses.fields(Totals))
 
 
 def body_options(setup, schedules, *, pipe, bend_radius, mesh, silicone, design) -> dict[str, Any]:
@@ -65,21 +66,6 @@ def body_options(setup, schedules, *, pipe, bend_radius, mesh, silicone, design)
         "silicone": silicone,
         "design": None if design is None else dataclasses.asdict(design),
     }
-
-
-@dataclass(frozen=True)
-class Totals:
-    """The solver's effort and the wall time spent so far (over earlier processes of the run)."""
-
-    newton_iterations: int = 0
-    assembly_s: float = 0.0
-    solve_s: float = 0.0
-    wall_s: float = 0.0
-    factorizations: int = 0
-
-    def plus(self, other) -> Totals:
-        """These and `other`'s (any object with the four fields)."""
-        return Totals(*(getattr(self, k) + getattr(other, k) for k in TOTALS))
 
 
 @dataclass(frozen=True)
@@ -181,8 +167,7 @@ class BodyStore:
                 for k, s in enumerate(meta["setup_states"])
             )  # fmt: skip
             r = meta["run"]
-            effort = (r[k] for k in TOTALS[:4])
-            run = PipeRun(True, r["message"], setup, *effort, r["n_dofs"], r["factorizations"])
+            run = PipeRun(True, r["message"], setup, n_dofs=r["n_dofs"], **{k: r[k] for k in TOTALS})
             crawl = Totals(**meta["crawl"])
             if meta["kind"] == "inserted":
                 return Resumed(run, None, None, crawl, meta, arrays)

@@ -33,7 +33,8 @@ def test_cursors_say_where_the_run_stands(monkeypatch):
         np.array_equal(c.x, res.steps[2].x) and c.prev_t == 0.0 and np.array_equal(c.prev_x, res.steps[1].x)
     )
     assert c.P0.tolist() == [0.2] and c.f0 == 1.0 and c.P.tolist() == [0.2] and c.f == 2.0
-    assert (c.newton_iterations, c.assembly_s, c.solve_s) == (6, 0.75, 1.5)
+    assert (c.newton_iterations, c.assembly_s, c.solve_s, c.factorizations) == (6, 0.75, 1.5, 3)
+    assert res.factorizations == 4  # the solver's count reaches the result too
     assert cursors[0].prev_t == 0.0 and np.array_equal(cursors[0].prev_x, np.zeros(3))
 
 

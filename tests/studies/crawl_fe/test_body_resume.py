@@ -24,11 +24,12 @@ from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.geometry.design import EPSADesign, RobotDesign
 from softcrawl.studies.cli import main
 from softcrawl.studies.crawl.model import CrawlSetup
+from softcrawl.studies.crawl.resume import Totals
 from softcrawl.studies.crawl.schedule import Schedule, preset
 from softcrawl.studies.crawl_fe import files
 from softcrawl.studies.crawl_fe.cycle import BodyState, CycleLog
 from softcrawl.studies.crawl_fe.pipe import PipeRun, PipeState
-from softcrawl.studies.crawl_fe.resume import FOLDER, BodyStore, Totals, body_options
+from softcrawl.studies.crawl_fe.resume import FOLDER, BodyStore, body_options
 from softcrawl.studies.sweeps.tables import read_csv
 from tests.studies.crawl_fe.test_holding import SMALL
 from tests.studies.sweeps.cli_runs import ROOT
