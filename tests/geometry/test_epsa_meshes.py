@@ -73,15 +73,28 @@ def test_tets_positive_and_facets_outward(mesh):
     assert vol == pytest.approx(mesh.volume(), rel=1e-9)
 
 
+def _on_surface(gap: np.ndarray, tol: float) -> None:
+    """Every vertex of a tag is snapped onto its exact surface (gap < 1e-9 mm), except the few whose
+    move `geometry.tagging.snap_to_surfaces` reverts because it would flatten a tetrahedron. pytetwild
+    is not reproducible, so some meshes have such vertices (one CI mesh had one on the outer
+    cylinder): at most 1 % of the tag's vertices, each still within the tagging tolerance."""
+    gap = np.abs(gap)
+    assert gap.max() <= tol
+    assert np.count_nonzero(gap > 1e-9) <= 0.01 * gap.size
+
+
 def test_tags_lie_on_their_surfaces(mesh, design):
     p = mesh.points
     R, r, L, c = design.outer_radius, design.chamber_radius, design.length, design.end_cap_thickness
+    tol = mesh.meta["tag_tolerance_mm"]
     rho = lambda tag: np.hypot(p[np.unique(mesh.facets[tag]), 0], p[np.unique(mesh.facets[tag]), 1])  # noqa: E731
     z = lambda tag: p[np.unique(mesh.facets[tag]), 2]  # noqa: E731
-    assert np.allclose(rho("outer"), R, atol=1e-9)  # snapped onto the exact cylinder
-    assert np.allclose(rho("chamber_wall"), r, atol=1e-9)
-    assert np.allclose(z("end_bottom"), 0.0, atol=1e-9) and np.allclose(z("end_top"), L, atol=1e-9)
-    assert np.all(np.isclose(z("chamber_ends"), c) | np.isclose(z("chamber_ends"), L - c))
+    _on_surface(rho("outer") - R, tol)  # snapped onto the exact cylinder
+    _on_surface(rho("chamber_wall") - r, tol)
+    _on_surface(z("end_bottom"), tol)
+    _on_surface(z("end_top") - L, tol)
+    zc = z("chamber_ends")
+    _on_surface(np.minimum(np.abs(zc - c), np.abs(zc - (L - c))), tol)
 
 
 def test_fiber_length_and_on_outer_surface(mesh, design):
