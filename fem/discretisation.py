@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
+from softcrawl.fem import p2_mapping
 from softcrawl.fem.errors import SolverInputError
 
 FORMULATIONS = ("p2p1", "p2")
@@ -86,18 +87,13 @@ class Discretisation:
         return self.basis.get_dofs(self.boundary(tag)).flatten()
 
     def facet_basis(self, facets: np.ndarray, intorder: int = 4, parameter: str = "tag") -> skfem.FacetBasis:
-        """The P2 basis on the given boundary facets (the facet's element, traced).
-
-        scikit-fem places the facet's quadrature points in its element by inverting the element's
-        isoparametric map (Newton, to 1e-12). On curved P2 elements that are too coarse for their
-        curvature (a revolved foot with fewer than 24 sectors) that inversion does not converge;
-        this is an error naming `parameter` (refine the mesh), not scikit-fem's bare Exception.
+        """The P2 basis on the given boundary facets (the facet's element, traced), its quadrature
+        points placed in their curved elements by `fem.p2_mapping`. Where they cannot be (an element
+        folded by its curvature), this is an error naming `parameter` (refine the mesh).
         """
         try:
-            return skfem.FacetBasis(self.mesh, skfem.ElementTetP2(), facets=facets, intorder=intorder)
-        except Exception as exc:
-            if type(exc) is not Exception:  # scikit-fem's invF raises a plain Exception; others pass
-                raise
+            return p2_mapping.facet_basis(self.mesh, facets, intorder=intorder)
+        except p2_mapping.InversionError as exc:
             raise SolverInputError(
                 parameter,
                 f"the facet quadrature points could not be placed in their curved P2 elements ({exc}); "

@@ -44,8 +44,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-import skfem
 
+from softcrawl.fem import p2_mapping
 from softcrawl.fem.errors import SolverInputError
 
 
@@ -113,7 +113,7 @@ def build(mesh, sheets, intorder: int = 4) -> SheetQuadrature:
             raise SolverInputError(
                 "fiber_sheet.tag", f"unknown or empty boundary tag {sheet.tag!r}; known: {sorted(boundaries)}"
             )
-        fb = skfem.FacetBasis(mesh, skfem.ElementTetP2(), facets=boundaries[sheet.tag], intorder=intorder)
+        fb = p2_mapping.facet_basis(mesh, boundaries[sheet.tag], intorder=intorder)
         X = np.asarray(fb.global_coordinates())  # (3, F, Q)
         d = np.asarray(sheet.direction(X.reshape(3, -1)), dtype=float)
         if d.shape != (3, X[0].size):

@@ -8,13 +8,13 @@
 
 A setting that belongs to the other mesher is a `DesignError` naming it, not silently ignored.
 
-Quick revolved meshes (`quick_sectors`): the least sector count at which the contact faces' facet
-quadrature points can be placed in their curved P2 elements grows as the skirt turns towards the
-axis: its chordal bow, r_tip (1 - cos(pi / n)), then lies across the skirt's thin cells rather than
-along them. Measured on Table 1's foot (`geometry.foot_revolved`, 3 cells through the skirt), the
-least working counts are 24 at 120 deg, 30-32 at 90 and 60 deg, 33-40 at 45 deg and 35-40 at
-30 deg; the rule n = max(24, ceil(48 cos(angle / 2))) keeps 24 at 120 deg (every committed quick
-run) and gives 34 / 42 / 45 / 47 at 90 / 60 / 45 / 30 deg (docs/decisions/066-body-geometry.md).
+Quick revolved meshes (`quick_sectors`): the rule n = max(24, ceil(48 cos(angle / 2))) keeps 24
+at 120 deg (every committed quick run) and gives 34 / 42 / 45 / 47 at 90 / 60 / 45 / 30 deg
+(docs/decisions/066-body-geometry.md). It was set by scikit-fem's inversion of the curved P2 map,
+which failed on the contact faces below those counts (the skirt's chordal bow, r_tip (1 - cos(pi /
+n)), lies across its thin cells as it turns towards the axis). `fem.p2_mapping` now places the
+facet points from 22-26 sectors where scikit-fem needed 32-40 (docs/decisions/086-curved-facet-points.md);
+the rule stays because the committed feet and crawl results were computed on its meshes.
 """
 
 from __future__ import annotations

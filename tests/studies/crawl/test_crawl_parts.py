@@ -209,8 +209,8 @@ def test_mirrored_revolved_feet_take_contact_on_every_face():
 
 
 def test_contact_faces_too_coarse_to_map_are_an_input_error():
-    """16 sectors: scikit-fem's inverse isoparametric map does not converge on the skirt's faces;
-    the error names the contact tags instead of scikit-fem's bare Exception."""
+    """16 sectors: the inverse isoparametric map (fem.p2_mapping) does not converge on the skirt's
+    faces; the error names the contact tags."""
     from softcrawl.fem.errors import SolverInputError
 
     with pytest.raises(SolverInputError, match="contact.tags.*refine the mesh"):
