@@ -263,13 +263,21 @@ def replot_folder(folder: Path) -> list[Path]:
 
 
 def report_block(folder: Path) -> str:
-    """The run's block in the design review (`softcrawl report`): command, figure, summary.md."""
+    """The run's block in the design review (`softcrawl report`): command, figure, summary.md and
+    the confirm crawls' confirm.md where they were run."""
     folder = Path(folder)
-    quick = bool(read_spec(folder).get("settings", {}).get("quick"))
-    command = f"softcrawl study {NAME}" + (" --quick" if quick else "") + " --workers 2 --out results/"
+    settings = read_spec(folder).get("settings", {})
+    copies = int(settings.get("copies") or 1)
+    command = (
+        f"softcrawl study {NAME}"
+        + (" --quick" if settings.get("quick") else "")
+        + (f" --wedge {copies}" if copies > 1 else "")
+        + " --workers 2 --out results/"
+    )
     body = [f"<h3>{esc(NAME)}: {esc(folder.name)}</h3>", f"<p>Command: <code>{esc(command)}</code></p>"]
     if (folder / "pareto.png").exists():
         body.append(figure(folder / "pareto.png", f"{NAME}/{folder.name}/pareto.png"))
-    if (folder / "summary.md").exists():
-        body.append(markdown((folder / "summary.md").read_text()))
+    for name in ("summary.md", "confirm.md"):
+        if (folder / name).exists():
+            body.append(markdown((folder / name).read_text()))
     return "".join(body)

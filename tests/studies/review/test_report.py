@@ -145,3 +145,14 @@ def test_every_provenance_command_parses():
     materials = {row["result"].split("/")[0]: row["material"] for row in rows}
     assert materials["groove"] == materials["foot"] == "rubber-70a"  # not the silicone
     assert "@mu=" in materials["robot-rings"]  # the modulus it ran with
+
+
+def test_the_optimise_feet_block_carries_its_confirm_crawls(report):
+    """results/optimise-feet/rubber-wedge4: the command with its wedge, and confirm.md's table (the
+    109 deg design crawls at 20.297 mm/s since fem.p2_mapping, docs/decisions/086)."""
+    text = report.read_text()
+    block = text.split("optimise-feet: rubber-wedge4</h3>")[1].split("<h3")[0]
+    assert "--wedge 4" in block
+    confirm = block.split("the best designs crawled at 70 mm")[1]
+    row = confirm.split("<td>109.0 deg, 2.33 mm, rubber-50a</td>")[1].split("</tr>")[0]
+    assert "43.2666;40.5935" in row and "20.297" in row
