@@ -149,7 +149,7 @@ def test_every_provenance_command_parses():
 
 def test_the_optimise_feet_block_carries_its_confirm_crawls(report):
     """results/optimise-feet/rubber-wedge4: the command with its wedge, and confirm.md's table (the
-    109 deg design crawls at 20.297 mm/s since fem.p2_mapping, docs/decisions/086)."""
+    109 deg design crawls at 20.297 mm/s since fem.p2_mapping, docs/decisions/086-curved-facet-points.md)."""
     text = report.read_text()
     block = text.split("optimise-feet: rubber-wedge4</h3>")[1].split("<h3")[0]
     assert "--wedge 4" in block
