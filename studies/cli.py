@@ -35,6 +35,7 @@ import signal
 import sys
 import threading
 
+from softcrawl.provenance import git_commit
 from softcrawl.studies.commands import COMMAND_MODULES
 
 #: Exit codes (see the module docstring).
@@ -168,6 +169,7 @@ def main(argv: list[str] | None = None) -> int:
             if isinstance(args, int):
                 return args
             prog = f"softcrawl {args.command}"
+            git_commit()  # the checkout's commit as the command starts, for every summary it writes
             return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)

@@ -36,3 +36,27 @@ def test_no_module_writes_a_summary_json_another_way():
                 if "summary.json" in line and re.search(r"jsonio\.write\(|json\.dump\(|write_text\(", line):
                     offenders.append(f"{path.relative_to(ROOT)}: {line.strip()}")
     assert not offenders, offenders
+
+
+def test_a_command_pins_the_commit_it_started_from(monkeypatch):
+    """A long run writes its summary hours after it started, from code loaded at the start: the
+    commit is read as the command starts (the 60 and 40 mm elbow runs of record 087 ran for two
+    hours while the checkout moved on, and recorded the later commit)."""
+    from softcrawl.studies import cli
+
+    seen = []
+
+    class Args:
+        command = "x"
+
+        @staticmethod
+        def func(args):
+            seen.append(git_commit.cache_info().currsize)
+
+    git_commit.cache_clear()
+    monkeypatch.setattr(cli, "_parse", lambda argv: Args())
+    try:
+        assert cli.main(["x"]) == 0
+        assert seen == [1]  # the commit was read before the command's work began
+    finally:
+        git_commit.cache_clear()
