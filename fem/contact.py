@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from softcrawl.fem.contact_law import committed_stick, evaluate
+from softcrawl.fem.contact_law import committed_stick, evaluate, viscous_share
 from softcrawl.fem.corrugated_pipe import CorrugatedPipe
 from softcrawl.fem.discretisation import Discretisation, element_first
 from softcrawl.fem.errors import SolverInputError
@@ -56,7 +56,10 @@ class ContactSpec:
     smoothing: gap band (mm) over which the normal law's kink is rounded (`fem.contact_law`;
     0, the default: the exact kink);
     slip_band: width w of the rounded Coulomb cone, a share of the Coulomb radius mu p_N, in
-    [0, 1) (`fem.contact_law`; 0, the default: the exact cone).
+    [0, 1) (`fem.contact_law`; 0, the default: the exact cone);
+    slip_viscosity: eta (MPa s/mm), the traction above the cone per mm/s of slip speed
+    (`fem.contact_law`, viscous slip; 0, the default: Coulomb). It acts in the stages that have
+    a duration (`fem.contact_stages.Stage.duration`), which give each sub-step its time.
     """
 
     tags: tuple[str, ...]
@@ -69,6 +72,7 @@ class ContactSpec:
     name: str = "contact"
     smoothing: float = 0.0
     slip_band: float = 0.0
+    slip_viscosity: float = 0.0
 
     def __post_init__(self):
         tags = (self.tags,) if isinstance(self.tags, str) else tuple(self.tags)
@@ -93,6 +97,11 @@ class ContactSpec:
             raise SolverInputError(
                 "contact.slip_band",
                 f"must be a share of the Coulomb radius in [0, 1), got {self.slip_band!r}",
+            )
+
+        if not (np.isfinite(self.slip_viscosity) and self.slip_viscosity >= 0):
+            raise SolverInputError(
+                "contact.slip_viscosity", f"must be a viscosity >= 0 (MPa s/mm), got {self.slip_viscosity!r}"
             )
 
     @property
@@ -174,6 +183,7 @@ class ContactTerm:
         self.multiplier = np.zeros(n)
         self.stick = self.X.copy()
         self._solved = None  # (positions, stick points) of the last commit, for `report`
+        self.time_step = None  # s, the current sub-step's duration (None: pseudo-time)
         g = self.surface.project(self.X)[0]
         limit = spec.max_initial_penetration + 1e-9 * max(space.size, 1.0)
         if g.min() < -limit:
@@ -205,7 +215,17 @@ class ContactTerm:
             with_tangent,
             s.smoothing,
             s.slip_band,
+            self.kappa,
         )
+
+    @property
+    def kappa(self) -> float:
+        """The viscous share of the slip over the current sub-step (`fem.contact_law.viscous_share`)."""
+        return viscous_share(self.spec.slip_viscosity, self.spec.eps_t, self.time_step)
+
+    def set_time_step(self, dt: float | None) -> None:
+        """The duration (s) of the sub-step about to be solved (None: pseudo-time, no viscosity)."""
+        self.time_step = dt
 
     def arrays(self, x, pressures=None, with_tangent=True):
         """Facet residuals (18, F) and tangents (F, 18, 18), local dof 3 a + i; its time is added
@@ -237,7 +257,8 @@ class ContactTerm:
         pos = self.positions(x)
         st = self._evaluate(pos, self.stick, False)
         self._solved = (pos, self.stick)
-        self.stick = pos if self.mu == 0.0 else committed_stick(st, pos, self.stick, self.spec.eps_t, self.mu)
+        kappa, eps_t = self.kappa, self.spec.eps_t
+        self.stick = pos if self.mu == 0.0 else committed_stick(st, pos, self.stick, eps_t, self.mu, kappa)
 
     def augment(self, x: np.ndarray, relax: float = 1.0) -> float:
         """Uzawa update at a converged state: lambda <- lambda + relax (p_N - lambda), the full

@@ -59,6 +59,22 @@ the foot's backward drag two such points flip ten times in a solve without conve
 (docs/decisions/037-coulomb-cone.md); with the rounded cone the residual is C1 and Newton's local
 convergence holds.
 
+Viscous slip (optional, `ContactSpec.slip_viscosity` = eta, MPa s/mm: traction per slip speed;
+off by default). Coulomb's law is rate-independent: a point in full slip has no stiffness along
+its slide, and a skirt that goes into gross slip leaves nothing but the body to hold it along the
+wall (docs/decisions/088-viscous-slip.md). The viscous (Perzyna) regularisation lets the traction
+exceed the cone by eta times the slip speed: over a sub-step of duration dt the slip increment
+dgamma satisfies |t* | - eps_T dgamma = mu p_N + eta dgamma / dt (backward Euler), so
+
+    f_T = (1 - kappa) f_T^C + kappa t*,     kappa = eta / (eta + eps_T dt)  in [0, 1]
+
+a blend of the rate-independent traction f_T^C (the exact or rounded cone above) and the elastic
+trial, and its tangent the same blend of theirs (kappa is fixed within the increment). kappa = 0
+is Coulomb (eta = 0, or a stage without a duration: pseudo-time only); dt -> 0 gives kappa -> 1,
+a point that cannot slip in no time, so that cutting a sub-step back makes every point stiffer
+along its slide. Closed form: a point dragged at a steady speed v converges to
+|f_T| = mu p_N + eta v (the fixed point of the update below; `steady_slip_traction`).
+
 History update, after an increment has converged (never inside Newton): stick points keep x_s;
 slipping points move it so that the elastic part of the tangential spring equals the traction,
 x_s <- x + f_T / eps_T; points out of contact reset it, x_s <- x. With the rounded cone the
@@ -67,8 +83,9 @@ same formula at w = 0), the others keep x_s. A point that slid is therefore stor
 the band, where phi' = 1/2 (a stiffness along the slip for the next increment; at 1 + w/2 it
 would be 0, the free-slide failure SLIP_MARGIN prevents for w = 0), at the price of a one-off
 drop of its traction by at most mu p_N w / 8 at that commit; a point held still is not moved by
-further commits. The Uzawa update at a converged state sets lambda <- p_N (zero where the point
-has separated).
+further commits. With viscous slip the points with r > 1 keep their overstress instead,
+r <- 1 + kappa (r - 1). The Uzawa update at a converged state sets lambda <- p_N (zero where
+the point has separated).
 
 Everything is per point and vectorised over points (n, ...).
 """
@@ -117,12 +134,26 @@ def cone(r: np.ndarray, band: float):
     return np.where(r >= 1.0 + 0.5 * band, 1.0, r - a * a / (2.0 * band)), 1.0 - a / band
 
 
+def viscous_share(viscosity: float, eps_t: float, dt: float | None) -> float:
+    """kappa = eta / (eta + eps_T dt) of viscous slip (module docstring): 0 without viscosity or
+    without a time step (pseudo-time), 1 at dt = 0."""
+    if viscosity <= 0.0 or dt is None:
+        return 0.0
+    return viscosity / (viscosity + eps_t * max(float(dt), 0.0))
+
+
+def steady_slip_traction(mu_p: float, viscosity: float, speed: float) -> float:
+    """The closed form a point dragged at a steady slip speed v reaches: mu p_N + eta v."""
+    return mu_p + viscosity * speed
+
+
 def evaluate(
-    x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent, smoothing=0.0, slip_band=0.0
+    x, surface, multiplier, stick, eps_n, eps_t, mu, with_tangent, smoothing=0.0, slip_band=0.0, kappa=0.0
 ) -> PointState:
     """The contact law at points x (n, 3) against `surface` (module docstring); `smoothing` (mm)
     rounds the normal law's kink over a gap band of that width, `slip_band` (a share of the
-    Coulomb radius) rounds the cone (0: the exact law)."""
+    Coulomb radius) rounds the cone (0: the exact law), `kappa` is the viscous share of the slip
+    (`viscous_share`; 0: Coulomb)."""
     g, n, C = surface.project(x)
     trial = multiplier - eps_n * g
     p, dp, active = normal_pressure(trial, eps_n * smoothing)
@@ -152,9 +183,8 @@ def evaluate(
         m = t_trial / safe[:, None]
         r = np.where(rounded & (radius > 0), norm / np.where(radius > 0, radius, 1.0), np.inf)
         phi, dphi = cone(r, slip_band)
-        f_t = np.where(stuck[:, None], t_trial, 0.0) + np.where(
-            rounded[:, None], (radius * phi)[:, None] * m, 0.0
-        )
+        f_round = (1.0 - kappa) * (radius * phi)[:, None] * m + kappa * t_trial
+        f_t = np.where(stuck[:, None], t_trial, 0.0) + np.where(rounded[:, None], f_round, 0.0)
         if with_tangent:
             dt = -eps_t * (np.eye(3)[None] - n[:, :, None] * n[:, None, :])
             if C is not None:
@@ -166,18 +196,22 @@ def evaluate(
             d_round = (radius * phi / safe)[:, None, None] * np.matmul(np.eye(3)[None] - mm, dt)
             d_round += (mu * coupling)[:, None, None] * m[:, :, None] * dp_dx[:, None, :]
             d_round += dphi[:, None, None] * np.matmul(mm, dt)
+            if kappa > 0.0:
+                d_round = (1.0 - kappa) * d_round + kappa * dt
             K = K - np.where(stuck[:, None, None], dt, 0.0) - np.where(rounded[:, None, None], d_round, 0.0)
     return PointState(p, n, g, f_t, active, slip, f_n + f_t, K, t_trial)
 
 
 def committed_stick(
-    state: PointState, x: np.ndarray, stick: np.ndarray, eps_t: float, mu: float
+    state: PointState, x: np.ndarray, stick: np.ndarray, eps_t: float, mu: float, kappa: float = 0.0
 ) -> np.ndarray:
     """The stick points after a converged increment (`state` evaluated at x with `stick`): the
-    return to the cone r <- min(r, 1) (module docstring; at w = 0 the points in slip)."""
+    return to the cone r <- min(r, 1) (module docstring; at w = 0 the points in slip); with viscous
+    slip (kappa > 0) to the overstress r <- 1 + kappa (r - 1) of the points past the cone."""
     norm = np.linalg.norm(state.trial, axis=1)
     radius = mu * state.pressure
     past = state.active & (norm > radius)
     m = state.trial / np.where(past & (norm > 0), norm, 1.0)[:, None]
-    out = np.where(past[:, None], x + (radius[:, None] * m) / eps_t, stick)
+    kept = (1.0 - kappa) * radius + kappa * norm
+    out = np.where(past[:, None], x + (kept[:, None] * m) / eps_t, stick)
     return np.where(state.active[:, None], out, x)

@@ -6,7 +6,9 @@ values, and may move the rigid surfaces (`surfaces`: contact index -> callable s
 e.g. a pipe wall shrinking from clear of an oversized foot to its radius) and set the friction
 coefficients at its start (`friction`: contact index -> mu; stick points restart there), and
 may drive other terms along s (`drive(s)`, called before each sub-step's solve, e.g. the preload
-and stiffness of an actuator's `fem.axial_link.AxialLink`, set as functions of s). The
+and stiffness of an actuator's `fem.axial_link.AxialLink`, set as functions of s). A stage may
+span a `duration` of physical time: each sub-step then tells the contact terms its own, (s - t)
+times the duration, which only viscous slip reads (`fem.contact_law`; a cut-back shortens it). The
 staged insertion of a foot into a pipe is three stages: shrink the wall frictionless, switch
 friction on, drag by prescribed displacement.
 
@@ -65,10 +67,15 @@ class Stage:
     friction: Mapping[int, float] = field(default_factory=dict)
     steps: int = 1  # initial number of sub-steps
     drive: Callable[[float], None] | None = None  # called with s before each sub-step's solve
+    duration: float | None = None  # s of physical time the stage spans (viscous slip); None: pseudo-time
 
     def __post_init__(self):
         if int(self.steps) < 1:
             raise SolverInputError("stage.steps", f"{self.name}: needs at least one sub-step")
+        if self.duration is not None and not (np.isfinite(self.duration) and self.duration > 0):
+            raise SolverInputError(
+                "stage.duration", f"{self.name}: a time > 0 in s or None, not {self.duration!r}"
+            )
 
 
 @dataclass(frozen=True)
@@ -267,6 +274,8 @@ def run_stages(
                 model.contacts[i].set_surface(surface_at(s))
             if stage.drive is not None:
                 stage.drive(s)
+            for c in model.contacts:  # viscous slip: the sub-step's time (None: pseudo-time)
+                c.set_time_step(None if stage.duration is None else (s - t) * stage.duration)
             Ps, fs = P0 + s * (P1 - P0), f0 + s * (f1 - f0)
             guess = x if prev is None else x + (x - prev[1]) * (h / (t - prev[0]))
             try:

@@ -9,6 +9,14 @@ r"""Verification cases of the contact term (`fem.contact`) against closed forms 
   prescribed tangential displacement of that face far past the stick limit. In full slip the
   friction force is mu N. Error: |F_T + mu N| / (mu N) (the force on the body opposes the drag),
   and 1 - (slipping area share).
+- contact-viscous-drag: contact-drag with viscous slip (`fem.contact_law`, eta = 0.06 MPa s/mm)
+  and the drag spread over a duration T (0.5 mm in 1 s, 16 sub-steps): the block slides at the
+  steady speed v = 0.5 mm/s, where the closed form of backward-Euler viscous slip is exact at any
+  sub-step: |F_T| = mu N + eta v A (tractions per reference area; A the base's reference area in
+  contact). The friction's moment lifts the trailing quarter of the base off the plane (the
+  pressure is not uniform), so A is the report's active area, 1.47 of 2 mm^2: the viscous part
+  acts only where the base touches. Error: |F_T + mu N + eta v A| / (mu N + eta v A); Coulomb's
+  mu N alone would be off by 27 %.
 - contact-stick: a block with nu = 0 (no Poisson slip) under a proportional dead load
   (T, 0, -N) on its top, T = 0.5 mu N: no point slips and the friction force balances T. Error:
   |F_T + T| / T plus the slipping area share. (With nu = 0.35 the base slips at its edges as it
@@ -43,6 +51,7 @@ import numpy as np
 import skfem
 
 from softcrawl.fem.contact import ContactSpec
+from softcrawl.fem.contact_law import steady_slip_traction
 from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.laws import NeoHookean
 from softcrawl.fem.model import ChamberSpec, Dirichlet, SolidModel
@@ -123,11 +132,13 @@ def area_test(pressure=0.15, stretch=1.2, penalty=100.0, tolerance=1e-8) -> Case
     )
 
 
-def _drag_block(penalty, drag, smoothing, slip_band):
+def _drag_block(penalty, drag, smoothing, slip_band, viscosity=0.0):
     """The block 2 x 1 x 1 (half: y >= 0) on the plane z = 0, frictionless until a stage sets mu;
     its top z1 a chamber (the follower pressure) moved by (drag, 0) in x and y at load factor 1."""
     mesh = box((2.0, 1.0, 1.0), (4, 2, 2))
-    spec = ContactSpec(("z0",), Plane(), penalty=penalty, smoothing=smoothing, slip_band=slip_band)
+    spec = ContactSpec(
+        ("z0",), Plane(), penalty=penalty, smoothing=smoothing, slip_band=slip_band, slip_viscosity=viscosity
+    )
     bcs = [Dirichlet.symmetry("y0", 1), Dirichlet("z1", (0, 1), (drag, 0.0))]
     return SolidModel(mesh, MATERIAL, dirichlet=bcs, chambers=ChamberSpec(("z1",)), contacts=[spec])
 
@@ -152,6 +163,26 @@ def drag_test(
             "friction_x": rep.friction_force[0],
             "slip_fraction": rep.slip_fraction,
         },
+    )
+
+
+def viscous_drag_test(
+    mu=0.3, pressure=0.2, penalty=100.0, drag=0.5, duration=1.0, viscosity=0.06, tolerance=5e-3
+) -> CaseResult:
+    model = _drag_block(penalty, drag, 0.0, 0.0, viscosity)
+    stages = [
+        Stage("press", pressure=pressure, steps=2),
+        Stage("drag", factor=1.0, friction={0: mu}, steps=16, duration=duration),
+    ]
+    res = run_stages(model, stages, penetration_tol=1e-8)
+    rep = model.contacts[0].report(res.x)
+    exact = steady_slip_traction(mu * rep.normal_force, viscosity * rep.area_reference, drag / duration)
+    err = abs(rep.friction_force[0] + exact) / exact
+    return CaseResult(
+        "contact-viscous-drag",
+        err if res.converged else np.inf,
+        tolerance,
+        {"normal_force": rep.normal_force, "friction_x": rep.friction_force[0], "exact": exact},
     )
 
 
@@ -350,6 +381,7 @@ CASES = {
     "contact-press": press_test,
     "contact-area": area_test,
     "contact-drag": drag_test,
+    "contact-viscous-drag": viscous_drag_test,
     "contact-stick": stick_test,
     "contact-hertz": hertz_test,
     "contact-newton": newton_test,

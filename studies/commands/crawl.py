@@ -6,7 +6,8 @@ The model: docs/decisions/051-crawl-model.md.
                     [--bend-radius MM] [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3]
                     [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
-                    [--mu-grooved MU] [--steps N] [--quick] [--backward | --symmetric]
+                    [--mu-grooved MU] [--slip-viscosity ETA] [--steps N] [--quick]
+                    [--backward | --symmetric]
                     [--mesher revolved|tetwild] [--sectors N] [--layers N] [--edge-length MM]
                     [--wedge N]
                     [--material rubber-70a] [--foot-angle DEG]
@@ -23,6 +24,10 @@ and vtu/ (`studies.crawl_fe.files`); the reduced model's feet options (--backwar
 refused with --body fe (exit 2); --resume continues an FE-body run stopped at its --time-limit or
 killed (`studies.crawl_fe.resume`; --cycles may grow). --gait-plan GAIT_CSV (--body fe): the gait.csv that
 `softcrawl model plan` writes, replayed cycle by cycle (`studies.crawl_fe.gait_plan`).
+
+--slip-viscosity ETA (MPa s/mm, default 0): viscous slip of both feet's faces (`fem.contact_law`,
+docs/decisions/088-viscous-slip.md): friction above the Coulomb limit by ETA times the slip speed,
+so that a foot in gross slip keeps a stiffness along its slide; 0 is Coulomb's law.
 
 The friction coefficients not given take the committed feet identification's
 (`studies.foot.identify.prediction_friction`, docs/decisions/070-identify-feet.md: today 0.3 on
@@ -132,6 +137,9 @@ def register(subparsers) -> None:
                minimum=0.0, maximum=5.0)  # fmt: skip
     add_number(p, "--mu-grooved", help="friction of the grooved face", default_text=IDENTIFIED,
                minimum=0.0, maximum=5.0)  # fmt: skip
+    # Off by default: every committed crawl is Coulomb's (docs/decisions/088-viscous-slip.md).
+    add_number(p, "--slip-viscosity", help="viscous slip of the feet: traction above Coulomb's per mm/s of "
+               "slip speed", unit="MPa s/mm", default=0.0, minimum=0.0, maximum=1.0)  # fmt: skip
     add_number(p, "--steps", help="sub-steps per schedule segment", default_text="4",
                minimum=1, maximum=200, integer=True)  # fmt: skip
     p.add_argument(
@@ -223,6 +231,7 @@ def run(args) -> int:
         insert_steps=4 if args.quick else 8,
         steps=steps,
         cycles=args.cycles,
+        slip_viscosity=args.slip_viscosity,
     )
     store = CrawlStore(Path(out) / FOLDER, crawl_options(setup, schedule, setup.material))
     resumed = checkpoint(store, args.resume)

@@ -105,6 +105,7 @@ def run_body(args, friction_settings) -> int:
         insert_steps=4 if args.quick else 8,
         steps=args.steps or 4,
         cycles=args.cycles,
+        slip_viscosity=args.slip_viscosity,
     )
     mesh = "quick" if args.quick else "default"
     schedules = schedule if args.gait_plan else (schedule,)

@@ -48,12 +48,12 @@ import numpy as np
 
 from softcrawl.analytic.pipe import Pipe
 from softcrawl.fem.axial_link import AxialLink
-from softcrawl.fem.contact import ContactSpec
 from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.equal_displacement import EqualDisplacement
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.foot_design import FootDesign
+from softcrawl.studies.crawl.contacts import feet_contacts
 from softcrawl.studies.crawl.flipped import FOLD_HOLD, folded_feet, plate_hold, rim_springs
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
@@ -64,8 +64,6 @@ from softcrawl.studies.foot.model import (
     AUGMENT,
     FOOT_NEWTON,
     MIN_STEP_FRACTION,
-    SLIP_BAND,
-    SMOOTHING,
     insertion_wall,
     small_strain_youngs,
 )
@@ -87,7 +85,6 @@ GROUND_HOLD = 1.0e3  # N/mm: holds the plates during the frictionless insertion
 GROUND_SOFT = 1.0e-4  # N/mm: after friction is on (<< the skirts' axial stiffness, ~10 N/mm)
 #: The plates' penalty (`EqualDisplacement`), per node, in units of E h (h the median edge).
 PLATE_PENALTY = 1.0e3
-FACES = (("smooth", ("front", "rim")), ("grooved", ("back",)))
 
 
 @dataclass(frozen=True)
@@ -95,6 +92,9 @@ class CrawlSetup:
     pipe_diameter: float = 70.0
     mu_smooth: float = 0.5
     mu_grooved: float = 0.5
+    #: viscous slip of both feet's faces, MPa s/mm (`fem.contact_law`; 0: Coulomb, the default;
+    #: docs/decisions/088-viscous-slip.md); each schedule segment's sub-steps get their time
+    slip_viscosity: float = 0.0
     feet: str = "paper"  # "paper" (both lean back), "backward" (both flipped), "symmetric"
     foot: FootDesign = FootDesign()  # both feet's design (the paper's: 120 deg; Fig. 21 varies the angle)
     material: str = "rubber-70a"  # both feet's rubber, a `softcrawl.materials` preset name
@@ -149,35 +149,12 @@ class CrawlModel:
         return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
 
 
-def feet_contacts(rubber, edge: float, tip_radius: float) -> list[ContactSpec]:
-    """Each foot's two faces (`FACES`) against the straight pipe wall, as the foot study builds
-    them: the penalty eps_N = 10 E / h (E the rubber law's small-strain modulus, h the feet's
-    median edge), the wall clear of the tips by 0.5 mm (the insertion closes it), the foot
-    study's smoothing and slip band. The reduced crawl (`build`) and the one FE body
-    (`studies.crawl_fe.model`) both take their contacts from here, so that the two crawl models
-    differ only in their body."""
-    eps = 10.0 * small_strain_youngs(rubber) / edge
-    wall = CylinderWall(tip_radius + 0.5)
-    return [
-        ContactSpec(
-            tuple(f"{foot}:{t}" for t in tags),
-            wall,
-            penalty=eps,
-            name=f"{foot}:{face}",
-            smoothing=SMOOTHING,
-            slip_band=SLIP_BAND,
-        )
-        for foot in FEET
-        for face, tags in FACES
-    ]
-
-
 def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None = None) -> CrawlModel:
     """The two-feet model on `mesh` (skfem MeshTet2 of `crawl_mesh.two_feet`), wall clear of the tips."""
     law = law or AxialLaw()
     youngs = small_strain_youngs(material)
     size = float(np.median(np.linalg.norm(np.diff(mesh.p[:, mesh.t[:2]], axis=1)[:, 0], axis=0)))
-    contacts = feet_contacts(material, size, foot_design.tip_radius)
+    contacts = feet_contacts(material, size, foot_design.tip_radius, setup.slip_viscosity)
     rear, front = (attach_tag(f, m) for f, m in zip(FEET, setup.mirrored))
     k0, _ = law.stiffness_preload((0.0, 0.0, 0.0))
     share = 1.0 / setup.copies
@@ -236,7 +213,10 @@ def _cycle_stages(
                 raise WallBudgetExceeded
             actuator.set_load(*cm.law.stiffness_preload(p0 + s * (p1 - p0)))
 
-        stages.append(Stage(f"cycle{cycle}-seg{j}", drive=drive, steps=steps))
+        span = float(t[j + 1] - t[j])  # the segment's time, which viscous slip reads
+        stages.append(
+            Stage(f"cycle{cycle}-seg{j}", drive=drive, steps=steps, duration=span if span > 0 else None)
+        )
         base = cycle * schedule.cycle_s
         spans.append((base + t[j], base + t[j + 1], p0, p1))
     return stages, spans

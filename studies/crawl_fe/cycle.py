@@ -171,8 +171,19 @@ def crawl_cycles(
     def of(cycle: int) -> tuple[Schedule, np.ndarray]:
         return per_cycle[max(cycle, 1) - 1], pressures[max(cycle, 1) - 1]
 
+    def duration(cycle: int, row: int) -> float | None:
+        """The segment's time (s), which viscous slip reads; the ramp to a first row has none."""
+        times = of(cycle)[0].times
+        return float(times[row] - times[row - 1]) if cycle >= 1 and times[row] > times[row - 1] else None
+
     stages = [
-        Stage(f"cycle{c}-row{k}", pressure=[kpa_to_mpa(p) for p in of(c)[1][k]], steps=steps) for c, k in plan
+        Stage(
+            f"cycle{c}-row{k}",
+            pressure=[kpa_to_mpa(p) for p in of(c)[1][k]],
+            steps=steps,
+            duration=duration(c, k),
+        )
+        for c, k in plan
     ]
     where = {stage.name: item for stage, item in zip(stages, plan)}
     log = log or CycleLog(start=(probe.arc(x0), probe.angles(x0)[1]))

@@ -289,7 +289,12 @@ def run_and_write(
         "schedule": {"name": first.name, "source": first.source, "cycle_s": T, "gait_plan": plan},
         "cycles": cycles,
         "steps": setup.steps,
-        "friction": {"mu_smooth": setup.mu_smooth, "mu_grooved": setup.mu_grooved, "source": friction_source},
+        "friction": {
+            "mu_smooth": setup.mu_smooth,
+            "mu_grooved": setup.mu_grooved,
+            "source": friction_source,
+            "slip_viscosity_mpa_s_mm": setup.slip_viscosity,
+        },  # fmt: skip
         "materials": bm.materials,
         "silicone_shear_modulus_mpa": float(silicone_law.mu),
         "feet_material_source": material_source(setup.material),

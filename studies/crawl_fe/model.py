@@ -49,7 +49,8 @@ from softcrawl.geometry.body_mesh import BodyMeshSettings, mesh_body, settings_f
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
-from softcrawl.studies.crawl.model import GROUND_HOLD, GROUND_SOFT, CrawlSetup, feet_contacts
+from softcrawl.studies.crawl.contacts import feet_contacts
+from softcrawl.studies.crawl.model import GROUND_HOLD, GROUND_SOFT, CrawlSetup
 from softcrawl.studies.epsa.model import solid_material
 from softcrawl.studies.robot_fe.model import (
     DEFAULT_MATERIAL,
@@ -150,7 +151,8 @@ def build_body(
             body[name] = parts[kind].density * G_MM_S2 * np.asarray(gravity, dtype=float)
     feet = np.isin(tagged.region, [i for i, n in tagged.region_names.items() if n.startswith("foot")])
     edges = np.linalg.norm(np.diff(tagged.points[tagged.tets[feet][:, :2]], axis=1)[:, 0], axis=1)
-    contacts = feet_contacts(parts["foot"].law, float(np.median(edges)), design.foot.tip_radius)
+    edge = float(np.median(edges))
+    contacts = feet_contacts(parts["foot"].law, edge, design.foot.tip_radius, setup.slip_viscosity)
     holds = [AxialLink(b, a, c, HOLD_STIFF, 0.0, name=name) for name, b, a, c in HOLDS]
     chambers = [ChamberSpec((f"chamber_wall{i}", f"chamber_ends{i}"), name=f"epsa{i}") for i in (1, 2, 3)]
     model = SolidModel(

@@ -24,6 +24,9 @@ class _Term:
         self.surface = surface
         self.log.append(("surface", surface))
 
+    def set_time_step(self, dt):  # viscous slip's sub-step time (not logged: every sub-step sets it)
+        self.time_step = dt
+
     def set_friction(self, mu, x):
         self.mu, self.stick = mu, np.array(x[:2], dtype=float)
         self.log.append(("friction", mu, np.array(x)))

@@ -158,6 +158,7 @@ def test_the_wall_time_budget_stops_a_cycle_before_its_next_solve_attempt():
     schedule = preset("inflate", 100.0, 2.0)
     stages, spans = _cycle_stages(cm, schedule, 0, 4, deadline=np.inf)
     assert len(stages) == len(spans) == 2
+    assert [s.duration for s in stages] == [1.0, 1.0]  # each segment's time (viscous slip reads it)
     stages[0].drive(0.5)
     assert loads == [AxialLaw().stiffness_preload((50.0, 50.0, 50.0))]
     late, _ = _cycle_stages(cm, schedule, 0, 4, deadline=time.perf_counter() - 1.0)

@@ -34,8 +34,9 @@ def test_the_options_reach_the_runner(recorded, tmp_path):
     assert (kw["pipe"], kw["bend_radius"], kw["mesh"]) == ("elbow", 60.0, "quick")
     assert schedule.name == "inflate" and out == tmp_path / "a"
     assert "--mu-smooth and --mu-grooved" in kw["friction_source"] and kw["max_wall_s"] is None
-    assert main(argv[:-1] + [str(tmp_path / "d"), "--time-limit", "1.5"]) == 0
-    assert recorded[-1][3]["max_wall_s"] == 90.0
+    assert setup.slip_viscosity == 0.0  # Coulomb unless asked (docs/decisions/088-viscous-slip.md)
+    assert main(argv[:-1] + [str(tmp_path / "d"), "--time-limit", "1.5", "--slip-viscosity", "7.5e-4"]) == 0
+    assert recorded[-1][3]["max_wall_s"] == 90.0 and recorded[-1][0].slip_viscosity == 7.5e-4
 
 
 def test_the_default_mesh_without_quick_and_a_failed_run_exits_1(recorded, tmp_path):

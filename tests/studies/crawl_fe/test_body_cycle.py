@@ -134,12 +134,14 @@ def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
     assert out.converged and out.strides == pytest.approx((0.5, 0.5))
     assert [s.pressure for s in calls] == [[0.1] * 3, [0.0] * 3] * 2  # kPa -> MPa once
     assert all(s.steps == 3 for s in calls) and out.newton_iterations == 24
+    assert [s.duration for s in calls] == [1.0] * 4  # each segment's time (viscous slip reads it)
     assert [s.newton for s in out.states] == [6] * 4  # per segment
     assert [s.z["rear"] for s in out.states] == pytest.approx([0.25, 0.5, 0.75, 1.0])
     held = Schedule("held", np.array([0.0, 1.0]), np.array([[50.0] * 3, [100.0] * 3]), "test")
     calls.clear()
     out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), held, cycles=1)
     assert [s.pressure for s in calls] == [[0.05] * 3, [0.1] * 3]  # to the first row, then the cycle
+    assert [s.duration for s in calls] == [None, 1.0]  # the ramp to the first row takes no time
     assert out.strides == pytest.approx((0.25,))  # the ramp to the first row is not the cycle's
     assert [s.cycle for s in out.states] == [0, 1]
 
