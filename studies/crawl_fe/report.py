@@ -33,6 +33,8 @@ def run_row(name: str, s: dict) -> dict:
         "pipe": f"{where}, {pipe['diameter_mm']:g} mm",
         "mesh": s["mesh"],
         "friction (smooth / grooved)": f"{s['friction']['mu_smooth']:g} / {s['friction']['mu_grooved']:g}",
+        # runs before viscous slip existed were Coulomb's (docs/decisions/088-viscous-slip.md)
+        "slip viscosity (MPa s/mm)": f"{s['friction'].get('slip_viscosity_mpa_s_mm', 0.0):g}",
         "cycles reached / asked": f"{len(s['strides_mm'])} / {s['cycles']}",
         "strides (mm)": _numbers(s["strides_mm"]),
         "speeds (mm/s)": _numbers(s["speeds_mm_s"]),

@@ -50,3 +50,7 @@ def test_a_run_is_one_row_with_its_own_figures(tmp_path):
     assert "no bend radius" in html and "127.7" in html and "346" in html and "2505" in html
     assert "0.0638 MPa" in html and "2 / 2" in html
     assert "notes" not in html
+    assert "<td>0</td>" in html  # no slip viscosity recorded: a Coulomb run (before record 088)
+    viscous = _summary(friction={"mu_smooth": 0.3, "mu_grooved": 0.3, "slip_viscosity_mpa_s_mm": 7.5e-4})
+    (run / "summary.json").write_text(json.dumps(viscous))
+    assert "<td>0.00075</td>" in crawl_fe(tmp_path)
