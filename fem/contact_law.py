@@ -64,7 +64,7 @@ off by default). Coulomb's law is rate-independent: a point in full slip has no 
 its slide, and a skirt that goes into gross slip leaves nothing but the body to hold it along the
 wall (docs/decisions/088-viscous-slip.md). The viscous (Perzyna) regularisation lets the traction
 exceed the cone by eta times the slip speed: over a sub-step of duration dt the slip increment
-dgamma satisfies |t* | - eps_T dgamma = mu p_N + eta dgamma / dt (backward Euler), so
+dgamma satisfies |t*| - eps_T dgamma = mu p_N + eta dgamma / dt (backward Euler), so
 
     f_T = (1 - kappa) f_T^C + kappa t*,     kappa = eta / (eta + eps_T dt)  in [0, 1]
 

@@ -81,3 +81,21 @@ def test_a_study_without_its_identification_is_the_readers_error_naming_out(stud
     with pytest.raises(identify.IdentificationMissing) as info:
         identify.study_friction(tmp_path)
     assert info.value.parameter == "out"
+
+
+def test_the_reduced_crawl_takes_the_slip_viscosity_given(tmp_path, monkeypatch):
+    """--slip-viscosity reaches the reduced crawl's setup (0, Coulomb, unless given; record 088)."""
+    from softcrawl.studies.cli import main
+    from softcrawl.studies.crawl import files
+
+    seen = []
+
+    def recorded(setup, schedule, out, **kwargs):
+        seen.append(setup)
+        raise SystemExit(0)  # stop before any solve
+
+    monkeypatch.setattr(files, "run_and_write", recorded)
+    for extra, eta in (([], 0.0), (["--slip-viscosity", "2.5e-4"], 2.5e-4)):
+        with pytest.raises(SystemExit):
+            main(["crawl", "--quick", *extra, "--out", str(tmp_path / str(eta))])
+        assert seen[-1].slip_viscosity == eta
