@@ -7,10 +7,11 @@ e.g. a pipe wall shrinking from clear of an oversized foot to its radius) and se
 coefficients at its start (`friction`: contact index -> mu; stick points restart there), and
 may drive other terms along s (`drive(s)`, called before each sub-step's solve, e.g. the preload
 and stiffness of an actuator's `fem.axial_link.AxialLink`, set as functions of s). A stage may
-span a `duration` of physical time: each sub-step then tells the contact terms its own, (s - t)
-times the duration, which only viscous slip reads (`fem.contact_law`; a cut-back shortens it). The
-staged insertion of a foot into a pipe is three stages: shrink the wall frictionless, switch
-friction on, drag by prescribed displacement.
+span a `duration` of physical time: each sub-step then tells the terms with a time step its own,
+(s - t) times the duration, which viscous slip (`fem.contact_law`) and inertia (`fem.inertia`,
+whose body starts at rest at x0) read; a cut-back shortens it. The staged insertion of a foot into
+a pipe is three stages: shrink the wall frictionless, switch friction on, drag by prescribed
+displacement.
 
 Each sub-step is a Newton solve (`fem.newton`) from the last converged state. A diverged
 sub-step is halved (up to `max_cutbacks` times in a row), with the contact history restored; an
@@ -219,6 +220,11 @@ def run_stages(
         if not 0 <= start.stage < len(stages):
             raise SolverInputError("start", f"stage {start.stage} of a run of {len(stages)} stages")
         x, P, f = start.x.copy(), np.array(start.P, dtype=float), float(start.f)
+    timed = [t for t in getattr(model, "terms", model.contacts) if hasattr(t, "set_time_step")]
+    if start is None:  # a run starts at rest (inertia; a resumed one has its history restored)
+        for term in timed:
+            if hasattr(term, "rest"):
+                term.rest(x)
     out: list[StagedStep] = []
 
     def result(ok, message):
@@ -274,8 +280,8 @@ def run_stages(
                 model.contacts[i].set_surface(surface_at(s))
             if stage.drive is not None:
                 stage.drive(s)
-            for c in model.contacts:  # viscous slip: the sub-step's time (None: pseudo-time)
-                c.set_time_step(None if stage.duration is None else (s - t) * stage.duration)
+            for term in timed:  # viscous slip, inertia: the sub-step's time (None: pseudo-time)
+                term.set_time_step(None if stage.duration is None else (s - t) * stage.duration)
             Ps, fs = P0 + s * (P1 - P0), f0 + s * (f1 - f0)
             guess = x if prev is None else x + (x - prev[1]) * (h / (t - prev[0]))
             try:

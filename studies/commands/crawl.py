@@ -6,7 +6,7 @@ The model: docs/decisions/051-crawl-model.md.
                     [--bend-radius MM] [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3]
                     [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
-                    [--mu-grooved MU] [--slip-viscosity ETA] [--steps N] [--quick]
+                    [--mu-grooved MU] [--slip-viscosity ETA] [--inertia] [--steps N] [--quick]
                     [--backward | --symmetric]
                     [--mesher revolved|tetwild] [--sectors N] [--layers N] [--edge-length MM]
                     [--wedge N]
@@ -28,6 +28,10 @@ killed (`studies.crawl_fe.resume`; --cycles may grow). --gait-plan GAIT_CSV (--b
 --slip-viscosity ETA (MPa s/mm, default 0): viscous slip of both feet's faces (`fem.contact_law`,
 docs/decisions/088-viscous-slip.md): friction above the Coulomb limit by ETA times the slip speed,
 so that a foot in gross slip keeps a stiffness along its slide; 0 is Coulomb's law.
+
+--inertia (--body fe): the body's mass from its parts' densities, lumped, with backward Euler over
+the schedule's time (`fem.inertia`, docs/decisions/089-inertia.md), so that a foot's sudden slide
+is a short dynamic event rather than a state the quasi-static path cannot reach. Off by default.
 
 The friction coefficients not given take the committed feet identification's
 (`studies.foot.identify.prediction_friction`, docs/decisions/070-identify-feet.md: today 0.3 on
@@ -164,6 +168,10 @@ def register(subparsers) -> None:
                default=120.0, minimum=MIN_FOOT_ANGLE, maximum=MAX_FOOT_ANGLE, metavar="DEG")  # fmt: skip
     add_number(p, "--time-limit", help="--body fe: stop after this wall time and write the states so far",
                unit="min", default_text="none", minimum=0.0, min_open=True, maximum=1e5)  # fmt: skip
+    p.add_argument(
+        "--inertia", action="store_true",
+        help="--body fe: the body's lumped mass, backward Euler over the schedule (default: quasi-static)",
+    )  # fmt: skip
     p.add_argument("--quick", action="store_true", help=f"4 insertion steps, {QUICK_SECTORS} sectors")
     feet = p.add_mutually_exclusive_group()
     feet.add_argument("--backward", action="store_true", help="both feet flipped: grooved faces on the wall")
@@ -204,7 +212,8 @@ def run(args) -> int:
             "pipe" if args.pipe != "straight" else "bend-radius",
             "the reduced crawl has a straight horizontal pipe only: add --body fe",
         )
-    for option, value in (("gait-plan", args.gait_plan), ("time-limit", args.time_limit)):
+    for option, value in (("gait-plan", args.gait_plan), ("time-limit", args.time_limit),
+                          ("inertia", args.inertia or None)):  # fmt: skip
         if value is not None:
             raise CommandLineError(option, "applies to the FE body only: add --body fe")
     mesh = mesh_settings(args)  # before any folder is made

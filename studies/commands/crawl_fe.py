@@ -110,7 +110,7 @@ def run_body(args, friction_settings) -> int:
     mesh = "quick" if args.quick else "default"
     schedules = schedule if args.gait_plan else (schedule,)
     key = body_options(setup, schedules, pipe=args.pipe, bend_radius=args.bend_radius, mesh=mesh,
-                       silicone=DEFAULT_MATERIAL, design=None)  # fmt: skip
+                       silicone=DEFAULT_MATERIAL, design=None, inertia=args.inertia)  # fmt: skip
     store = BodyStore(out / FOLDER, key)
     resumed = checkpoint(store, args.resume)
     what = (
@@ -118,7 +118,8 @@ def run_body(args, friction_settings) -> int:
         if args.gait_plan
         else f"{schedule.name}, {setup.cycles}"
     )
-    progress(f"crawl --body fe: {what} cycle(s), {args.pipe} pipe, {mesh} mesh")
+    dynamics = ", with inertia" if args.inertia else ""
+    progress(f"crawl --body fe: {what} cycle(s), {args.pipe} pipe, {mesh} mesh{dynamics}")
     converged, summary = run_and_write(
         setup,
         schedule,
@@ -132,6 +133,7 @@ def run_body(args, friction_settings) -> int:
         max_wall_s=None if args.time_limit is None else 60.0 * args.time_limit,
         store=store,
         resumed=resumed,
+        inertia=args.inertia,
     )
     print(summary["text"])
     if store.unfinished():

@@ -40,7 +40,7 @@ from softcrawl.studies.crawl.files import material_source
 from softcrawl.studies.crawl.resume import Totals
 from softcrawl.studies.crawl.schedule import Schedule
 from softcrawl.studies.crawl_fe.cycle import FootProbe, crawl_cycles
-from softcrawl.studies.crawl_fe.mass import mass_summary
+from softcrawl.studies.crawl_fe.mass import TONNE_TO_G, mass_summary
 from softcrawl.studies.crawl_fe.model import FEET, build_body
 from softcrawl.studies.crawl_fe.pipe import PIPES, into_pipe, pipe_wall
 from softcrawl.studies.epsa.model import solid_material
@@ -203,6 +203,7 @@ def run_and_write(
     max_wall_s: float | None = None,
     store=None,
     resumed=None,
+    inertia: bool = False,
 ) -> tuple:
     """One FE-body crawl of `setup.cycles` cycles of `schedule` (or of a gait plan: a sequence of
     schedules, one per cycle, `studies.crawl_fe.gait_plan`) in `pipe`, its files in `out`
@@ -211,14 +212,15 @@ def run_and_write(
     "quick", "default" or a `BodyMeshSettings`; `design`: the robot (None: Table 1's; `build_body`).
     `store` (`resume.BodyStore`): the inserted state and every converged sub-step of the cycles
     are written to it; it is cleared once the files are written, unless the run stopped at its
-    time limit (then it is kept to be resumed); `resumed` (its `load()`): continue from there."""
+    time limit (then it is kept to be resumed); `resumed` (its `load()`): continue from there.
+    `inertia`: the body's lumped mass over the schedule's time (`build_body`)."""
     t0 = time.perf_counter()
     plan = not isinstance(schedule, Schedule)
     cycles = len(schedule) if plan else setup.cycles
     first = schedule[0] if plan else schedule
     gravity = PIPES[pipe]
     kwargs = {} if silicone is None else {"silicone": silicone}
-    bm = build_body(setup, mesh, gravity=gravity, design=design, **kwargs)
+    bm = build_body(setup, mesh, gravity=gravity, design=design, inertia=inertia, **kwargs)
     front_tip = float(np.asarray(bm.model.nodes)[2].max())
     wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius)
     progress(
@@ -274,6 +276,10 @@ def run_and_write(
     )
     mass = mass_summary(bm.design, bm.model.mesh, bm.materials)
     silicone_law = solid_material(bm.materials["epsa"])[1]
+    dynamics = None
+    if bm.inertia is not None:
+        scheme = "backward Euler, HRZ-lumped mass (fem.inertia)"
+        dynamics = {"scheme": scheme, "mass_g": bm.inertia.total_mass * TONNE_TO_G}
     summary = {
         "model": "fe-body",
         "converged": converged,
@@ -295,6 +301,7 @@ def run_and_write(
             "source": friction_source,
             "slip_viscosity_mpa_s_mm": setup.slip_viscosity,
         },  # fmt: skip
+        "inertia": dynamics,
         "materials": bm.materials,
         "silicone_shear_modulus_mpa": float(silicone_law.mu),
         "feet_material_source": material_source(setup.material),
@@ -362,6 +369,8 @@ def summary_text(s: dict) -> str:
         lines.append(f"  paper: {s['paper_speed_mm_s']:g} mm/s ({s['paper_source']})")
     m = s["mass"]
     lines.append(f"  mass {m['total_g']:.1f} g (prototype {m['prototype_g']:g} g)")
+    if s.get("inertia"):
+        lines.append(f"  inertia: {s['inertia']['scheme']}, {s['inertia']['mass_g']:.1f} g")
     v = s["solver"]
     lines.append(f"  {v['dofs']} DOFs, {v['newton_iterations']} Newton iterations, {v['factorizations']} "
                  f"factorisations, {v['wall_s']:.0f} s, peak {v['peak_rss_gb']:.2f} GB")  # fmt: skip

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from softcrawl.fem.axial_link import AxialLink
+from softcrawl.fem.inertia import Inertia, InertiaTerm
 from softcrawl.fem.model import ChamberSpec, SolidModel
 from softcrawl.geometry.body_mesh import BodyMeshSettings, mesh_body, settings_for
 from softcrawl.geometry.design import RobotDesign
@@ -85,6 +86,7 @@ class BodyModel:
     settings: BodyMeshSettings
     materials: dict  # part kind -> material name
     holds: dict = field(default_factory=dict)  # name -> AxialLinkTerm
+    inertia: InertiaTerm | None = None  # the lumped mass (`build_body(inertia=True)`), or None
 
     @property
     def n_dofs(self) -> int:
@@ -131,11 +133,14 @@ def build_body(
     silicone: str = DEFAULT_MATERIAL,
     gravity: tuple[float, float, float] | None = None,
     design: RobotDesign | None = None,
+    inertia: bool = False,
 ) -> BodyModel:
     """The body of the module docstring in `setup`'s pipe, wall clear of the skirt tips.
     `gravity`: the acceleration in units of g (e.g. (0, 0, -1): the robot heading up a vertical
     pipe), scaled by the load factor; None: none. `design`: the robot (None: Table 1's); its foot
-    is replaced by `setup.foot`, so that the feet are the reduced crawl's."""
+    is replaced by `setup.foot`, so that the feet are the reduced crawl's. `inertia`: the parts'
+    densities as a lumped mass with backward Euler over the schedule's time (`fem.inertia`,
+    docs/decisions/089-inertia.md; the term is `BodyModel.inertia`)."""
     setup = setup or CrawlSetup()
     design = (design or RobotDesign()).replace(foot=setup.foot)
     settings = settings_for(design.foot, mesh) if isinstance(mesh, str) else mesh
@@ -143,10 +148,11 @@ def build_body(
     soft, body_law = solid_material(silicone)
     parts = {kind: get_material(name) for kind, name in part_materials(setup, silicone).items()}
     parts["epsa"] = soft
-    laws, body = {}, {}
+    laws, body, densities = {}, {}, {}
     for name in tagged.region_names.values():
         kind = part_kind(name)
         laws[name] = body_law if kind == "epsa" else solid_law(parts[kind])
+        densities[name] = parts[kind].density
         if gravity is not None:
             body[name] = parts[kind].density * G_MM_S2 * np.asarray(gravity, dtype=float)
     feet = np.isin(tagged.region, [i for i, n in tagged.region_names.items() if n.startswith("foot")])
@@ -162,8 +168,9 @@ def build_body(
         fiber_sheets=fiber_sheets(design, get_material("kevlar")),
         body_forces=body or None,
         contacts=contacts,
-        extra_terms=holds,
+        extra_terms=holds + ([Inertia(densities)] if inertia else []),
     )
     terms = {t.name: t for t in model.terms if getattr(t, "name", None) in {h[0] for h in HOLDS}}
     names = {k: m.name for k, m in parts.items()}
-    return BodyModel(model, tagged, design, setup, settings, names, terms)
+    mass = next((t for t in model.terms if isinstance(t, InertiaTerm)), None)
+    return BodyModel(model, tagged, design, setup, settings, names, terms, mass)

@@ -35,6 +35,8 @@ def run_row(name: str, s: dict) -> dict:
         "friction (smooth / grooved)": f"{s['friction']['mu_smooth']:g} / {s['friction']['mu_grooved']:g}",
         # runs before viscous slip existed were Coulomb's (docs/decisions/088-viscous-slip.md)
         "slip viscosity (MPa s/mm)": f"{s['friction'].get('slip_viscosity_mpa_s_mm', 0.0):g}",
+        # runs before inertia existed were quasi-static (docs/decisions/089-inertia.md)
+        "inertia": "backward Euler" if s.get("inertia") else "none (quasi-static)",
         "cycles reached / asked": f"{len(s['strides_mm'])} / {s['cycles']}",
         "strides (mm)": _numbers(s["strides_mm"]),
         "speeds (mm/s)": _numbers(s["speeds_mm_s"]),

@@ -5,7 +5,8 @@ What a state holds (read from `studies.crawl_fe.pipe`, `.cycle` and `fem.contact
 
     arrays  the setup phases' states x (insert, friction, load); the recorded cycle states' x; for
             a state in the cycles, the cursor's x, the predictor's prev_x and the loads P0, P;
-            per contact term its multipliers and stick points
+            per contact term its multipliers and stick points; with inertia (`fem.inertia`) the
+            committed nodal velocities (the committed displacements are the cursor's x)
     meta    kind: "inserted" (after `into_pipe`, before the first cycle) or "cycles"; the cursor's
             position (stage index, pseudo-time t, next sub-step h, the predictor's t, the factors
             f0 and f); per contact term its friction coefficient and wall radius (the wall itself
@@ -18,10 +19,11 @@ Floats go through JSON as Python writes them (repr), so they read back bit for b
 run's states and strides equal an uninterrupted run's (tests/studies/crawl_fe/test_body_resume.py).
 
 The key (`body_options`) is the run's options: the setup except its cycle count, the schedules,
-the pipe, the mesh, the silicone and the design. The cycle count is left out on purpose: the
-first k cycles' stages are the same whatever the count, so a stopped run may be continued with
-more cycles (an elbow that needs more than was planned). A gait plan's cycles are its schedules,
-which are in the key. Another option or softcrawl version refuses to resume in one line naming it.
+the pipe, the mesh, the silicone, the design and whether the body has inertia. The cycle count is
+left out on purpose: the first k cycles' stages are the same whatever the count, so a stopped run
+may be continued with more cycles (an elbow that needs more than was planned). A gait plan's
+cycles are its schedules, which are in the key. Another option or softcrawl version refuses to
+resume in one line naming it.
 
 A run whose files are written and that ended (all cycles, or a diverged stage) clears its
 folder; a run stopped at its time limit keeps it, so that ``softcrawl crawl --body fe --resume``
@@ -49,7 +51,9 @@ FOLDER = "checkpoints"
 TOTALS = tuple(f.name for f in dataclasses.fields(Totals))
 
 
-def body_options(setup, schedules, *, pipe, bend_radius, mesh, silicone, design) -> dict[str, Any]:
+def body_options(
+    setup, schedules, *, pipe, bend_radius, mesh, silicone, design, inertia=False
+) -> dict[str, Any]:
     """The options that define an FE-body crawl (its checkpoints' key; module docstring)."""
     return {k: v for k, v in dataclasses.asdict(setup).items() if k != "cycles"} | {
         "schedules": [
@@ -65,6 +69,7 @@ def body_options(setup, schedules, *, pipe, bend_radius, mesh, silicone, design)
         "mesh": mesh if isinstance(mesh, str) else dataclasses.asdict(mesh),
         "silicone": silicone,
         "design": None if design is None else dataclasses.asdict(design),
+        "inertia": bool(inertia),
     }
 
 
@@ -139,6 +144,8 @@ class BodyStore:
             if cursor.prev_x is not None:
                 arrays["prev_x"] = cursor.prev_x
             meta |= {k: getattr(cursor, k) for k in ("stage", "t", "h", "prev_t", "f0", "f")}
+            if bm.inertia is not None:  # its committed displacements are the cursor's x
+                arrays["velocity"] = bm.inertia.velocity()
             meta["log"] = {
                 "start": list(log.start),
                 "strides": log.strides,
@@ -202,6 +209,11 @@ class BodyStore:
             c._solved = None
         for name, load in meta["holds"].items():
             bm.holds[name].set_load(load["stiffness"], load["preload"], load["rest"])
+        if bm.inertia is not None and resumed.cursor is not None:
+            velocity = resumed.arrays.get("velocity")
+            if velocity is None:
+                raise CheckpointError("resume", f"the checkpoint in {self.folder} has no velocities")
+            bm.inertia.set_history(resumed.cursor.x[bm.inertia.dofs], velocity)
 
     def clear(self) -> None:
         """The run ended and its files are written: its checkpoints go."""

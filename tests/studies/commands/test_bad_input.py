@@ -63,6 +63,7 @@ CASES: list[tuple[str, str]] = [
     ("crawl --body fe --material unobtainium --out OUT", "material"),
     ("crawl --gait-plan FILE --out OUT", "gait-plan"),  # the reduced model has no plan
     ("crawl --time-limit 10 --out OUT", "time-limit"),  # the reduced model has no budget
+    ("crawl --inertia --out OUT", "inertia"),  # the reduced model is quasi-static
     ("crawl --body fe --time-limit 0 --out OUT", "time-limit"),
     ("crawl --body fe --gait-plan MISSING --out OUT", "gait-plan"),
     ("crawl --body fe --gait-plan TEXT --out OUT", "gait-plan"),

@@ -37,6 +37,9 @@ def test_the_options_reach_the_runner(recorded, tmp_path):
     assert setup.slip_viscosity == 0.0  # Coulomb unless asked (docs/decisions/088-viscous-slip.md)
     assert main(argv[:-1] + [str(tmp_path / "d"), "--time-limit", "1.5", "--slip-viscosity", "7.5e-4"]) == 0
     assert recorded[-1][3]["max_wall_s"] == 90.0 and recorded[-1][0].slip_viscosity == 7.5e-4
+    assert kw["inertia"] is False  # quasi-static unless asked (docs/decisions/089-inertia.md)
+    assert main(argv[:-1] + [str(tmp_path / "e"), "--inertia"]) == 0 and recorded[-1][3]["inertia"] is True
+    assert recorded[-1][3]["store"].checkpoints.options["inertia"] is True  # in the checkpoints' key
 
 
 def test_the_default_mesh_without_quick_and_a_failed_run_exits_1(recorded, tmp_path):

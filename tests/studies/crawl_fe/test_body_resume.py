@@ -19,8 +19,12 @@ import numpy as np
 import pytest
 
 from softcrawl.fem.axial_link import AxialLink, AxialLinkTerm
+from softcrawl.fem.checkpoint import CheckpointError
 from softcrawl.fem.contact_stages import Cursor
+from softcrawl.fem.discretisation import Discretisation
+from softcrawl.fem.inertia import Inertia
 from softcrawl.fem.pipe_surfaces import ElbowPipe
+from softcrawl.fem.structured import box
 from softcrawl.geometry.design import EPSADesign, RobotDesign
 from softcrawl.studies.cli import main
 from softcrawl.studies.crawl.model import CrawlSetup
@@ -56,7 +60,7 @@ def _body():
     holds = {n: AxialLinkTerm(space, AxialLink(n, None, 0, 1e3, 0.0, name=n)) for n in ("a", "b")}
     for t in holds.values():
         t.set_load(1e-4, 0.0, float(RNG.random()))
-    return SimpleNamespace(model=SimpleNamespace(contacts=contacts), holds=holds), wall
+    return SimpleNamespace(model=SimpleNamespace(contacts=contacts), holds=holds, inertia=None), wall
 
 
 def _state(k):
@@ -111,10 +115,35 @@ def test_a_state_reads_back_bit_for_bit(tmp_path):
 def test_the_cycle_count_is_not_in_the_key_and_everything_else_is():
     assert _options() == body_options(CrawlSetup(cycles=5), (GAIT,), pipe="elbow", bend_radius=60.0,
                                       mesh="quick", silicone="s", design=None)  # fmt: skip
-    for change in ({"bend_radius": 80.0}, {"mesh": "default"}, {"design": RobotDesign(n_rings=0)}):
+    changes = ({"bend_radius": 80.0}, {"mesh": "default"}, {"design": RobotDesign(n_rings=0)})
+    for change in (*changes, {"inertia": True}):
         assert _options(**change) != _options()
     assert body_options(CrawlSetup(steps=8), (GAIT,), pipe="elbow", bend_radius=60.0, mesh="quick",
                         silicone="s", design=None) != _options()  # fmt: skip
+
+
+def test_the_inertia_velocities_read_back_and_a_state_without_them_is_refused(tmp_path):
+    """A body with inertia (`fem.inertia`): the committed velocities go with the state and come back
+    bit for bit, the committed displacements are the cursor's x; a state without them is refused."""
+    space = Discretisation(box(), "p2")
+    bm, wall = _body()
+    bm.inertia = Inertia(1e-9).build(space)
+    bm.inertia.set_history(RNG.random(bm.inertia.dofs.shape), RNG.random(bm.inertia.dofs.shape))
+    x = RNG.random(space.n_dofs)
+    cursor = Cursor(0, 0.5, 0.25, x, None, None, np.zeros(3), 0.0, np.zeros(3), 0.0, 1, 0.1, 0.1)
+    log = CycleLog(({"rear": 0.0, "front": 0.0}, 0.0), [], [], [], 0)
+    run = PipeRun(True, "inserted", (), 1, 0.0, 0.0, 1.0, 6)
+    store = BodyStore(tmp_path / FOLDER, _options(inertia=True))
+    store.save_cycle(bm, run, cursor, log, Totals())
+    fresh, _ = _body()
+    fresh.inertia = Inertia(1e-9).build(space)
+    store.restore(fresh, wall, BodyStore(tmp_path / FOLDER, _options(inertia=True)).load())
+    assert np.array_equal(fresh.inertia.v_n, bm.inertia.v_n)
+    assert np.array_equal(fresh.inertia.u_n, x[bm.inertia.dofs])
+    bm.inertia = None
+    store.save_cycle(bm, run, cursor, log, Totals())
+    with pytest.raises(CheckpointError, match="has no velocities"):
+        store.restore(fresh, wall, BodyStore(tmp_path / FOLDER, _options(inertia=True)).load())
 
 
 @pytest.fixture
