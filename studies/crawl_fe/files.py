@@ -228,8 +228,10 @@ def run_and_write(
     )
 
     def step_line(step) -> None:
-        progress(f"  {step.stage} s={step.s:.3g}: {sum(step.iterations)} Newton iterations, "
-                 f"{time.perf_counter() - t0:.0f} s")  # fmt: skip
+        # with inertia, the kinetic energy shows a snap (docs/decisions/089-inertia.md)
+        moving = "" if bm.inertia is None else f", kinetic energy {bm.inertia.kinetic_energy():.3g} mJ"
+        progress(f"  {step.stage} s={step.s:.4g}: {sum(step.iterations)} Newton iterations, "
+                 f"{time.perf_counter() - t0:.0f} s{moving}")  # fmt: skip
 
     if resumed is not None:
         store.restore(bm, wall, resumed)
