@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from softcrawl.fem.errors import SolverInputError
+from softcrawl.fem.rigid_surfaces import positive
 
 
 def element_densities(mesh, densities) -> np.ndarray:
@@ -51,25 +52,14 @@ def element_densities(mesh, densities) -> np.ndarray:
     no named subdomain has none (0)."""
     n = mesh.t.shape[1]
     if not isinstance(densities, Mapping):
-        rho = _density(densities, "inertia.densities")
-        return np.full(n, rho)
+        return np.full(n, positive(densities, "inertia.densities"))
     out = np.zeros(n)
     subdomains = mesh.subdomains or {}
     for name, value in densities.items():
         if name not in subdomains:
             raise SolverInputError("inertia.densities", f"no subdomain {name!r} in the mesh")
-        out[np.asarray(subdomains[name])] = _density(value, f"inertia.densities[{name!r}]")
+        out[np.asarray(subdomains[name])] = positive(value, f"inertia.densities[{name!r}]")
     return out
-
-
-def _density(value, parameter: str) -> float:
-    try:
-        rho = float(value)
-    except (TypeError, ValueError):
-        rho = float("nan")
-    if not (np.isfinite(rho) and rho > 0):
-        raise SolverInputError(parameter, f"a density > 0 in t/mm^3, not {value!r}")
-    return rho
 
 
 def lumped_masses(space, densities) -> np.ndarray:
@@ -116,9 +106,7 @@ class InertiaTerm:
 
     def set_time_step(self, dt: float | None) -> None:
         """The duration (s) of the sub-step about to be solved (None: quasi-static)."""
-        if dt is not None and not (np.isfinite(dt) and dt > 0):
-            raise SolverInputError("inertia.time_step", f"a duration > 0 in s or None, not {dt!r}")
-        self.time_step = dt
+        self.time_step = None if dt is None else positive(dt, "inertia.time_step")
 
     def rest(self, x: np.ndarray) -> None:
         """The body at rest at state x (committed: u_n = u(x), v_n = 0)."""
