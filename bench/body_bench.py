@@ -28,11 +28,11 @@ import numpy as np
 
 from softcrawl.fem.newton import NewtonSolver
 from softcrawl.geometry.body_mesh import rotation_defect
-from softcrawl.studies.crawl.model import CRAWL_NEWTON, CrawlSetup
+from softcrawl.studies.crawl.model import CrawlSetup
 from softcrawl.studies.crawl.schedule import preset
 from softcrawl.studies.crawl_fe.cycle import crawl_cycles
 from softcrawl.studies.crawl_fe.mass import mass_summary
-from softcrawl.studies.crawl_fe.model import build_body
+from softcrawl.studies.crawl_fe.model import BODY_NEWTON, build_body
 from softcrawl.studies.crawl_fe.pipe import into_pipe
 from softcrawl.units import kpa_to_mpa
 
@@ -71,7 +71,7 @@ def main(argv=None) -> int:
     t = time.perf_counter()
     _, K = m.residual_and_tangent(x, P, 0.0)
     print(f"one tangent: {time.perf_counter() - t:.2f} s, {K.nnz} nonzeros", flush=True)
-    solver = NewtonSolver(m, CRAWL_NEWTON)
+    solver = NewtonSolver(m, BODY_NEWTON)
     t = time.perf_counter()
     _, rec = solver.load_step(x, P, 0.0)
     st = solver.stats(t)

@@ -45,14 +45,8 @@ K a = -R, K b = q_d (q_d = sum_i d_i q_i = -dR/dlambda), dlambda = (V* - V_k - q
 dx = a + dlambda b. It stays regular at the pressure maximum where K alone is singular. With one
 chamber, d = 1 and lambda is the pressure itself.
 
-Stalled residuals. A residual that stops shrinking (`stall_iter`) is a divergence, unless
-`stall_tol` is set and the relative residual is below it and has not halved in three
-iterations: then the state is accepted as converged (its `NewtonRecord` keeps the residuals, so
-the floor shows). This is for non-smooth problems: a penalty contact whose points sit on the kink
-of the normal law (gap = 0) or on the Coulomb cone flip between the two branches from one
-iteration to the next, and the residual settles at a floor set by the few flipping points rather
-than by the physics (docs/decisions/056-newton-stall.md). `tol` stays the target; `stall_tol` only bounds
-what a stall may leave.
+Stalled residuals and iterations that make no progress: `fem.newton_progress` (`stall_iter`,
+`stall_tol`, `progress_iter`).
 
 A diverged iteration raises `Diverged` (stalling residual, a non-finite residual, an inverted
 element, no convergence in `max_iter`, a line search without decrease), each with a message that
@@ -69,6 +63,7 @@ import numpy as np
 from softcrawl.fem.krylov import dot, norm
 from softcrawl.fem.linsolve import StepSolver
 from softcrawl.fem.model import InvertedElement, SolidModel
+from softcrawl.fem.newton_progress import accepts_stall, divergence
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,8 +74,11 @@ class NewtonOptions:
     max_iter: int = 20  # Newton iterations of one load or volume step
     stall_iter: int = 8  # after this many iterations the residual must keep halving
     #: A residual that stalls (the `stall_iter` test) below this relative level is accepted as
-    #: converged (None: never; module docstring, "Stalled residuals").
+    #: converged (None: never; `fem.newton_progress`).
     stall_tol: float | None = None
+    #: after this many iterations, three in a row without a new lowest residual are a divergence
+    #: (None: never; `fem.newton_progress`)
+    progress_iter: int | None = None
     max_backtracks: int = 6  # line-search trials after a rejected full step
     max_cutbacks: int = 4  # consecutive halvings of a load (or volume) step before giving up
     min_step_fraction: float = 1e-3  # smallest sub-step, as a fraction of a load segment
@@ -215,7 +213,7 @@ class NewtonSolver:
                 return x, NewtonRecord(tuple(history), True)
             if it == self.opt.max_iter:
                 break
-            if self._accepts_stall(history, p_ok):
+            if accepts_stall(history, self.opt.stall_tol, p_ok):
                 return x, NewtonRecord(tuple(history), True)
             self._check_progress(history)
             R, K = self._tangent(x, P, factor)
@@ -266,23 +264,11 @@ class NewtonSolver:
         p_ok = (not m.mixed) or norm(Rf[~self._u_rows]) <= self.opt.tol * self._volume
         return merit, p_ok, scale
 
-    @staticmethod
-    def _stalled(history, k: int) -> bool:
-        """After k iterations, the best of the last three merits is not below half the best
-        before them (the residual has stopped shrinking)."""
-        return len(history) > k and min(history[-3:]) > 0.5 * min(history[:-3])
-
-    def _accepts_stall(self, history, p_ok: bool) -> bool:
-        """The current state is below `stall_tol` and has stopped shrinking for three iterations
-        (not `stall_iter`: below stall_tol a converging Newton iteration gains orders of magnitude
-        per step, so three without halving is a floor, and each further one costs a solve)."""
-        tol = self.opt.stall_tol
-        return tol is not None and p_ok and history[-1] <= tol and self._stalled(history, 3)
-
     def _check_progress(self, history):
-        """Diverged when the residual has stalled (`_stalled`) after `stall_iter` iterations."""
-        if self._stalled(history, self.opt.stall_iter):
-            raise Diverged(f"residual stalls at {history[-1]:.2e} after {len(history) - 1} iterations")
+        """Diverged when the residual has stalled or makes no progress (`fem.newton_progress`)."""
+        why = divergence(history, self.opt.stall_iter, self.opt.progress_iter)
+        if why is not None:
+            raise Diverged(why)
 
     def _trial(self, x, dx, alpha, P, f):
         """(state, merit, residual) at x + alpha dx; merit inf and residual None if inverted."""

@@ -32,9 +32,9 @@ import numpy as np
 from softcrawl.fem.contact_stages import Cursor, Stage, run_stages
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.rigid_surfaces import CylinderWall
-from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
+from softcrawl.studies.crawl.model import MAX_CUTBACKS
 from softcrawl.studies.crawl.schedule import Schedule
-from softcrawl.studies.crawl_fe.model import FEET, BodyModel
+from softcrawl.studies.crawl_fe.model import BODY_NEWTON, FEET, BodyModel
 from softcrawl.studies.crawl_fe.pipe import record
 from softcrawl.studies.foot.model import AUGMENT
 from softcrawl.units import kpa_to_mpa
@@ -234,7 +234,7 @@ def crawl_cycles(
         stages,
         x0=x0,
         factor0=factor,
-        options=CRAWL_NEWTON,
+        options=BODY_NEWTON,
         max_cutbacks=MAX_CUTBACKS,
         max_wall_s=max_wall_s,
         on_step=count,

@@ -51,7 +51,7 @@ from softcrawl.geometry.design import RobotDesign
 from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.crawl.contacts import feet_contacts
-from softcrawl.studies.crawl.model import GROUND_HOLD, GROUND_SOFT, CrawlSetup
+from softcrawl.studies.crawl.model import CRAWL_NEWTON, GROUND_HOLD, GROUND_SOFT, CrawlSetup
 from softcrawl.studies.epsa.model import solid_material
 from softcrawl.studies.robot_fe.model import (
     DEFAULT_MATERIAL,
@@ -62,6 +62,11 @@ from softcrawl.studies.robot_fe.model import (
 )
 
 FEET = ("rear", "front")
+#: The body's Newton settings: the reduced crawl's, and an attempt that makes no new lowest
+#: residual in three iterations after its fourth is given up (`fem.newton_progress`). At the feet's
+#: slip onset the first sub-step attempts fail that way, and waited 12 iterations for the stall
+#: test; measured in docs/decisions/090-newton-progress.md.
+BODY_NEWTON = replace(CRAWL_NEWTON, progress_iter=4)
 HOLD_STIFF = GROUND_HOLD  # N/mm, during the frictionless insertion
 HOLD_SOFT = GROUND_SOFT  # N/mm, once friction is on
 #: (name, tag_b, tag_a or None for the ground, component) of the six holds (module docstring).

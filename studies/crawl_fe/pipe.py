@@ -35,8 +35,8 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.fem.rigid_surfaces import CylinderWall
-from softcrawl.studies.crawl.model import CRAWL_NEWTON, MAX_CUTBACKS
-from softcrawl.studies.crawl_fe.model import FEET, HOLD_SOFT, BodyModel
+from softcrawl.studies.crawl.model import MAX_CUTBACKS
+from softcrawl.studies.crawl_fe.model import BODY_NEWTON, FEET, HOLD_SOFT, BodyModel
 from softcrawl.studies.foot.model import AUGMENT
 
 #: The pipes of the FE-body crawl: name -> gravity in units of g (None: none; module docstring).
@@ -158,7 +158,7 @@ def into_pipe(
             model,
             stages,
             x0=x,
-            options=CRAWL_NEWTON,
+            options=BODY_NEWTON,
             max_cutbacks=MAX_CUTBACKS,
             max_wall_s=budget,
             on_step=on_step,
