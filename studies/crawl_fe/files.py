@@ -42,7 +42,7 @@ from softcrawl.studies.crawl.schedule import Schedule
 from softcrawl.studies.crawl_fe.cycle import FootProbe, crawl_cycles
 from softcrawl.studies.crawl_fe.mass import TONNE_TO_G, mass_summary
 from softcrawl.studies.crawl_fe.model import FEET, build_body
-from softcrawl.studies.crawl_fe.pipe import PIPES, into_pipe, pipe_wall
+from softcrawl.studies.crawl_fe.pipe import PIPES, PLAN_TURN_DEG, into_pipe, pipe_wall
 from softcrawl.studies.epsa.model import solid_material
 from softcrawl.studies.plots.style import pyplot, save
 from softcrawl.studies.sweeps.tables import write_csv
@@ -222,7 +222,8 @@ def run_and_write(
     kwargs = {} if silicone is None else {"silicone": silicone}
     bm = build_body(setup, mesh, gravity=gravity, design=design, inertia=inertia, **kwargs)
     front_tip = float(np.asarray(bm.model.nodes)[2].max())
-    wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius)
+    turn_deg = PLAN_TURN_DEG if plan else 0.0  # a plan's bends are in ePSA 1's plane (`PLAN_TURN_DEG`)
+    wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius, turn_deg=turn_deg)
     progress(
         f"body: {bm.n_dofs} DOFs on the {summary_mesh(mesh)} mesh; built in {time.perf_counter() - t0:.0f} s"
     )
@@ -292,6 +293,7 @@ def run_and_write(
             "bend_radius_mm": bend_radius,
             "gravity_g": list(gravity) if gravity else None,
             "bend_start_mm": getattr(wall, "entry", None),
+            "bend_turn_deg": turn_deg if pipe == "elbow" else None,  # azimuth from +x
         },  # fmt: skip
         "mesh": summary_mesh(mesh),
         "schedule": {"name": first.name, "source": first.source, "cycle_s": T, "gait_plan": plan},

@@ -26,6 +26,7 @@ body's weight on, the wall's axial friction must carry it, the holds ~0.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -35,6 +36,7 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.geometry.design_base import ACTUATOR_ANGLES_DEG
 from softcrawl.studies.crawl.model import MAX_CUTBACKS
 from softcrawl.studies.crawl_fe.model import BODY_NEWTON, FEET, HOLD_SOFT, BodyModel
 from softcrawl.studies.foot.model import AUGMENT
@@ -50,19 +52,34 @@ PIPES = {
 INSERT_CLEARANCE = 0.5
 #: mm between the front skirt's tip (undeformed) and the start of the elbow's bend.
 ELBOW_AHEAD = 5.0
+#: Azimuth (deg from +x about the pipe's axis) the elbow of a replayed gait plan turns towards:
+#: ePSA 1's. The analytic planner rolls the robot so that ePSA 1 faces the inside of the bend
+#: (`softcrawl.analytic.cycle.elbow_roll`), and its pressure triples bend the body in that plane; the
+#: FE body's ePSA 1 is at 90 deg (`geometry.design_base.ACTUATOR_ANGLES_DEG`). The inflate runs'
+#: elbows turn towards +x (0 deg), between ePSAs 3 and 1.
+PLAN_TURN_DEG = ACTUATOR_ANGLES_DEG[0]
 
 
-def pipe_wall(kind: str, radius: float, *, front_tip: float = 0.0, bend_radius: float | None = None):
+def pipe_wall(
+    kind: str,
+    radius: float,
+    *,
+    front_tip: float = 0.0,
+    bend_radius: float | None = None,
+    turn_deg: float = 0.0,
+):
     """The rigid wall of pipe `kind` (`PIPES`) of inner `radius`; for the elbow, its bend of
     centreline radius `bend_radius` starts ELBOW_AHEAD past `front_tip` (the front skirt's largest
-    z, mm)."""
+    z, mm) and turns towards the azimuth `turn_deg` (deg from +x; `PLAN_TURN_DEG` for a gait plan)."""
     if kind not in PIPES:
         raise SolverInputError("pipe", f"one of {', '.join(PIPES)}, not {kind!r}")
     if kind != "elbow":
         return CylinderWall(radius)
     if bend_radius is None:
         raise SolverInputError("bend_radius", "an elbow needs its bend radius (mm)")
-    return ElbowPipe(radius, bend_radius, entry=max(front_tip + ELBOW_AHEAD, 0.0))
+    a = math.radians(turn_deg)
+    turn = (1.0, 0.0, 0.0) if turn_deg == 0 else (math.cos(a), math.sin(a), 0.0)
+    return ElbowPipe(radius, bend_radius, entry=max(front_tip + ELBOW_AHEAD, 0.0), turn=turn)
 
 
 @dataclass(frozen=True)

@@ -6,15 +6,19 @@ it (down); the elbow's bend starts ELBOW_AHEAD past the front skirt's tip, so th
 body sits on its entry leg, and the runner refuses an unknown pipe naming the parameter.
 """
 
+import numpy as np
 import pytest
 
+from softcrawl.analytic.cycle import elbow_roll
+from softcrawl.analytic.pipe import Pipe
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.geometry.design import RobotDesign
 from softcrawl.paper import VERTICAL_MM_S, table2
 from softcrawl.studies.commands.crawl import PIPE_KINDS
 from softcrawl.studies.crawl_fe.files import paper_speed
-from softcrawl.studies.crawl_fe.pipe import ELBOW_AHEAD, PIPES, pipe_wall
+from softcrawl.studies.crawl_fe.pipe import ELBOW_AHEAD, PIPES, PLAN_TURN_DEG, pipe_wall
 
 
 def test_the_command_lines_pipes_are_the_runners():
@@ -34,6 +38,26 @@ def test_the_elbows_bend_starts_ahead_of_the_front_skirt():
     assert (wall.radius, wall.bend_radius, wall.entry) == (35.0, 60.0, 150.0 + ELBOW_AHEAD)
     piece, arc, _, _ = wall.locate([[0.0, 0.0, 150.0], [0.0, 0.0, 156.0]])
     assert list(piece) == [0, 1] and arc[0] == pytest.approx(150.0)  # the tip on the entry leg
+
+
+def test_a_replayed_plans_elbow_turns_towards_epsa_1_as_the_planner_rolls_the_robot():
+    """The planner turns its elbow towards world +x with ePSA 1 (local +y) rolled to face it; the
+    FE body is not rolled, so a plan's FE elbow turns towards the FE body's ePSA 1."""
+    pipe = Pipe(kind="elbow", diameter=70.0, bend_radius=80.0)
+    epsa1 = np.array([0.0, 1.0, 0.0])  # psi_1 = 90 deg in the planner's robot frame
+    assert elbow_roll(pipe) @ epsa1 == pytest.approx([1.0, 0.0, 0.0])
+    assert pipe.tangent([pipe.bend_end])[0] == pytest.approx(
+        [1.0, 0.0, 0.0], abs=1e-12
+    )  # +x: its bend's inside
+    cx, cy = RobotDesign().actuator_centres[0]
+    wall = pipe_wall("elbow", 35.0, front_tip=150.0, bend_radius=80.0, turn_deg=PLAN_TURN_DEG)
+    end, _ = wall.centreline([np.pi / 2])  # the exit leg starts on the side the bend turns to
+    assert end[0, :2] / np.hypot(*end[0, :2]) == pytest.approx(
+        np.array([cx, cy]) / np.hypot(cx, cy), abs=1e-12
+    )
+    assert pipe_wall("elbow", 35.0, bend_radius=80.0).centreline([np.pi / 2])[0][0, :2] == pytest.approx(
+        [80.0, 0]
+    )
 
 
 @pytest.mark.parametrize(
