@@ -77,8 +77,8 @@ def pipe_wall(
         return CylinderWall(radius)
     if bend_radius is None:
         raise SolverInputError("bend_radius", "an elbow needs its bend radius (mm)")
-    a = math.radians(turn_deg)
-    turn = (1.0, 0.0, 0.0) if turn_deg == 0 else (math.cos(a), math.sin(a), 0.0)
+    a = math.radians(turn_deg)  # cos 0 = 1 and sin 0 = 0 exactly: the inflate runs' +x
+    turn = (math.cos(a), math.sin(a), 0.0)
     return ElbowPipe(radius, bend_radius, entry=max(front_tip + ELBOW_AHEAD, 0.0), turn=turn)
 
 

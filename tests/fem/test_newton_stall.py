@@ -1,6 +1,6 @@
-"""A residual that stalls below `NewtonOptions.stall_tol` is accepted as converged (fem.newton,
-"Stalled residuals"), and only then; one that makes no new lowest residual in three iterations
-after `progress_iter` is given up (`fem.newton_progress`).
+"""A residual that stalls below `NewtonOptions.stall_tol` is accepted as converged, and only then;
+one that makes no new lowest residual in three iterations after `progress_iter` is given up
+(`fem.newton_progress`: "Stalled residuals", "No new lowest residual").
 
 The stall is made with a tolerance below round-off (1e-17): the residual of the pressurised tube
 settles at its floor (~1e-15 relative) and stops shrinking. That is the same situation as a
