@@ -19,11 +19,14 @@ the centred points) gives its normal n_f: the body's bend is the angle between t
 normals, its heading the angle of the front face's normal to +z (the entry leg's axis). The
 stride of a cycle is the advance of the body along the centreline, the mean of both feet's
 advances in s over it (equal to either foot's once the cycle's gait closes: the actuators back at
-their start length); its turn the change of the heading.
+their start length); its turn the change of the heading; its time the wall-clock seconds from the
+previous cycle's last converged sub-step to its own, failed attempts included (a resumed run counts
+from the checkpoint it continued from, so work lost to a stop is not in it).
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -65,14 +68,17 @@ class BodyState:
 class CycleLog:
     """The bookkeeping of `crawl_cycles` so far (what a checkpoint stores besides the solver's state):
     the states recorded, the strides and turns of the cycles completed, where the current cycle
-    began (each foot's centreline position, the heading) and the Newton iterations of the current
-    segment's converged sub-steps."""
+    began (each foot's centreline position, the heading), the Newton iterations of the current
+    segment's converged sub-steps, the wall time of each completed cycle and the current one's so
+    far (s; None for a cycle completed before checkpoints held it)."""
 
     start: tuple[dict, float]
     states: list[BodyState] = field(default_factory=list)
     strides: list[float] = field(default_factory=list)
     turns: list[float] = field(default_factory=list)
     segment: int = 0
+    seconds: list[float | None] = field(default_factory=list)
+    clock: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -87,6 +93,7 @@ class BodyCrawl:
     solve_s: float
     wall_s: float
     factorizations: int = 0
+    cycle_s: tuple[float | None, ...] = ()  # wall time per completed cycle (module docstring)
 
 
 class FootProbe:
@@ -221,12 +228,17 @@ def crawl_cycles(
         if cycle >= 1 and row == last:
             strides.append(float(np.mean([arc[f] - log.start[0][f] for f in FEET])))
             turns.append(heading - log.start[1])
+            log.seconds.append(log.clock)
         if row == last or cycle == 0:
-            log.start = (arc, heading)  # the next cycle begins here
+            log.start, log.clock = (arc, heading), 0.0  # the next cycle begins here
         log.segment = 0
+
+    mark = [time.perf_counter()]
 
     def count(step) -> None:
         log.segment += sum(step.iterations)
+        now = time.perf_counter()
+        log.clock, mark[0] = log.clock + now - mark[0], now
         at_step(step)
 
     res = run_stages(
@@ -254,4 +266,5 @@ def crawl_cycles(
         res.solve_s,
         res.wall_s,
         res.factorizations,
+        tuple(log.seconds),
     )

@@ -9,12 +9,14 @@ OUT/states.csv     one row per state: the setup phases (insert, friction, load) 
                    centreline position (mm), the lateral drift, the body's bend and heading (deg),
                    each foot's wall normal force and axial friction (N), the holds' largest force;
 OUT/cycles.csv     one row per cycle: the advance along the centreline (stride, mm), speed
-                   = stride / cycle time (mm/s), the turn (deg);
+                   = stride / cycle time (mm/s), the turn (deg), the wall time it took (s;
+                   `cycle.CycleLog`, blank where a resumed checkpoint did not hold it);
 OUT/summary.json   the setup (pipe, gravity, mesh, friction and its source, the silicone and
                    its modulus), the body's mass per part against the prototype's 70.2 g, the
                    strides and speeds beside the paper's (Table 2 in a straight pipe, Section
                    VII-D-2's 12.9 / 19.1 mm/s vertically) and the solver's figures (DOFs, Newton
-                   iterations, assembly and linear seconds, wall time, peak memory);
+                   iterations, assembly and linear seconds, wall time, peak memory; the wall
+                   time per cycle, `cycle_wall_s`);
 OUT/crawl.png      each foot's centreline position and the pressures against the state;
 OUT/vtu/crawl.pvd  one VTU of the body per state (`fem.vtu.write_state`, float32 unless
                    precision 64), the states in order (the setup phases at negative times);
@@ -26,6 +28,7 @@ converged one and summary.json says where it stopped (`converged`: false, the so
 
 from __future__ import annotations
 
+import math
 import resource
 import time
 from pathlib import Path
@@ -34,7 +37,6 @@ import meshio
 import numpy as np
 
 from softcrawl.fem.vtu import write_pvd, write_state
-from softcrawl.paper import VERTICAL_MM_S, table2
 from softcrawl.provenance import write_summary
 from softcrawl.studies.crawl.files import material_source
 from softcrawl.studies.crawl.resume import Totals
@@ -43,6 +45,7 @@ from softcrawl.studies.crawl_fe.cycle import FootProbe, crawl_cycles
 from softcrawl.studies.crawl_fe.mass import TONNE_TO_G, mass_summary
 from softcrawl.studies.crawl_fe.model import FEET, build_body
 from softcrawl.studies.crawl_fe.pipe import PIPES, PLAN_TURN_DEG, into_pipe, pipe_wall
+from softcrawl.studies.crawl_fe.summary import paper_speed, summary_mesh, summary_text
 from softcrawl.studies.epsa.model import solid_material
 from softcrawl.studies.plots.style import pyplot, save
 from softcrawl.studies.sweeps.tables import write_csv
@@ -63,16 +66,6 @@ def ended(message: str, max_wall_s: float | None) -> str:
     if max_wall_s is not None and "wall-time budget" in message:
         return f"time limit of {max_wall_s:g} s reached (checked before each solve attempt): {message}"
     return message
-
-
-def paper_speed(pipe: str, diameter: float) -> tuple[float | None, str]:
-    """The paper's speed for this pipe (mm/s; None: none measured) and where it is from."""
-    if pipe == "straight":
-        return table2(diameter, "forward"), f"Table 2, forward, {diameter:g} mm"
-    if pipe.startswith("vertical"):
-        way = pipe.split("-")[1]
-        return VERTICAL_MM_S[way], f"Section VII-D-2, vertical {way} (pipe diameter not stated)"
-    return None, "the paper gives no bend radius for its L-shaped pipe (Fig. 24)"
 
 
 def state_rows(run, crawl, probe) -> list[dict]:
@@ -270,13 +263,14 @@ def run_and_write(
     paper, paper_source = paper_speed(pipe, setup.pipe_diameter)
     strides = crawl.strides if crawl is not None else ()
     turns = crawl.turns if crawl is not None else ()
+    # each cycle's wall time (`cycle.CycleLog`); None where a resumed checkpoint did not hold it
+    cycle_s = [None if t is None or not math.isfinite(t) else t for t in crawl.cycle_s] if crawl else []
     cycle_rows = [
-        {"cycle": k + 1, "stride_mm": s, "speed_mm_s": s / T, "turn_deg": a}
-        for k, (s, a) in enumerate(zip(strides, turns))
+        {"cycle": k + 1, "stride_mm": s, "speed_mm_s": s / T, "turn_deg": a, "wall_s": "" if t is None else t}
+        for k, (s, a, t) in enumerate(zip(strides, turns, cycle_s))
     ]
-    write_csv(
-        cycle_rows or [{"cycle": "", "stride_mm": "", "speed_mm_s": "", "turn_deg": ""}], out / "cycles.csv"
-    )
+    empty = {"cycle": "", "stride_mm": "", "speed_mm_s": "", "turn_deg": "", "wall_s": ""}
+    write_csv(cycle_rows or [empty], out / "cycles.csv")
     mass = mass_summary(bm.design, bm.model.mesh, bm.materials)
     silicone_law = solid_material(bm.materials["epsa"])[1]
     dynamics = None
@@ -314,6 +308,7 @@ def run_and_write(
         "strides_mm": list(strides),
         "speeds_mm_s": [s / T for s in strides],
         "turns_deg": list(turns),
+        "cycle_wall_s": cycle_s,
         "paper_speed_mm_s": paper,
         "paper_source": paper_source,
         "solver": {
@@ -352,32 +347,3 @@ def run_and_write(
 def stopped(message: str) -> bool:
     """The run stopped at its time limit (`ended`): its checkpoints are kept to resume it."""
     return message.startswith("time limit of")
-
-
-def summary_mesh(mesh) -> str:
-    return mesh if isinstance(mesh, str) else "custom (BodyMeshSettings)"
-
-
-def summary_text(s: dict) -> str:
-    pipe = s["pipe"]
-    where = f"{pipe['kind']} {pipe['diameter_mm']:g} mm pipe"
-    if pipe["bend_radius_mm"]:
-        where += f", bend radius {pipe['bend_radius_mm']:g} mm"
-    lines = [f"FE body in the {where} ({s['mesh']} mesh, silicone {s['materials']['epsa']}): {s['message']}"]
-    for k, (v, a) in enumerate(zip(s["strides_mm"], s["turns_deg"]), start=1):
-        lines.append(
-            f"  cycle {k}: stride {v:.3f} mm, speed {v / s['schedule']['cycle_s']:.2f} mm/s, "
-            f"turn {a:+.2f} deg"
-        )
-    if s["paper_speed_mm_s"] is not None:
-        lines.append(f"  paper: {s['paper_speed_mm_s']:g} mm/s ({s['paper_source']})")
-    m = s["mass"]
-    lines.append(f"  mass {m['total_g']:.1f} g (prototype {m['prototype_g']:g} g)")
-    if s.get("inertia"):
-        lines.append(f"  inertia: {s['inertia']['scheme']}, {s['inertia']['mass_g']:.1f} g")
-    v = s["solver"]
-    lines.append(f"  {v['dofs']} DOFs, {v['newton_iterations']} Newton iterations, {v['factorizations']} "
-                 f"factorisations, {v['wall_s']:.0f} s, peak {v['peak_rss_gb']:.2f} GB")  # fmt: skip
-    lines.append(f"  wall time: linear solves {v['linear_s'] / v['wall_s']:.0%}, the contact terms' assembly "
-                 f"{v['contact_share']:.0%} (this process's)")  # fmt: skip
-    return "\n".join(lines)

@@ -23,6 +23,13 @@ def _numbers(values, spec: str = ".2f") -> str:
     return ", ".join(format(v, spec) for v in values) if values else "none"
 
 
+def _seconds(values) -> str:
+    """Each cycle's wall time; "not recorded" for runs (or cycles) before it was kept."""
+    if not values:
+        return "not recorded"
+    return ", ".join("not recorded" if v is None else f"{v:.0f}" for v in values)
+
+
 def run_row(name: str, s: dict) -> dict:
     pipe = s["pipe"]
     where = pipe["kind"] + (f", R {pipe['bend_radius_mm']:g} mm" if pipe["bend_radius_mm"] else "")
@@ -42,6 +49,8 @@ def run_row(name: str, s: dict) -> dict:
         "speeds (mm/s)": _numbers(s["speeds_mm_s"]),
         "paper (mm/s)": f"none: {s['paper_source']}" if paper is None else f"{paper:g} ({s['paper_source']})",
         "turns (deg)": _numbers(s["turns_deg"], "+.2f"),
+        # runs before each cycle's time was kept (docs/decisions/092-cycle-time.md) have none
+        "wall per cycle (s)": _seconds(s.get("cycle_wall_s")),
         "mass (g; prototype 70.2)": f"{s['mass']['total_g']:.1f}",
         "Newton iterations": v["newton_iterations"],
         "factorisations": v.get("factorizations", "not recorded"),  # runs before they were counted

@@ -33,6 +33,7 @@ with the same options (and a new `--time-limit`) continues it.
 from __future__ import annotations
 
 import dataclasses
+import math
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -151,6 +152,8 @@ class BodyStore:
                 "strides": log.strides,
                 "turns": log.turns,
                 "segment": log.segment,
+                "seconds": log.seconds,
+                "clock": log.clock,
                 "states": [{f.name: getattr(st, f.name) for f in dataclasses.fields(st) if f.name != "x"}
                            for st in log.states],
             }  # fmt: skip
@@ -186,8 +189,13 @@ class BodyStore:
             )  # fmt: skip
             saved = meta["log"]
             states = [_body_state(s, arrays[f"state_x_{k}"]) for k, s in enumerate(saved["states"])]
+            # a state written before the cycles' times were kept: those cycles' times are unknown
+            seconds = [None if v is None else float(v)  # NaN is stored as "nan" (`fem.checkpoint`)
+                       for v in saved.get("seconds", [None] * len(saved["strides"]))]  # fmt: skip
+            clock = float(saved.get("clock", math.nan))  # NaN: this cycle's time is unknown too
             log = CycleLog((saved["start"][0], float(saved["start"][1])), states, list(saved["strides"]),
-                           list(saved["turns"]), int(saved["segment"]))  # fmt: skip
+                           list(saved["turns"]), int(saved["segment"]), seconds,
+                           clock)  # fmt: skip
             return Resumed(run, cursor, log, crawl, meta, arrays)
         except (KeyError, TypeError, ValueError, IndexError) as exc:
             raise CheckpointError(

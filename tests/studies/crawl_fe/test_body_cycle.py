@@ -146,6 +146,26 @@ def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):
     assert [s.cycle for s in out.states] == [0, 1]
 
 
+def test_each_cycle_takes_the_wall_time_from_the_last_cycles_end_to_its_own(space, monkeypatch):
+    """On a clock that moves 10 s between readings (read at the start and after each converged
+    sub-step, two per segment): 40 s for each two-segment cycle; the ramp to a first row is in no
+    cycle's time; a resumed log carries its cycle's time so far into the cycle it completes."""
+    bm, calls = _scripted_body(space, monkeypatch)
+    ticks = iter(range(0, 10_000, 10))
+    monkeypatch.setattr(cycle, "time", SimpleNamespace(perf_counter=lambda: float(next(ticks))))
+    gait = Schedule("test", np.array([0.0, 1.0, 2.0]), np.array([[0.0] * 3, [100.0] * 3, [0.0] * 3]), "test")
+    out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=2)
+    assert out.cycle_s == (40.0, 40.0)
+    calls.clear()
+    held = Schedule("held", np.array([0.0, 1.0]), np.array([[50.0] * 3, [100.0] * 3]), "test")
+    assert cycle.crawl_cycles(bm, np.zeros(space.n_dofs), held, cycles=1).cycle_s == (20.0,)
+    calls.clear()
+    log = cycle.CycleLog(start=({"rear": 0.0, "front": 0.0}, 0.0), strides=[0.5], turns=[0.0], seconds=[None],
+                         clock=5.0)  # fmt: skip
+    out = cycle.crawl_cycles(bm, np.zeros(space.n_dofs), gait, cycles=1, log=log)
+    assert out.cycle_s == (None, 45.0)  # a cycle done before times were kept stays unknown
+
+
 @pytest.mark.parametrize("cycles", [0, -1, 1.5])
 def test_a_count_of_cycles_below_one_names_the_parameter(space, cycles):
     gait = Schedule("test", np.array([0.0, 1.0]), np.array([[0.0] * 3, [100.0] * 3]), "test")

@@ -17,8 +17,8 @@ from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.paper import VERTICAL_MM_S, table2
 from softcrawl.studies.commands.crawl import PIPE_KINDS
-from softcrawl.studies.crawl_fe.files import paper_speed
 from softcrawl.studies.crawl_fe.pipe import ELBOW_AHEAD, PIPES, PLAN_TURN_DEG, pipe_wall
+from softcrawl.studies.crawl_fe.summary import paper_speed
 
 
 def test_the_command_lines_pipes_are_the_runners():

@@ -54,3 +54,12 @@ def test_a_run_is_one_row_with_its_own_figures(tmp_path):
     viscous = _summary(friction={"mu_smooth": 0.3, "mu_grooved": 0.3, "slip_viscosity_mpa_s_mm": 7.5e-4})
     (run / "summary.json").write_text(json.dumps(viscous))
     assert "<td>0.00075</td>" in crawl_fe(tmp_path)
+
+
+def test_each_cycles_wall_time_is_shown_where_the_run_kept_it(tmp_path):
+    run = tmp_path / FOLDER / "elbow-70-R60"
+    run.mkdir(parents=True)
+    (run / "summary.json").write_text(json.dumps(_summary(cycle_wall_s=[408.4, None])))
+    assert "<td>408, not recorded</td>" in crawl_fe(tmp_path)  # None: a resumed pre-092 checkpoint
+    (run / "summary.json").write_text(json.dumps(_summary()))  # a run before the times were kept
+    assert "<td>not recorded</td>" in crawl_fe(tmp_path)

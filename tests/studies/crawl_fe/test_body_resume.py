@@ -85,13 +85,15 @@ def test_a_state_reads_back_bit_for_bit(tmp_path):
     cursor = Cursor(
         3, 0.375, 0.125, RNG.random(6), 0.25, RNG.random(6), np.zeros(3), 0.0, P, 1.0, 12, 0.5, 0.7
     )
-    log = CycleLog(({"rear": 1 / 3, "front": 2 / 3}, 0.1), [_state(1), _state(2)], [26.3071978], [1e-7], 9)
+    log = CycleLog(({"rear": 1 / 3, "front": 2 / 3}, 0.1), [_state(1), _state(2)], [26.3071978], [1e-7], 9,
+                   [408.25], 12.5)  # fmt: skip
     store = BodyStore(tmp_path / FOLDER, _options())
     store.save_inserted(bm, run)
     store.save_cycle(bm, run, cursor, log, Totals(20, 1.0, 2.0, 30.0))
     got = BodyStore(tmp_path / FOLDER, _options()).load()
     assert got.crawl == Totals(20, 1.0, 2.0, 30.0) and got.log.segment == 9
     assert got.log.start == log.start and got.log.strides == log.strides and got.log.turns == log.turns
+    assert (got.log.seconds, got.log.clock) == ([408.25], 12.5)
     for a, b in zip(got.log.states, log.states):
         assert np.array_equal(a.x, b.x) and {**vars(a), "x": 0} == {**vars(b), "x": 0}
     for name in ("stage", "t", "h", "prev_t", "f0", "f"):
@@ -110,6 +112,29 @@ def test_a_state_reads_back_bit_for_bit(tmp_path):
     for name, t in bm.holds.items():
         assert (fresh.holds[name].stiffness, fresh.holds[name].rest) == (t.stiffness, t.rest)
     assert "1 cycle(s) done, stage 3 at s = 0.375" in got.describe()
+
+
+def test_a_state_from_before_the_cycles_times_were_kept_reads_back_with_them_unknown(tmp_path):
+    """A checkpoint of a run that began before record 092 has no cycle times: its completed cycles'
+    times read back as None and the current cycle's as NaN, so no time is reported for them."""
+    bm, _ = _body()
+    run = PipeRun(True, "inserted", (), 58, 1.5, 2.5, 100.0, 6)
+    cursor = Cursor(3, 0.375, 0.125, RNG.random(6), None, None, np.zeros(3), 0.0, np.zeros(3), 1.0, 0, 0, 0)
+    log = CycleLog(({"rear": 0.0, "front": 0.0}, 0.0), [], [26.3, 0.5], [0.0, 0.0], 0)
+    store = BodyStore(tmp_path / FOLDER, _options())
+    path = store.save_cycle(bm, run, cursor, log, Totals())
+    with np.load(path) as f:
+        arrays = dict(f)
+    meta = json.loads(str(arrays["_meta"]))
+    del meta["log"]["seconds"], meta["log"]["clock"]
+    arrays["_meta"] = np.array(json.dumps(meta))
+    np.savez(path, **arrays)
+    got = BodyStore(tmp_path / FOLDER, _options()).load().log
+    assert got.seconds == [None, None] and np.isnan(got.clock)
+    got.seconds.append(got.clock)  # the cycle in progress completes with its time unknown
+    BodyStore(tmp_path / FOLDER, _options()).save_cycle(bm, run, cursor, got, Totals())
+    again = BodyStore(tmp_path / FOLDER, _options()).load().log.seconds
+    assert again[:2] == [None, None] and np.isnan(again[2])  # NaN stored as "nan", read back a float
 
 
 def test_the_cycle_count_is_not_in_the_key_and_everything_else_is():
@@ -234,4 +259,6 @@ def test_a_killed_run_resumed_equals_the_uninterrupted_one(tmp_path):
     assert again["strides_mm"] == whole["strides_mm"] and again["solver"]["resumed"]
     assert read_csv(out / "states.csv") == read_csv(tmp_path / "whole" / "states.csv")
     assert again["solver"]["newton_iterations"] == whole["solver"]["newton_iterations"]
+    # each cycle's time is kept through the kill (docs/decisions/092-cycle-time.md)
+    assert len(again["cycle_wall_s"]) == len(whole["strides_mm"]) and min(again["cycle_wall_s"]) > 0
     assert not (out / FOLDER).exists()
