@@ -2,8 +2,9 @@
 
 The model: docs/decisions/051-crawl-model.md.
 
-    softcrawl crawl [--body reduced|fe] [--pipe straight|vertical-up|vertical-down|elbow]
-                    [--bend-radius MM] [--pipe-diameter 70] [--gait inflate|gait1|gait2|gait3]
+    softcrawl crawl [--body reduced|fe] [--pipe straight|vertical-up|vertical-down|elbow|bellows]
+                    [--bend-radius MM] [--bellows-depth MM] [--bellows-pitch MM] [--pipe-diameter 70]
+                    [--gait inflate|gait1|gait2|gait3]
                     [--schedule CSV]
                     [--cycles N] [--pressure KPA] [--cycle-time S] [--mu-smooth MU]
                     [--mu-grooved MU] [--slip-viscosity ETA] [--inertia] [--steps N] [--quick]
@@ -17,8 +18,11 @@ The model: docs/decisions/051-crawl-model.md.
 their axial law. --body fe: the whole robot as one FE body (three ePSAs with their winding, the
 rings, the hubs and both feet; `studies.crawl_fe`, docs/decisions/076-one-body.md), in a straight,
 vertical (under its weight, heading up or down) or elbow pipe (its bend of centreline radius
---bend-radius towards +x, starting 5 mm ahead of the front skirt); --quick is the quick body mesh,
-otherwise the default one (~2x the DOFs). It writes states.csv, cycles.csv, summary.json, crawl.png
+--bend-radius towards +x, starting 5 mm ahead of the front skirt), or a straight bellows (mean
+diameter --pipe-diameter, corrugations --bellows-depth deep, peak to trough, every --bellows-pitch;
+defaults 2 and 10 mm, an example: the paper does not describe its bellows;
+docs/decisions/093-bellows.md); --quick is the quick body mesh, otherwise the default one (~2x the
+DOFs). It writes states.csv, cycles.csv, summary.json, crawl.png
 and vtu/ (`studies.crawl_fe.files`); the reduced model's feet options (--backward, --symmetric,
 --mesher, --sectors, --layers, --mesh-size, --foot-angle), --insertion-cache and the GIF are
 refused with --body fe (exit 2); --resume continues an FE-body run stopped at its --time-limit or
@@ -94,7 +98,7 @@ from softcrawl.studies.crawl.schedule import SCHEDULES
 IDENTIFIED = "the committed feet identification (results/identify/feet/feet.json)"
 MIN_DIAMETER, MAX_DIAMETER = 50.0, 78.0  # hub 48 mm; the skirt tip reaches 78 mm
 BODIES = ("reduced", "fe")
-PIPE_KINDS = ("straight", "vertical-up", "vertical-down", "elbow")  # studies.crawl_fe.pipe.PIPES
+PIPE_KINDS = ("straight", "vertical-up", "vertical-down", "elbow", "bellows")  # studies.crawl_fe.pipe.PIPES
 
 
 def register(subparsers) -> None:
@@ -118,6 +122,11 @@ def register(subparsers) -> None:
     add_number(p, "--bend-radius", help="--pipe elbow: the bend's centreline radius", unit="mm",
                default_text="none: needed with --pipe elbow",
                minimum=0.0, min_open=True, maximum=1000.0)  # fmt: skip
+    # ranges with margin around flexible ducts' corrugations (a few mm deep, 5-30 mm apart)
+    add_number(p, "--bellows-depth", help="--pipe bellows: corrugation depth, peak to trough", unit="mm",
+               default_text="2", minimum=0.0, min_open=True, maximum=10.0)  # fmt: skip
+    add_number(p, "--bellows-pitch", help="--pipe bellows: corrugation pitch", unit="mm",
+               default_text="10", minimum=2.0, maximum=100.0)  # fmt: skip
     add_number(p, "--pipe-diameter", help="pipe inner diameter", unit="mm", default=70.0,
                minimum=MIN_DIAMETER, maximum=MAX_DIAMETER, min_open=True, max_open=True)  # fmt: skip
     p.add_argument(
@@ -213,7 +222,8 @@ def run(args) -> int:
             "the reduced crawl has a straight horizontal pipe only: add --body fe",
         )
     for option, value in (("gait-plan", args.gait_plan), ("time-limit", args.time_limit),
-                          ("inertia", args.inertia or None)):  # fmt: skip
+                          ("inertia", args.inertia or None), ("bellows-depth", args.bellows_depth),
+                          ("bellows-pitch", args.bellows_pitch)):  # fmt: skip
         if value is not None:
             raise CommandLineError(option, "applies to the FE body only: add --body fe")
     mesh = mesh_settings(args)  # before any folder is made

@@ -44,8 +44,8 @@ WHY = {
 
 
 def check_options(args) -> None:
-    """Exit 2 (CommandLineError) for an option the FE body does not take, or an elbow without a
-    bend radius it can have."""
+    """Exit 2 (CommandLineError) for an option the FE body does not take, an elbow without a bend
+    radius it can have, or a pipe's option given for another pipe."""
     from softcrawl.studies.commands.options import CommandLineError
 
     for dest, option, default in REDUCED_ONLY:
@@ -70,6 +70,21 @@ def check_options(args) -> None:
             )
     elif args.bend_radius is not None:
         raise CommandLineError("bend-radius", "applies to --pipe elbow only")
+    if args.pipe != "bellows":
+        for option, value in (("bellows-depth", args.bellows_depth), ("bellows-pitch", args.bellows_pitch)):
+            if value is not None:
+                raise CommandLineError(option, "applies to --pipe bellows only")
+
+
+def corrugation(args) -> tuple[float, float] | None:
+    """A bellows' (depth, pitch) in mm, each the option's or `pipe.BELLOWS_CORRUGATION`'s; None
+    for the other pipes."""
+    if args.pipe != "bellows":
+        return None
+    from softcrawl.studies.crawl_fe.pipe import BELLOWS_CORRUGATION
+
+    given = (args.bellows_depth, args.bellows_pitch)
+    return tuple(d if v is None else float(v) for v, d in zip(given, BELLOWS_CORRUGATION))
 
 
 def run_body(args, friction_settings) -> int:
@@ -110,7 +125,8 @@ def run_body(args, friction_settings) -> int:
     mesh = "quick" if args.quick else "default"
     schedules = schedule if args.gait_plan else (schedule,)
     key = body_options(setup, schedules, pipe=args.pipe, bend_radius=args.bend_radius, mesh=mesh,
-                       silicone=DEFAULT_MATERIAL, design=None, inertia=args.inertia)  # fmt: skip
+                       silicone=DEFAULT_MATERIAL, design=None, inertia=args.inertia,
+                       corrugation=corrugation(args))  # fmt: skip
     store = BodyStore(out / FOLDER, key)
     resumed = checkpoint(store, args.resume)
     what = (
@@ -134,6 +150,7 @@ def run_body(args, friction_settings) -> int:
         store=store,
         resumed=resumed,
         inertia=args.inertia,
+        corrugation=corrugation(args),
     )
     print(summary["text"])
     if store.unfinished():

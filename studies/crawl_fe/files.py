@@ -121,9 +121,14 @@ def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, preci
 
 
 def write_wall(path: Path, wall, s0: float, s1: float, around: int = 48, along: int = 60) -> Path:
-    """The pipe's wall (a `CylinderWall` or an `ElbowPipe`) between centreline arc lengths s0 and
-    s1 as a quad surface (meshio), for ParaView beside vtu/crawl.pvd."""
+    """The pipe's wall (a `CylinderWall`, an `ElbowPipe` or a `CorrugatedPipe`) between centreline
+    arc lengths s0 and s1 as a quad surface (meshio), for ParaView beside vtu/crawl.pvd; a bellows'
+    corrugations get at least 8 rings per pitch."""
+    corrugated = hasattr(wall, "amplitude")
+    if corrugated:
+        along = max(along, int(np.ceil(8 * (s1 - s0) / wall.pitch)) + 1)
     s = np.linspace(s0, s1, along)
+    radius = wall.profile(s)[0] if corrugated else np.full(along, wall.radius)
     if hasattr(wall, "frame"):
         c, w, u = wall.frame(s)
     else:
@@ -135,7 +140,7 @@ def write_wall(path: Path, wall, s0: float, s1: float, around: int = 48, along: 
     v = np.cross(w, u)
     angle = np.linspace(0.0, 2 * np.pi, around, endpoint=False)
     ring = np.cos(angle)[None, :, None] * u[:, None] + np.sin(angle)[None, :, None] * v[:, None]
-    points = (c[:, None] + wall.radius * ring).reshape(-1, 3)
+    points = (c[:, None] + radius[:, None, None] * ring).reshape(-1, 3)
     i, k = np.meshgrid(np.arange(along - 1), np.arange(around), indexing="ij")
     a0, a1 = i * around + k, i * around + (k + 1) % around
     quads = np.stack([a0, a1, a1 + around, a0 + around], axis=-1).reshape(-1, 4)
@@ -197,6 +202,7 @@ def run_and_write(
     store=None,
     resumed=None,
     inertia: bool = False,
+    corrugation: tuple[float, float] | None = None,
 ) -> tuple:
     """One FE-body crawl of `setup.cycles` cycles of `schedule` (or of a gait plan: a sequence of
     schedules, one per cycle, `studies.crawl_fe.gait_plan`) in `pipe`, its files in `out`
@@ -206,7 +212,8 @@ def run_and_write(
     `store` (`resume.BodyStore`): the inserted state and every converged sub-step of the cycles
     are written to it; it is cleared once the files are written, unless the run stopped at its
     time limit (then it is kept to be resumed); `resumed` (its `load()`): continue from there.
-    `inertia`: the body's lumped mass over the schedule's time (`build_body`)."""
+    `inertia`: the body's lumped mass over the schedule's time (`build_body`); `corrugation`: a
+    bellows' (depth, pitch) in mm (`pipe.pipe_wall`)."""
     t0 = time.perf_counter()
     plan = not isinstance(schedule, Schedule)
     cycles = len(schedule) if plan else setup.cycles
@@ -216,7 +223,8 @@ def run_and_write(
     bm = build_body(setup, mesh, gravity=gravity, design=design, inertia=inertia, **kwargs)
     front_tip = float(np.asarray(bm.model.nodes)[2].max())
     turn_deg = PLAN_TURN_DEG if plan else 0.0  # a plan's bends are in ePSA 1's plane (`PLAN_TURN_DEG`)
-    wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius, turn_deg=turn_deg)
+    wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius, turn_deg=turn_deg,
+                     corrugation=corrugation)  # fmt: skip
     progress(
         f"body: {bm.n_dofs} DOFs on the {summary_mesh(mesh)} mesh; built in {time.perf_counter() - t0:.0f} s"
     )
@@ -288,6 +296,7 @@ def run_and_write(
             "gravity_g": list(gravity) if gravity else None,
             "bend_start_mm": getattr(wall, "entry", None),
             "bend_turn_deg": turn_deg if pipe == "elbow" else None,  # azimuth from +x
+            "corrugation_mm": [2 * wall.amplitude, wall.pitch] if pipe == "bellows" else None,  # depth, pitch
         },  # fmt: skip
         "mesh": summary_mesh(mesh),
         "schedule": {"name": first.name, "source": first.source, "cycle_s": T, "gait_plan": plan},

@@ -1,16 +1,19 @@
 r"""The one body put into its straight pipe: the frictionless insertion, then friction, then loads.
 
 The pipe (`PIPES`, `pipe_wall`): the straight CylinderWall on the body's axis z, the same pipe
-vertical with the body's weight heading up (gravity -z) or down (+z), or the `fem.pipe_surfaces.
+vertical with the body's weight heading up (gravity -z) or down (+z), the `fem.pipe_surfaces.
 ElbowPipe` whose entry leg holds the body and whose bend (radius R, towards +x) starts `ELBOW_AHEAD`
-mm ahead of the front skirt's tip. The straight pipe is horizontal without gravity, so that it
-compares with the reduced crawl, which has none (the 0.7 N weight against wall forces of ~50 N per
-foot: the vertical pipes show its effect).
+mm ahead of the front skirt's tip, or the straight `fem.corrugated_pipe.CorrugatedPipe` (a
+bellows: wall radius r0 + (d / 2) cos(2 pi z / p), depth d and pitch p, widest at z = 0 of the
+body's mesh, 4 mm ahead of the rear hub's bottom face; `BELLOWS_CORRUGATION`). The straight pipe
+is horizontal without gravity, so that it compares with the reduced crawl, which has none (the
+0.7 N weight against wall forces of ~50 N per foot: the vertical pipes show its effect).
 
 Phases (each a `fem.contact_stages.run_stages` call, as the reduced crawl's `studies.crawl.model`):
 
     insert     the wall (any of the pipes, its radius moved by `with_radius`) shrinks from clear
-               of the skirt tips (tip radius + 0.5 mm) to the pipe's radius in `insert_steps`
+               of the skirt tips (its narrowest radius at the tip radius + 0.5 mm: a bellows'
+               ridges) to the pipe's radius in `insert_steps`
                sub-steps, frictionless, the six holds stiff (`model.HOLD_STIFF`): in a
                frictionless pipe they alone fix the axial translation and the twist;
     friction   the holds re-based at the inserted state and softened to `model.HOLD_SOFT`, the
@@ -33,6 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcrawl.fem.contact_stages import Stage, run_stages
+from softcrawl.fem.corrugated_pipe import CorrugatedPipe
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.fem.rigid_surfaces import CylinderWall
@@ -47,7 +51,13 @@ PIPES = {
     "vertical-up": (0.0, 0.0, -1.0),
     "vertical-down": (0.0, 0.0, 1.0),
     "elbow": None,
+    "bellows": None,
 }
+#: (depth, pitch) in mm of the bellows' corrugations when not given. The paper's bellows is
+#: described by its 75 mm diameter only (Section VII-E), so these are an example, not its values:
+#: the corrugations of fem.corrugated_pipe's tests (docs/decisions/073-pipe-surfaces.md), about
+#: those of a small flexible duct; `softcrawl crawl --bellows-depth/--bellows-pitch` set them.
+BELLOWS_CORRUGATION = (2.0, 10.0)
 #: mm between the skirt tips and the wall when the insertion starts.
 INSERT_CLEARANCE = 0.5
 #: mm between the front skirt's tip (undeformed) and the start of the elbow's bend.
@@ -67,12 +77,18 @@ def pipe_wall(
     front_tip: float = 0.0,
     bend_radius: float | None = None,
     turn_deg: float = 0.0,
+    corrugation: tuple[float, float] | None = None,
 ):
     """The rigid wall of pipe `kind` (`PIPES`) of inner `radius`; for the elbow, its bend of
     centreline radius `bend_radius` starts ELBOW_AHEAD past `front_tip` (the front skirt's largest
-    z, mm) and turns towards the azimuth `turn_deg` (deg from +x; `PLAN_TURN_DEG` for a gait plan)."""
+    z, mm) and turns towards the azimuth `turn_deg` (deg from +x; `PLAN_TURN_DEG` for a gait plan);
+    for the bellows, `radius` is its mean inner radius and `corrugation` its (depth, pitch) in mm
+    (None: `BELLOWS_CORRUGATION`)."""
     if kind not in PIPES:
         raise SolverInputError("pipe", f"one of {', '.join(PIPES)}, not {kind!r}")
+    if kind == "bellows":
+        depth, pitch = corrugation or BELLOWS_CORRUGATION
+        return CorrugatedPipe(radius, 0.5 * depth, pitch)
     if kind != "elbow":
         return CylinderWall(radius)
     if bend_radius is None:
@@ -135,8 +151,9 @@ def into_pipe(
     `wall`: the pipe's surface at its radius (`pipe_wall`; None: the straight pipe of `bm.setup`)."""
     setup, model = bm.setup, bm.model
     t0 = time.perf_counter()
-    clear = bm.design.foot.tip_radius + INSERT_CLEARANCE
     wall = wall or CylinderWall(setup.pipe.radius)
+    # the wall's narrowest radius starts clear of the skirt tips (a bellows' ridges: amplitude)
+    clear = bm.design.foot.tip_radius + INSERT_CLEARANCE + getattr(wall, "amplitude", 0.0)
     radius = wall.radius
     if not clear < getattr(wall, "bend_radius", np.inf):
         raise SolverInputError(

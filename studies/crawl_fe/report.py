@@ -33,6 +33,8 @@ def _seconds(values) -> str:
 def run_row(name: str, s: dict) -> dict:
     pipe = s["pipe"]
     where = pipe["kind"] + (f", R {pipe['bend_radius_mm']:g} mm" if pipe["bend_radius_mm"] else "")
+    if pipe.get("corrugation_mm"):  # a bellows: depth and pitch
+        where += ", corrugations {:g} x {:g} mm".format(*pipe["corrugation_mm"])
     paper = s["paper_speed_mm_s"]
     v = s["solver"]
     return {

@@ -53,7 +53,7 @@ TOTALS = tuple(f.name for f in dataclasses.fields(Totals))
 
 
 def body_options(
-    setup, schedules, *, pipe, bend_radius, mesh, silicone, design, inertia=False
+    setup, schedules, *, pipe, bend_radius, mesh, silicone, design, inertia=False, corrugation=None
 ) -> dict[str, Any]:
     """The options that define an FE-body crawl (its checkpoints' key; module docstring)."""
     return {k: v for k, v in dataclasses.asdict(setup).items() if k != "cycles"} | {
@@ -71,6 +71,7 @@ def body_options(
         "silicone": silicone,
         "design": None if design is None else dataclasses.asdict(design),
         "inertia": bool(inertia),
+        "corrugation": None if corrugation is None else [float(v) for v in corrugation],
     }
 
 

@@ -2,7 +2,7 @@
 
 `paper_speed(pipe, diameter)` names what the paper measured in that pipe: Table 2's forward speed
 in a straight pipe, Section VII-D-2's vertical speeds (12.9 mm/s up, 19.1 down), and none for the
-elbow (no bend radius given). `summary_text`
+elbow (no bend radius given) or the bellows (no speed, no corrugations given). `summary_text`
 prints a written summary.json (`studies.crawl_fe.files`) as the lines the command shows: the pipe,
 each cycle's stride, speed, turn and wall time, the paper's speed, the mass, the solver's effort.
 """
@@ -19,6 +19,8 @@ def paper_speed(pipe: str, diameter: float) -> tuple[float | None, str]:
     if pipe.startswith("vertical"):
         way = pipe.split("-")[1]
         return VERTICAL_MM_S[way], f"Section VII-D-2, vertical {way} (pipe diameter not stated)"
+    if pipe == "bellows":
+        return None, "Section VII-E: the paper gives no speed and no corrugations for its 75 mm bellows"
     return None, "the paper gives no bend radius for its L-shaped pipe (Fig. 24)"
 
 
@@ -31,6 +33,8 @@ def summary_text(s: dict) -> str:
     where = f"{pipe['kind']} {pipe['diameter_mm']:g} mm pipe"
     if pipe["bend_radius_mm"]:
         where += f", bend radius {pipe['bend_radius_mm']:g} mm"
+    if pipe.get("corrugation_mm"):
+        where += ", corrugations {:g} mm deep, {:g} mm pitch".format(*pipe["corrugation_mm"])
     lines = [f"FE body in the {where} ({s['mesh']} mesh, silicone {s['materials']['epsa']}): {s['message']}"]
     times = s.get("cycle_wall_s") or [None] * len(s["strides_mm"])  # runs before times were kept
     for k, (v, a, t) in enumerate(zip(s["strides_mm"], s["turns_deg"], times), start=1):

@@ -42,6 +42,29 @@ def test_the_options_reach_the_runner(recorded, tmp_path):
     assert recorded[-1][3]["store"].checkpoints.options["inertia"] is True  # in the checkpoints' key
 
 
+def test_a_bellows_gets_its_corrugations_and_they_are_refused_for_other_pipes(recorded, tmp_path, capsys):
+    argv = ["crawl", "--body", "fe", "--quick", "--pipe", "bellows", "--pipe-diameter", "75"]
+    assert main(argv + ["--out", str(tmp_path / "a")]) == 0
+    kw = recorded[-1][3]
+    assert kw["pipe"] == "bellows" and kw["corrugation"] == (2.0, 10.0)  # the example default
+    assert main(argv + ["--bellows-depth", "3", "--out", str(tmp_path / "b")]) == 0
+    kw = recorded[-1][3]
+    assert kw["corrugation"] == (3.0, 10.0) and kw["store"].checkpoints.options["corrugation"] == [3.0, 10.0]
+    calls = len(recorded)
+    refused = [
+        (["crawl", "--body", "fe", "--bellows-pitch", "12"], "bellows-pitch"),  # a straight pipe
+        (["crawl", "--bellows-depth", "3"], "bellows-depth"),  # the reduced crawl
+        (argv + ["--bellows-depth", "0"], "bellows-depth"),  # out of range
+    ]
+    for bad, option in refused:
+        try:
+            code = main(bad + ["--out", str(tmp_path / "c")])
+        except SystemExit as exit:  # argparse's range check
+            code = exit.code
+        assert code == 2 and option in capsys.readouterr().err
+    assert len(recorded) == calls and not (tmp_path / "c").exists()
+
+
 def test_the_default_mesh_without_quick_and_a_failed_run_exits_1(recorded, tmp_path):
     assert main(["crawl", "--body", "fe", "--pipe", "vertical-down", "--out", str(tmp_path / "b")]) == 1
     setup, _, _, kw = recorded[-1]

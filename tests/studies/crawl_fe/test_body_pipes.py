@@ -3,7 +3,9 @@
 The command line's --pipe choices are the pipes the runner knows; a vertical pipe is the straight
 one under the body's weight, pointing against the heading (up: -z, the body heading +z) or with
 it (down); the elbow's bend starts ELBOW_AHEAD past the front skirt's tip, so that the inserted
-body sits on its entry leg, and the runner refuses an unknown pipe naming the parameter.
+body sits on its entry leg; the bellows is the corrugated pipe of the depth and pitch asked for,
+widest at z = 0, and its insertion starts with its ridges clear of the skirt tips; the runner
+refuses an unknown pipe naming the parameter.
 """
 
 import numpy as np
@@ -11,13 +13,15 @@ import pytest
 
 from softcrawl.analytic.cycle import elbow_roll
 from softcrawl.analytic.pipe import Pipe
+from softcrawl.fem.corrugated_pipe import CorrugatedPipe
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.pipe_surfaces import ElbowPipe
 from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.design import RobotDesign
 from softcrawl.paper import VERTICAL_MM_S, table2
 from softcrawl.studies.commands.crawl import PIPE_KINDS
-from softcrawl.studies.crawl_fe.pipe import ELBOW_AHEAD, PIPES, PLAN_TURN_DEG, pipe_wall
+from softcrawl.studies.crawl_fe import pipe as pipe_module
+from softcrawl.studies.crawl_fe.pipe import BELLOWS_CORRUGATION, ELBOW_AHEAD, PIPES, PLAN_TURN_DEG, pipe_wall
 from softcrawl.studies.crawl_fe.summary import paper_speed
 
 
@@ -76,6 +80,41 @@ def test_each_pipe_is_compared_with_the_papers_own_speed():
     assert paper_speed("vertical-down", 70.0)[0] == VERTICAL_MM_S["down"] == 19.1
     speed, source = paper_speed("elbow", 70.0)
     assert speed is None and "no bend radius" in source
+    speed, source = paper_speed("bellows", 75.0)
+    assert speed is None and "bellows" in source
+
+
+def test_the_bellows_is_the_corrugated_pipe_asked_for_widest_at_z_0():
+    assert PIPES["bellows"] is None and BELLOWS_CORRUGATION == (2.0, 10.0)
+    assert pipe_wall("bellows", 37.5) == CorrugatedPipe(37.5, 1.0, 10.0)
+    wall = pipe_wall("bellows", 37.5, corrugation=(3.0, 12.0))
+    assert (wall.radius, wall.amplitude, wall.pitch) == (37.5, 1.5, 12.0)
+    assert wall.profile([0.0, 6.0])[0] == pytest.approx([39.0, 36.0], abs=1e-12)  # depth 3 mm, peak to trough
+
+
+def test_the_bellows_insertion_starts_with_its_ridges_clear_of_the_skirt_tips(monkeypatch):
+    """The insertion's first wall: its narrowest radius (the ridges) 0.5 mm outside the 39 mm tips,
+    its mean radius shrinking to the pipe's; read from the stage handed to the solver."""
+    from types import SimpleNamespace
+
+    from softcrawl.studies.crawl.model import CrawlSetup
+
+    stages = []
+
+    def run_stages(model, staged, **kwargs):
+        stages.extend(staged)
+        return SimpleNamespace(converged=False, message="recorded", newton_iterations=0, assembly_s=0.0,
+                               solve_s=0.0, factorizations=0)  # fmt: skip
+
+    monkeypatch.setattr(pipe_module, "run_stages", run_stages)
+    contacts = [SimpleNamespace(spec=SimpleNamespace(name=n)) for n in ("rear_smooth", "rear_grooved")]
+    model = SimpleNamespace(contacts=contacts, n_dofs=6)
+    tip = SimpleNamespace(foot=SimpleNamespace(tip_radius=39.0))
+    bm = SimpleNamespace(setup=CrawlSetup(pipe_diameter=75.0), model=model, design=tip)
+    run = pipe_module.into_pipe(bm, wall=pipe_wall("bellows", 37.5, corrugation=(4.0, 10.0)))
+    assert not run.converged and run.message == "insert: recorded"
+    first, last = (stages[0].surfaces[0](s) for s in (0.0, 1.0))
+    assert first.radius - first.amplitude == pytest.approx(39.5) and last == CorrugatedPipe(37.5, 2.0, 10.0)
 
 
 def test_an_elbow_the_insertion_cannot_start_in_is_refused_before_any_work():
@@ -94,7 +133,9 @@ def test_an_elbow_the_insertion_cannot_start_in_is_refused_before_any_work():
     assert err.value.parameter == "bend_radius" and "39.5" in str(err.value)
 
 
-@pytest.mark.parametrize("wall", [CylinderWall(35.0), ElbowPipe(35.0, 60.0, entry=150.0)])
+@pytest.mark.parametrize(
+    "wall", [CylinderWall(35.0), ElbowPipe(35.0, 60.0, entry=150.0), CorrugatedPipe(37.5, 1.0, 10.0)]
+)
 def test_the_written_wall_lies_on_the_contact_surface(tmp_path, wall):
     """vtu/pipe.vtu's vertices are on the surface the contact uses (gap 0) and span the arc
     lengths asked for: what ParaView shows is the wall the feet pressed."""
