@@ -34,7 +34,10 @@ force and moment of the other loads (an isostatic support). During the frictionl
 they are stiff (`HOLD_STIFF`, the reduced crawl's GROUND_HOLD); when friction is switched on they
 are re-based at the inserted state (their rest extension) and softened to `HOLD_SOFT` (the
 reduced crawl's GROUND_SOFT, 1e-4 N/mm), so that friction holds the body and the holds' forces,
-reported, are ~0 (tests/studies/crawl_fe/test_holding.py shows it under the body's weight).
+reported, are ~0 (tests/studies/crawl_fe/test_holding.py shows it under the body's weight). A wall
+that pushes the body along its axis while frictionless (a bellows' slopes) leaves forces in the
+stiff holds: those are kept as the soft holds' preloads when friction comes on, so that the state
+stays in equilibrium, and released to zero afterwards (`studies.crawl_fe.pipe`).
 """
 
 from __future__ import annotations
@@ -104,10 +107,11 @@ class BodyModel:
         """Each hold's force (N; the twist link's pair force) at state x."""
         return {name: float(t.tension(x)) for name, t in self.holds.items()}
 
-    def set_holds(self, stiffness: float, x: np.ndarray | None = None) -> None:
-        """Every hold's stiffness; with `x`, re-based there (rest extension = its extension at x)."""
-        for t in self.holds.values():
-            t.set_load(stiffness, 0.0, None if x is None else t.extension(x))
+    def set_holds(self, stiffness: float, x: np.ndarray | None = None, preloads: dict | None = None) -> None:
+        """Every hold's stiffness; with `x`, re-based there (rest extension = its extension at x);
+        `preloads`: each hold's force (N) kept as its preload (None: none)."""
+        for name, t in self.holds.items():
+            t.set_load(stiffness, (preloads or {}).get(name, 0.0), None if x is None else t.extension(x))
 
 
 def with_hold_tags(tagged):
