@@ -36,6 +36,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from softcrawl.fem.linsolve import default_solver
 from softcrawl.fem.vtu import write_pvd, write_state
 from softcrawl.provenance import write_summary
 from softcrawl.studies.crawl.files import material_source
@@ -225,9 +226,9 @@ def run_and_write(
     turn_deg = PLAN_TURN_DEG if plan else 0.0  # a plan's bends are in ePSA 1's plane (`PLAN_TURN_DEG`)
     wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius, turn_deg=turn_deg,
                      corrugation=corrugation)  # fmt: skip
-    progress(
-        f"body: {bm.n_dofs} DOFs on the {summary_mesh(mesh)} mesh; built in {time.perf_counter() - t0:.0f} s"
-    )
+    built = time.perf_counter() - t0
+    progress(f"body: {bm.n_dofs} DOFs on the {summary_mesh(mesh)} mesh; built in {built:.0f} s; "
+             f"linear solver {default_solver()}")  # fmt: skip
 
     def step_line(step) -> None:
         # with inertia, the kinetic energy shows a snap (docs/decisions/089-inertia.md)
@@ -327,6 +328,8 @@ def run_and_write(
             "linear_s": run.solve_s + spent.solve_s,
             "wall_s": earlier + time.perf_counter() - t0,
             "factorizations": run.factorizations + spent.factorizations,
+            # SuperLU where MKL's PARDISO cannot load: several times slower and larger on this body
+            "linear_solver": default_solver(),
             # this process's: the contact terms' assembly time and its share of the wall time
             "contact_s": contact_s,
             "contact_share": contact_s / (time.perf_counter() - t0),

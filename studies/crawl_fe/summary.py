@@ -50,8 +50,9 @@ def summary_text(s: dict) -> str:
     if s.get("inertia"):
         lines.append(f"  inertia: {s['inertia']['scheme']}, {s['inertia']['mass_g']:.1f} g")
     v = s["solver"]
+    solver = f" ({v['linear_solver']})" if "linear_solver" in v else ""  # runs before it was kept
     lines.append(f"  {v['dofs']} DOFs, {v['newton_iterations']} Newton iterations, {v['factorizations']} "
-                 f"factorisations, {v['wall_s']:.0f} s, peak {v['peak_rss_gb']:.2f} GB")  # fmt: skip
+                 f"factorisations{solver}, {v['wall_s']:.0f} s, peak {v['peak_rss_gb']:.2f} GB")  # fmt: skip
     lines.append(f"  wall time: linear solves {v['linear_s'] / v['wall_s']:.0%}, the contact terms' assembly "
                  f"{v['contact_share']:.0%} (this process's)")  # fmt: skip
     return "\n".join(lines)
