@@ -124,9 +124,10 @@ def run_body(args, friction_settings) -> int:
     )
     mesh = "quick" if args.quick else "default"
     schedules = schedule if args.gait_plan else (schedule,)
+    corrugated = corrugation(args)
     key = body_options(setup, schedules, pipe=args.pipe, bend_radius=args.bend_radius, mesh=mesh,
                        silicone=DEFAULT_MATERIAL, design=None, inertia=args.inertia,
-                       corrugation=corrugation(args))  # fmt: skip
+                       corrugation=corrugated)  # fmt: skip
     store = BodyStore(out / FOLDER, key)
     resumed = checkpoint(store, args.resume)
     what = (
@@ -150,7 +151,7 @@ def run_body(args, friction_settings) -> int:
         store=store,
         resumed=resumed,
         inertia=args.inertia,
-        corrugation=corrugation(args),
+        corrugation=corrugated,
     )
     print(summary["text"])
     if store.unfinished():

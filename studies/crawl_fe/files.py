@@ -226,9 +226,9 @@ def run_and_write(
     turn_deg = PLAN_TURN_DEG if plan else 0.0  # a plan's bends are in ePSA 1's plane (`PLAN_TURN_DEG`)
     wall = pipe_wall(pipe, setup.pipe.radius, front_tip=front_tip, bend_radius=bend_radius, turn_deg=turn_deg,
                      corrugation=corrugation)  # fmt: skip
-    built = time.perf_counter() - t0
+    built, solver = time.perf_counter() - t0, default_solver()
     progress(f"body: {bm.n_dofs} DOFs on the {summary_mesh(mesh)} mesh; built in {built:.0f} s; "
-             f"linear solver {default_solver()}")  # fmt: skip
+             f"linear solver {solver}")  # fmt: skip
 
     def step_line(step) -> None:
         # with inertia, the kinetic energy shows a snap (docs/decisions/089-inertia.md)
@@ -329,7 +329,7 @@ def run_and_write(
             "wall_s": earlier + time.perf_counter() - t0,
             "factorizations": run.factorizations + spent.factorizations,
             # SuperLU where MKL's PARDISO cannot load: several times slower and larger on this body
-            "linear_solver": default_solver(),
+            "linear_solver": solver,
             # this process's: the contact terms' assembly time and its share of the wall time
             "contact_s": contact_s,
             "contact_share": contact_s / (time.perf_counter() - t0),
