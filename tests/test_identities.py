@@ -63,6 +63,7 @@ def test_crawl_states_centre_length_and_momentum(path):
         )
         balance = sum(num(r[f"{f}_{k}_n"]) for f in ("rear", "front") for k in ("friction", "ground"))
         balance += num(r.get("rim_springs_n") or 0.0)  # the flipped feet's fold springs (record 067)
+        balance += num(r.get("stabilisation_n") or 0.0)  # their insertion's stabilisation (record 094)
         assert num(r["momentum_n"]) == pytest.approx(balance, abs=1e-9)
         assert all(0.0 <= num(r[f"{f}_slip_share"]) <= 1.0 + 1e-12 for f in ("rear", "front"))
 

@@ -19,6 +19,17 @@ docs/decisions/078-backward-stall.md). Rim springs (`flip.RimSprings` on
 from clear of the folded feet to the pipe; then a "release" stage takes the springs to 0
 (`RimSprings.ramp`), and the crawl goes on as for the paper's feet (friction on, the cycles). The
 robot then crawls towards -z: the flipped skirts lean forward (+z), so they slide easily backward.
+
+A tight pipe crushes the fold. The rim is folded inside the wall, but the skirt between the held
+hub and the held rim bows outward (29.8-30.2 mm at 55 mm, where the wall is at 27.5 mm; folding
+further, up to the skirt along the axis, brings it in by less than 0.3 mm), so the closing wall
+crushes that bow, and its force falls while the wall closes: a snap, where the quasi-static
+insertion finds no equilibrium near its last state (records 078, 079). Where the folded feet
+reach outside the pipe, the insertion and the release carry a viscous stabilisation
+(`fem.stabilisation`): c0 = STABILISE E / t^2 over a pseudo-time of 1 s per stage, ramped linearly
+to exactly 0 at the release's end, so that the released state, from which the
+crawl goes on, is a static equilibrium (docs/decisions/094-backward-snap.md). Where the fold is
+inside the wall (65 mm and above), c0 = 0 and nothing changes.
 """
 
 from __future__ import annotations
@@ -27,6 +38,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from softcrawl.fem.model import SolidModel
+from softcrawl.fem.stabilisation import Stabilisation
 from softcrawl.geometry.foot_meshers import mesh_foot_with
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.mesh import separation as hub_separation
@@ -40,7 +52,21 @@ from softcrawl.studies.foot.flip import (
 )
 from softcrawl.studies.foot.model import FOLD_HOLD, FOOT_NEWTON
 
-__all__ = ["FOLD_HOLD", "check_pipe", "folded_feet", "plate_hold", "rim_springs"]
+__all__ = [
+    "FOLD_HOLD",
+    "check_pipe",
+    "folded_feet",
+    "insert_drive",
+    "plate_hold",
+    "release_drive",
+    "rim_springs",
+    "stabilisation_coefficient",
+]
+
+#: The viscous stabilisation of the flipped feet's insertion (`fem.stabilisation`), in units of
+#: E / t^2 (E the rubber's small-strain modulus, t the skirt's thickness): c0 = STABILISE E / t^2
+#: (docs/decisions/094-backward-snap.md).
+STABILISE = 1.0e-2
 
 
 def check_pipe(pipe_diameter: float, foot_design, error, parameter: str = "pipe_diameter") -> None:
@@ -53,6 +79,41 @@ def check_pipe(pipe_diameter: float, foot_design, error, parameter: str = "pipe_
             f"the flipped feet of --backward fold into pipes above {smallest:.4g} mm, "
             f"not {pipe_diameter:g} mm",
         )
+
+
+def stabilisation_coefficient(model: SolidModel, x0, radius: float, youngs: float, foot_design) -> float:
+    """c0 (N s/mm^4) of the flipped feet's insertion: STABILISE E / t^2 where the folded feet x0
+    reach outside the pipe's `radius` (the closing wall crushes the fold, record 078), else 0 (the
+    wall closes onto nothing, and the insertion is the one before record 094)."""
+    deformed = model.nodes + model.displacement(x0)
+    if float(np.hypot(deformed[0], deformed[1]).max()) <= radius:
+        return 0.0
+    return STABILISE * youngs / foot_design.skirt_thickness**2
+
+
+def insert_drive(stabilisation: Stabilisation, c0: float):
+    """The insertion's drive: the stabilisation at c0 while the wall closes."""
+
+    def drive(s: float) -> None:
+        stabilisation.set_coefficient(c0)
+
+    return drive
+
+
+def release_drive(springs: RimSprings, stabilisation: Stabilisation, c0: float):
+    """The release's drive: the rim springs ramped from FOLD_HOLD to 0 (`RimSprings.ramp`) and the
+    stabilisation linearly, c = c0 (1 - s), so that the released state (k = c = 0) is a static
+    equilibrium. Over a sub-step h the regularisation is c / h: up to the last sub-step it stays
+    about c0 (c0 (1 - s) / h = c0 on the one before the last), and the last one is the static
+    solve (docs/decisions/094-backward-snap.md: tied to the springs' decades, c was gone by s = 0.6,
+    where the 55 mm quick release stalled)."""
+    ramp = springs.ramp(FOLD_HOLD)
+
+    def drive(s: float) -> None:
+        ramp(s)
+        stabilisation.set_coefficient(c0 * max(1.0 - s, 0.0))
+
+    return drive
 
 
 def rim_springs() -> RimSprings:

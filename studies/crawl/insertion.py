@@ -19,7 +19,9 @@ and slip band), the linear solver, `FORMAT`, and the softcrawl version (`fem.che
 Bump `FORMAT` when the insertion's code changes without a version bump (an editable install).
 The flipped feet's key also names how their folds are held (`fold_held`, record 078: each foot's
 actuator face) and how their plates are held until friction (`plates_held`, record 079: ground
-springs of n k_p, `studies.crawl.flipped.plate_hold`), so that an entry folded with both hub tops
+springs of n k_p, `studies.crawl.flipped.plate_hold`) and their insertion's viscous stabilisation
+(`stabilised`, record 094: c0 = STABILISE E / t^2, E and t in the key through the law and the
+design; named only where it is on, a fold outside the wall), so that an entry folded with both hub tops
 held, or inserted on GROUND_HOLD, is not taken for it, while the other feet's keys keep their
 value.
 The feet's design and rubber (`CrawlSetup.foot`, `CrawlSetup.material`) reach the key through the
@@ -55,6 +57,7 @@ import numpy as np
 from softcrawl.fem.checkpoint import content_hash, softcrawl_version
 from softcrawl.fem.linsolve import default_solver
 from softcrawl.geometry.tetwild import default_cache_dir
+from softcrawl.studies.crawl import flipped as flipped_feet
 from softcrawl.studies.crawl import model as crawl_model
 from softcrawl.studies.crawl.resume import CrawlStore, Resumed, Totals
 from softcrawl.studies.foot import model as foot_model
@@ -93,6 +96,8 @@ def insertion_options(cm, mesh, foot_design, law) -> dict[str, Any]:
         if setup.flipped
         else {}
     )
+    if getattr(cm, "stabilise", 0.0) > 0:  # only where the fold is crushed (record 094)
+        flipped["stabilised"] = {"coefficient": "STABILISE E / t^2", "STABILISE": flipped_feet.STABILISE}
     # a wedge of the feet (records 082, 083): its mesh is in the mesh hash, its tie here (exact
     # since 083: a penalty tie's cached states are not reused); the whole feet's keys keep their value
     wedge = {"wedge": {"copies": setup.copies, "tie": "exact"}} if setup.copies > 1 else {}

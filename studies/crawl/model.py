@@ -17,16 +17,13 @@ shrinks frictionless (axial position otherwise undetermined), then, once frictio
 at the inserted position and softened to GROUND_SOFT, so that the axial rigid mode is held by
 friction alone; their forces are reported (and compared with the friction forces).
 
-The flipped feet's plates are held (docs/decisions/079-backward-plates.md). While their wall
-closes and their rim springs are released, each plate's ground spring is as stiff as the plate
-holds its own nodes together, k_hold = n k_p (n the plate's nodes, k_p = 10^3 E h the plate's
-penalty per node, `flipped.plate_hold`): the plate then moves by R / (n k_p) under an axial reaction R, as
-little as its nodes move apart, i.e. it is held in all three directions up to the plate's own
-constraint error. On GROUND_HOLD (1000 N/mm) the quick 55 mm crawl's first contact sub-step
-wandered (a stall at 6.6e-2 of the force scale); held, it converges in 5 iterations. Friction
-takes over from that hold exactly as from GROUND_HOLD: the spring is re-based and softened, and
-the force it drops is the plates' reaction after the release, which the frictionless radial wall
-and the released rims leave at the actuator's tension (reported at the handover).
+The flipped feet (`studies.crawl.flipped`). Their plates are held while their wall closes and
+their rim springs are released (docs/decisions/079-backward-plates.md): each plate's ground
+spring is k_hold = n k_p, as stiff as the plate's penalty holds its n nodes together, so the plate
+is held in all three directions up to its own constraint error (on GROUND_HOLD Newton wandered);
+friction takes over as from GROUND_HOLD. Where their fold reaches outside the pipe, the closing
+wall crushes it through a snap, and the insertion and the release are stabilised
+(`fem.stabilisation`, c ramped to 0 over the release; docs/decisions/094-backward-snap.md).
 
 Wedge (`CrawlSetup.copies` > 1; `studies.foot.wedge`, docs/decisions/082-crawl-wedge.md and 083):
 one wedge of 2 pi / copies of each foot, its cuts tied exactly by cyclic symmetry, carrying
@@ -52,9 +49,10 @@ from softcrawl.fem.contact_stages import Stage, run_stages
 from softcrawl.fem.equal_displacement import EqualDisplacement
 from softcrawl.fem.model import Dirichlet, SolidModel
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.fem.stabilisation import Stabilisation
 from softcrawl.geometry.foot_design import FootDesign
+from softcrawl.studies.crawl import flipped
 from softcrawl.studies.crawl.contacts import feet_contacts
-from softcrawl.studies.crawl.flipped import FOLD_HOLD, folded_feet, plate_hold, rim_springs
 from softcrawl.studies.crawl.mesh import FEET, attach_tag
 from softcrawl.studies.crawl.outputs import CrawlResult, StateRecorder
 from softcrawl.studies.crawl.resume import Totals
@@ -144,6 +142,8 @@ class CrawlModel:
     ground_hold: float = GROUND_HOLD  # N/mm: the ground springs until friction (module docstring)
     folded: np.ndarray | None = field(default=None, repr=False)  # the flipped feet's start state
     fold_message: str = ""
+    stabilisation: Stabilisation | None = None  # the flipped feet's insertion (record 094), else None
+    stabilise: float = 0.0  # its coefficient c0 while the wall closes, N/mm^4
 
     def contacts_of(self, foot: str) -> list:
         return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
@@ -166,8 +166,8 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
         EqualDisplacement(front, 2, PLATE_PENALTY * youngs * size),
     ]
     bcs = [Dirichlet(tag, (0, 1), (0.0, 0.0)) for tag in (rear, front)]
-    springs = rim_springs() if setup.flipped else None
-    terms += [springs] if springs is not None else []
+    springs = flipped.rim_springs() if setup.flipped else None
+    terms += [springs, Stabilisation()] if springs is not None else []
     ties = wedge.ties(setup.copies, FEET)
     model = SolidModel(mesh, material, dirichlet=bcs, contacts=contacts, extra_terms=terms, ties=ties)
     links = {
@@ -177,10 +177,15 @@ def build(mesh, material, foot_design, setup: CrawlSetup, law: AxialLaw | None =
     }
     cm = CrawlModel(model, law, setup, foot_design.tip_radius, links, springs)
     if springs is not None:
-        cm.ground_hold = plate_hold(model, (rear, front), PLATE_PENALTY * youngs * size, setup.copies)
+        cm.ground_hold = flipped.plate_hold(model, (rear, front), PLATE_PENALTY * youngs * size, setup.copies)
         for name in ("ground_rear", "ground_front"):
             links[name].set_load(cm.ground_hold, 0.0)
-        cm.folded, cm.fold_message = folded_feet(model, material, foot_design, setup, springs)
+        cm.folded, cm.fold_message = flipped.folded_feet(model, material, foot_design, setup, springs)
+        cm.stabilisation = next(t for t in model.terms if isinstance(t, Stabilisation))
+        if cm.folded is not None:
+            cm.stabilise = flipped.stabilisation_coefficient(
+                model, cm.folded, setup.pipe.radius, youngs, foot_design
+            )
     return cm
 
 
@@ -298,7 +303,8 @@ def run_crawl(
     if cm.springs is not None:
         if cm.folded is None:
             return recorder.result(False, f"the flipped feet: {cm.fold_message}", stats, elapsed())
-        cm.springs.stiffness = FOLD_HOLD if plan[first] == "insert" else 0.0  # "release" drives it
+        cm.springs.stiffness = flipped.FOLD_HOLD if plan[first] == "insert" else 0.0  # "release" drives it
+        cm.stabilisation.rest(x)  # the last converged state is the committed one
     setup_span = [(0.0, 0.0, np.zeros(3), np.zeros(3))]
     for k, name in enumerate(plan):
         if k < first:
@@ -316,11 +322,19 @@ def run_crawl(
         if name == "insert":
             wall_at = insertion_wall(setup.pipe, _clear_radius(cm))
             surfaces = {i: wall_at for i in range(len(model.contacts))}
-            stages, spans = [Stage("insert", surfaces=surfaces, steps=setup.insert_steps)], setup_span
+            drive = None if cm.springs is None else flipped.insert_drive(cm.stabilisation, cm.stabilise)
+            span = 1.0 if cm.stabilise > 0 else None  # the stabilisation's pseudo-time (record 094)
+            stages = [
+                Stage("insert", surfaces=surfaces, steps=setup.insert_steps, drive=drive, duration=span)
+            ]
+            spans = setup_span
         elif name == "release":
             at_pipe = {i: (lambda s: CylinderWall(setup.pipe.radius)) for i in range(len(model.contacts))}
-            drive = cm.springs.ramp(FOLD_HOLD)
-            stages = [Stage("release", surfaces=at_pipe, drive=drive, steps=setup.insert_steps)]
+            drive = flipped.release_drive(cm.springs, cm.stabilisation, cm.stabilise)
+            span = 1.0 if cm.stabilise > 0 else None
+            stages = [
+                Stage("release", surfaces=at_pipe, drive=drive, steps=setup.insert_steps, duration=span)
+            ]
             spans = setup_span
         elif name == "friction":
             mu = {

@@ -8,8 +8,9 @@ axial friction force on it (N), the slipping share of its contact area, the skir
 the hub top along the skirt's opening direction (mm; > 0: the skirt has flipped, as in
 `studies.foot.model`), the ground spring's force; and the axial momentum balance: the sum of
 the wall's axial friction forces and the ground springs' forces on both feet, and with flipped
-feet the rim springs' (`rim_springs_n`, 0 once released) (0 at equilibrium, within the Newton
-tolerance).
+feet the rim springs' (`rim_springs_n`, 0 once released) and the stabilisation's resultant
+(`stabilisation_n`, the artificial force of the insertion's last sub-step, 0 once released;
+`fem.stabilisation`) (0 at equilibrium, within the Newton tolerance).
 
 Per cycle: each foot's advance and the stride (advance of the centre, the mean of the two hub
 plates), speed = stride / cycle time; for each phase (extend: pressures rising, retract: falling)
@@ -110,6 +111,12 @@ class StateRecorder:
         if springs is not None:  # the flipped feet's rim springs act on the body until released
             row["rim_springs_n"] = copies * springs.axial_force(x)
             balance += row["rim_springs_n"]
+        stabilisation = getattr(cm, "stabilisation", None)
+        if (
+            stabilisation is not None and cm.stabilise > 0
+        ):  # their insertion's artificial force (record 094), 0 once released
+            row["stabilisation_n"] = copies * float(stabilisation.force[2])
+            balance += row["stabilisation_n"]
         row["momentum_n"] = balance
         self.states.append(row)
         if self.on_state is not None:

@@ -109,7 +109,7 @@ def test_the_flipped_feet_plates_are_held_until_friction(monkeypatch):
     the paper's feet keep GROUND_HOLD (their insertion, and its cache key, unchanged)."""
     from softcrawl.studies.crawl import model as crawl_model
 
-    monkeypatch.setattr(crawl_model, "folded_feet", lambda model, *a: (np.zeros(model.n_dofs), "folded"))
+    monkeypatch.setattr(flipped, "folded_feet", lambda model, *a: (np.zeros(model.n_dofs), "folded"))
     for feet in ("backward", "paper"):
         setup = replace(_setup(70.0), feet=feet, thickness_layers=2)
         design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
@@ -151,3 +151,37 @@ def test_the_first_contact_sub_step_converges_with_the_plates_held():
     assert record.converged and record.iterations <= 8
     # the wall carries the rear foot's bow there (record 078: 72-192 active points of its grooved face)
     assert cm.model.contacts[1].report(x).normal_force > 1.0  # N
+
+
+def test_the_flipped_feet_insertion_is_stabilised_where_the_fold_is_crushed(monkeypatch):
+    """Record 094: where the folded feet reach outside the pipe (a stand-in fold: the moulded feet,
+    tips at 39 mm, in a 70 mm pipe) the insertion is stabilised at c0 = STABILISE E / t^2, and the
+    release ramps c linearly, with the rim springs, to exactly 0 (a static equilibrium); where they are
+    inside (an 80 mm pipe) c0 = 0, and the paper's feet have no stabilisation."""
+    from softcrawl.fem.stabilisation import Stabilisation
+    from softcrawl.studies.foot.model import small_strain_youngs
+
+    monkeypatch.setattr(flipped, "folded_feet", lambda model, *a: (np.zeros(model.n_dofs), "folded"))
+    for feet, diameter in (("backward", 70.0), ("backward", 80.0), ("paper", 70.0)):
+        setup = replace(_setup(diameter), feet=feet, thickness_layers=2)
+        design, mesh = crawl_mesh(setup.mirrored, foot=setup.foot, **setup.mesh_options())
+        cm = build(mesh, _law(), design, setup)
+        terms = [t for t in cm.model.terms if isinstance(t, Stabilisation)]
+        if feet == "paper":
+            assert terms == [] and cm.stabilisation is None and cm.stabilise == 0.0
+            continue
+        assert terms == [cm.stabilisation]
+        if diameter == 80.0:
+            assert cm.stabilise == 0.0
+            continue
+        c0 = flipped.STABILISE * small_strain_youngs(_law()) / design.skirt_thickness**2
+        assert cm.stabilise == pytest.approx(c0, rel=1e-12) and c0 > 0
+        flipped.insert_drive(cm.stabilisation, cm.stabilise)(0.5)
+        assert cm.stabilisation.coefficient == cm.stabilise
+        release = flipped.release_drive(cm.springs, cm.stabilisation, cm.stabilise)
+        release(0.0)
+        assert cm.stabilisation.coefficient == pytest.approx(c0, rel=1e-12)
+        release(0.75)
+        assert cm.stabilisation.coefficient == pytest.approx(0.25 * c0, rel=1e-12)
+        release(1.0)
+        assert cm.stabilisation.coefficient == 0.0 and cm.springs.stiffness == 0.0

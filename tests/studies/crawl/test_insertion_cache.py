@@ -142,3 +142,24 @@ def test_a_second_process_waits_for_the_first_ones_insertion(tmp_path):
 @pytest.mark.parametrize("choice", [False, None])
 def test_no_cache_is_asked_for(choice):
     assert ins.insertion_cache_for(choice, _cm(), _mesh(), FOOT, LAW) is None
+
+
+def test_the_flipped_feet_key_names_their_insertions_stabilisation(monkeypatch):
+    """Record 094: where the flipped feet's insertion is stabilised (c0 = STABILISE E / t^2 > 0,
+    a fold outside the wall) the key names it, so an entry inserted without it, or with another
+    coefficient, is not read; where it is off (c0 = 0) and for the paper's feet the key keeps its
+    value from before."""
+
+    def stabilised(c0):
+        cm = _cm(feet="backward")
+        cm.stabilise = c0
+        return cm
+
+    key = ins.insertion_options(stabilised(0.01), _mesh(), FOOT, LAW)
+    assert key["stabilised"] == {"coefficient": "STABILISE E / t^2", "STABILISE": 1.0e-2}
+    assert "stabilised" not in ins.insertion_options(stabilised(0.0), _mesh(), FOOT, LAW)
+    assert _key(stabilised(0.0)) == _key(_cm(feet="backward"))
+    assert "stabilised" not in ins.insertion_options(_cm(), _mesh(), FOOT, LAW)
+    before = _key(stabilised(0.01))
+    monkeypatch.setattr(ins.flipped_feet, "STABILISE", 1.0e-1)
+    assert _key(stabilised(0.01)) != before
