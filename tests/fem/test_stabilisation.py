@@ -98,3 +98,20 @@ def test_a_bad_coefficient_names_its_parameter(c):
     term = _term(_block())
     with pytest.raises(SolverInputError, match="stabilisation.coefficient"):
         term.set_coefficient(c)
+
+
+def test_at_c_zero_the_model_is_the_one_without_the_term_bit_for_bit():
+    """A term switched off (c = 0, with or without a time step) changes neither the residual nor
+    the tangent's values or pattern, so runs where it is off (the flipped feet inside the wall,
+    record 094) are the runs from before, to the last bit."""
+    stretch = [Dirichlet.fixed("x0"), Dirichlet.prescribed("x1", 0, 0.4)]
+    plain = SolidModel(box((2.0, 1.0, 1.0), (2, 2, 2)), LAW, formulation="p2", dirichlet=stretch)
+    model = _block(dirichlet=stretch)
+    x = plain.initial_state() + 1e-2 * np.sin(np.arange(plain.n_dofs))
+    R0, K0 = plain.residual_and_tangent(x, np.zeros(1), 1.0)
+    for dt in (None, 0.25):
+        _term(model).set_time_step(dt)
+        R, K = model.residual_and_tangent(x, np.zeros(1), 1.0)
+        assert np.array_equal(R, R0)
+        assert np.array_equal(K.indptr, K0.indptr) and np.array_equal(K.indices, K0.indices)
+        assert np.array_equal(K.data, K0.data)
