@@ -143,7 +143,7 @@ class CrawlModel:
     folded: np.ndarray | None = field(default=None, repr=False)  # the flipped feet's start state
     fold_message: str = ""
     stabilisation: Stabilisation | None = None  # the flipped feet's insertion (record 094), else None
-    stabilise: float = 0.0  # its coefficient c0 while the wall closes, N/mm^4
+    stabilise: float = 0.0  # its coefficient c0 while the wall closes, N s/mm^4
 
     def contacts_of(self, foot: str) -> list:
         return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
