@@ -57,6 +57,7 @@ __all__ = [
     "check_pipe",
     "folded_feet",
     "insert_drive",
+    "outer_radius",
     "plate_hold",
     "release_drive",
     "rim_springs",
@@ -81,12 +82,17 @@ def check_pipe(pipe_diameter: float, foot_design, error, parameter: str = "pipe_
         )
 
 
+def outer_radius(model: SolidModel, x) -> float:
+    """The largest radius (mm) of the body's nodes in the state x."""
+    deformed = model.nodes + model.displacement(x)
+    return float(np.hypot(deformed[0], deformed[1]).max())
+
+
 def stabilisation_coefficient(model: SolidModel, x0, radius: float, youngs: float, foot_design) -> float:
     """c0 (N s/mm^4) of the flipped feet's insertion: STABILISE E / t^2 where the folded feet x0
     reach outside the pipe's `radius` (the closing wall crushes the fold, record 078), else 0 (the
     wall closes onto nothing, and the insertion is the one before record 094)."""
-    deformed = model.nodes + model.displacement(x0)
-    if float(np.hypot(deformed[0], deformed[1]).max()) <= radius:
+    if outer_radius(model, x0) <= radius:
         return 0.0
     return STABILISE * youngs / foot_design.skirt_thickness**2
 

@@ -193,8 +193,7 @@ def _clear_radius(cm: CrawlModel) -> float:
     """The insertion wall's start: clear of the skirt tips, or of the folded feet (never inside the pipe)."""
     if cm.folded is None:
         return cm.tip_radius + 0.5
-    deformed = cm.model.nodes + cm.model.displacement(cm.folded)
-    return max(float(np.hypot(deformed[0], deformed[1]).max()) + 0.5, cm.setup.pipe.radius)
+    return max(flipped.outer_radius(cm.model, cm.folded) + 0.5, cm.setup.pipe.radius)
 
 
 class WallBudgetExceeded(Exception):
@@ -306,6 +305,8 @@ def run_crawl(
         cm.springs.stiffness = flipped.FOLD_HOLD if plan[first] == "insert" else 0.0  # "release" drives it
         cm.stabilisation.rest(x)  # the last converged state is the committed one
     setup_span = [(0.0, 0.0, np.zeros(3), np.zeros(3))]
+    # the insertion's and the release's pseudo-time, which the stabilisation reads (record 094)
+    setup_time = 1.0 if cm.stabilise > 0 else None
     for k, name in enumerate(plan):
         if k < first:
             continue
@@ -323,17 +324,15 @@ def run_crawl(
             wall_at = insertion_wall(setup.pipe, _clear_radius(cm))
             surfaces = {i: wall_at for i in range(len(model.contacts))}
             drive = None if cm.springs is None else flipped.insert_drive(cm.stabilisation, cm.stabilise)
-            span = 1.0 if cm.stabilise > 0 else None  # the stabilisation's pseudo-time (record 094)
             stages = [
-                Stage("insert", surfaces=surfaces, steps=setup.insert_steps, drive=drive, duration=span)
+                Stage("insert", surfaces=surfaces, steps=setup.insert_steps, drive=drive, duration=setup_time)
             ]
             spans = setup_span
         elif name == "release":
             at_pipe = {i: (lambda s: CylinderWall(setup.pipe.radius)) for i in range(len(model.contacts))}
             drive = flipped.release_drive(cm.springs, cm.stabilisation, cm.stabilise)
-            span = 1.0 if cm.stabilise > 0 else None
             stages = [
-                Stage("release", surfaces=at_pipe, drive=drive, steps=setup.insert_steps, duration=span)
+                Stage("release", surfaces=at_pipe, drive=drive, steps=setup.insert_steps, duration=setup_time)
             ]
             spans = setup_span
         elif name == "friction":

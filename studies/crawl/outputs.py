@@ -111,11 +111,8 @@ class StateRecorder:
         if springs is not None:  # the flipped feet's rim springs act on the body until released
             row["rim_springs_n"] = copies * springs.axial_force(x)
             balance += row["rim_springs_n"]
-        stabilisation = getattr(cm, "stabilisation", None)
-        if (
-            stabilisation is not None and cm.stabilise > 0
-        ):  # their insertion's artificial force (record 094), 0 once released
-            row["stabilisation_n"] = copies * float(stabilisation.force[2])
+        if getattr(cm, "stabilise", 0.0) > 0:  # their insertion's artificial force (record 094)
+            row["stabilisation_n"] = copies * float(cm.stabilisation.force[2])
             balance += row["stabilisation_n"]
         row["momentum_n"] = balance
         self.states.append(row)
