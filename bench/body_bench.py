@@ -1,7 +1,7 @@
 """The one FE body (issue 34, step 1): its size, one tangent, one Newton step, and the insertion.
 
     python bench/body_bench.py [--mesh quick|default] [--insert] [--pipe 70] [--insert-steps 8]
-                               [--cycles N] [--pressure 100] [--steps 4] [--mu 0.5]
+                               [--cycles N] [--pressure 100] [--steps 4] [--mu 0.5] [--wedge 1|3]
 
 Printed: the mesh (vertices, tets, skirt sectors), the DOFs, the three-fold asymmetry of the P2
 nodes, the mass per part against the prototype's 70.2 g; the wall time of building the model; one
@@ -12,7 +12,9 @@ insertion, holds stiff; friction on, holds softened) with each foot's wall force
 forces after each phase; with `--cycles N` (implies `--insert`), N cycles of the "inflate" gait
 (all three chambers 0 -> PRESSURE -> 0 kPa in 2 s, `studies.crawl_fe.cycle`) with each segment's
 foot positions, lateral drift, wall forces, holds and Newton iterations, the stride of each cycle
-and its wall time; the peak RSS at the end. Nothing is asserted (bench/, CONTRIBUTING.md).
+and its wall time; the peak RSS at the end. `--wedge 3`: one wedge of 120 deg of the body, tied by
+its three-fold symmetry (`studies.crawl_fe.wedge`; the figures printed are the whole body's).
+Nothing is asserted (bench/, CONTRIBUTING.md).
 Run it on an idle machine with SOFTCRAWL_THREADS=1 for the record's figures
 (docs/decisions/076-one-body.md).
 """
@@ -51,23 +53,26 @@ def main(argv=None) -> int:
     ap.add_argument("--pressure", type=float, default=100.0, help="the gait's pressure (kPa)")
     ap.add_argument("--steps", type=int, default=4, help="sub-steps per schedule segment")
     ap.add_argument("--mu", type=float, default=0.5, help="friction of both faces (CrawlSetup's 0.5)")
+    ap.add_argument("--wedge", type=int, default=1, choices=(1, 3), help="3: one wedge of 120 deg")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     if args.cycles < 0:
         ap.error(f"--cycles: a number of cycles >= 0, not {args.cycles}")
     if not 0.0 <= args.mu <= 5.0:
         ap.error(f"--mu: a friction coefficient in [0, 5], not {args.mu}")
-    bm = build_body(CrawlSetup(pipe_diameter=args.pipe, mu_smooth=args.mu, mu_grooved=args.mu), args.mesh)
+    setup = CrawlSetup(pipe_diameter=args.pipe, mu_smooth=args.mu, mu_grooved=args.mu, copies=args.wedge)
+    bm = build_body(setup, args.mesh)
     m, tm = bm.model, bm.mesh
     print(f"mesh {args.mesh}: {tm.n_nodes} vertices, {tm.n_tets} tets, {bm.settings.sectors} skirt sectors")
     print(f"DOFs {m.n_dofs} (u {m.n_u}, p {m.n_p}); built in {time.perf_counter() - t0:.1f} s")
-    print(f"asymmetry (P2 nodes, 120 deg): {rotation_defect(np.asarray(m.nodes).T, 120.0):.2e} mm")
-    s = mass_summary(bm.design, m.mesh, bm.materials)
+    if bm.copies == 1:  # a wedge's cuts are tied node for node (`studies.crawl_fe.wedge`)
+        print(f"asymmetry (P2 nodes, 120 deg): {rotation_defect(np.asarray(m.nodes).T, 120.0):.2e} mm")
+    s = mass_summary(bm.design, m.mesh, bm.materials, bm.copies)
     for part, p in s["parts"].items():
         print(f"  {part:10s} {p['material']:26s} {p['volume_mm3']:10.1f} mm^3 {p['mass_g']:8.2f} g")
     print(f"mass {s['total_g']:.2f} g (+ winding {s['winding_g']:.2f} g) against {s['prototype_g']} g")
     x = m.initial_state()
-    P = np.full(3, kpa_to_mpa(10.0))
+    P = np.asarray(bm.pressures([kpa_to_mpa(10.0)] * 3))
     t = time.perf_counter()
     _, K = m.residual_and_tangent(x, P, 0.0)
     print(f"one tangent: {time.perf_counter() - t:.2f} s, {K.nnz} nonzeros", flush=True)

@@ -23,11 +23,14 @@ An internal link (two sets) adds no net force to the body; a ground link puts th
 
 A model of one wedge of a cyclic-symmetric body (`fem.periodic_tie`) carries the `share`
 1 / copies of the link: its residual and tangent are share r and share K, while `set_load`,
-`extension` and `tension` speak of the whole link.
+`extension` and `tension` speak of the whole link. A wedge's tag has its cut nodes on both cuts;
+`nodes` (a function of the discretisation and the tag) may pick one node of each orbit instead, so
+that the mean is the whole body's (`studies.crawl_fe.wedge.face_nodes`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,6 +61,7 @@ class AxialLink:
     rest: float = 0.0  # Delta0, mm
     name: str = "link"
     share: float = 1.0  # the fraction of the link the model carries (module docstring)
+    nodes: Callable | None = None  # (space, tag) -> the nodes a mean runs over; None: all of the tag's
 
     def __post_init__(self):
         if self.component not in (0, 1, 2):
@@ -81,11 +85,12 @@ class AxialLinkTerm:
 
     def __init__(self, space, spec: AxialLink) -> None:
         self.spec, self.name = spec, spec.name
-        nodes_b = space.boundary_nodes(spec.tag_b)
+        pick = spec.nodes or (lambda space, tag: space.boundary_nodes(tag))
+        nodes_b = pick(space, spec.tag_b)
         parts = [3 * nodes_b + spec.component]
         weights = [np.full(nodes_b.size, 1.0 / nodes_b.size)]
         if spec.tag_a is not None:
-            nodes_a = space.boundary_nodes(spec.tag_a)
+            nodes_a = pick(space, spec.tag_a)
             if np.intersect1d(nodes_a, nodes_b).size:
                 raise SolverInputError("axial_link.tag_a", "the two ends share nodes")
             parts.append(3 * nodes_a + spec.component)

@@ -55,7 +55,9 @@ class Discretisation:
         if self.mixed:
             self.pbasis = skfem.Basis(mesh, skfem.ElementTetP1(), quadrature=self.basis.quadrature)
             self.Np = np.stack([np.asarray(phi[0]) for phi in self.pbasis.basis])  # (4, E, Q)
-            self.p_dofs, self.pressure_vertex = _pressure_dofs(self.pbasis.element_dofs, pressure_groups)
+            self.p_dofs, self.pressure_vertex, self.pressure_group = _pressure_dofs(
+                self.pbasis.element_dofs, pressure_groups
+            )
             self.p_dofs = self.p_dofs + self.n_u  # (4, E)
             self.n_p = len(self.pressure_vertex)
         else:
@@ -120,18 +122,19 @@ class Discretisation:
         return F
 
 
-def _pressure_dofs(vertex_dofs: np.ndarray, groups) -> tuple[np.ndarray, np.ndarray]:
-    """Pressure dof numbers (4, E) and the vertex of each pressure dof: one dof per (vertex,
-    group) pair that occurs (see the module docstring); groups None means one group."""
+def _pressure_dofs(vertex_dofs: np.ndarray, groups) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pressure dof numbers (4, E), and the vertex and group of each pressure dof: one dof per
+    (vertex, group) pair that occurs (see the module docstring); groups None means one group."""
     if groups is None:
-        return vertex_dofs.copy(), np.arange(vertex_dofs.max() + 1)
+        n = vertex_dofs.max() + 1
+        return vertex_dofs.copy(), np.arange(n), np.zeros(n, dtype=np.int64)
     groups = np.asarray(groups)
     if groups.shape != (vertex_dofs.shape[1],) or not np.issubdtype(groups.dtype, np.integer):
         raise SolverInputError("pressure_groups", f"give one integer per element ({vertex_dofs.shape[1]})")
     n_groups = int(groups.max()) + 1
     key = vertex_dofs.astype(np.int64) * n_groups + groups[None, :]
     unique, inverse = np.unique(key, return_inverse=True)
-    return inverse.reshape(vertex_dofs.shape), unique // n_groups
+    return inverse.reshape(vertex_dofs.shape), unique // n_groups, unique % n_groups
 
 
 def element_first(dN: np.ndarray) -> np.ndarray:

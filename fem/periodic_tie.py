@@ -77,15 +77,30 @@ class CyclicTie:
 
 
 def _pressure_pairs(space, a, b):
-    """The P1 pressure dofs of the cut pairs (a, b) that are vertices."""
+    """The P1 pressure dofs of the cut pairs (a, b) that are vertices, group by group: a vertex
+    where materials with their own pressure fields meet has one pressure dof per field, and each
+    is tied to its partner's dof of the same field (a turn maps every material onto itself)."""
     vertex = np.isin(a, space.pressure_vertex)  # the P1 pressure lives on the vertices
     a, b = a[vertex], b[vertex]
-    order = np.argsort(space.pressure_vertex)
-    sorted_v = space.pressure_vertex[order]
-    if np.unique(sorted_v).size != sorted_v.size:
-        raise SolverInputError("periodic_tie", "a vertex with a pressure per material: not supported")
-    dof = lambda v: space.n_u + order[np.searchsorted(sorted_v, v)]  # noqa: E731
-    return dof(a), dof(b)
+    groups = np.asarray(space.pressure_group, dtype=np.int64)
+    n_groups = int(groups.max()) + 1 if groups.size else 1
+    key = np.asarray(space.pressure_vertex, dtype=np.int64) * n_groups + groups
+    order = np.argsort(key)
+    sorted_key = key[order]
+
+    def dof(v, g):  # the pressure dof of (vertex v, group g), -1 where v has no such field
+        k = v.astype(np.int64) * n_groups + g
+        at = np.minimum(np.searchsorted(sorted_key, k), key.size - 1)
+        return np.where(sorted_key[at] == k, space.n_u + order[at], -1)
+
+    pa, pb = [], []
+    for g in range(n_groups):
+        da, db = dof(a, g), dof(b, g)
+        if np.any((da < 0) != (db < 0)):
+            raise SolverInputError("periodic_tie", "a cut vertex's pressure fields differ from its partner's")
+        pa.append(da[da >= 0])
+        pb.append(db[db >= 0])
+    return np.concatenate(pa), np.concatenate(pb)
 
 
 def cut_pairs(space, tag_a: str, tag_b: str, angle: float) -> tuple[np.ndarray, np.ndarray]:

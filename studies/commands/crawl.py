@@ -27,7 +27,10 @@ and vtu/ (`studies.crawl_fe.files`); the reduced model's feet options (--backwar
 --mesher, --sectors, --layers, --mesh-size, --foot-angle), --insertion-cache and the GIF are
 refused with --body fe (exit 2); --resume continues an FE-body run stopped at its --time-limit or
 killed (`studies.crawl_fe.resume`; --cycles may grow). --gait-plan GAIT_CSV (--body fe): the gait.csv that
-`softcrawl model plan` writes, replayed cycle by cycle (`studies.crawl_fe.gait_plan`).
+`softcrawl model plan` writes, replayed cycle by cycle (`studies.crawl_fe.gait_plan`). --wedge 3
+(--body fe): one wedge of 120 deg of the body, ePSA 1 whole, its cuts tied exactly by the robot's
+three-fold symmetry (`studies.crawl_fe.wedge`, docs/decisions/096-body-wedge.md); only where the
+state keeps that symmetry: a straight, vertical or bellows pipe and equal chamber pressures.
 
 --slip-viscosity ETA (MPa s/mm, default 0): viscous slip of both feet's faces (`fem.contact_law`,
 docs/decisions/088-viscous-slip.md): friction above the Coulomb limit by ETA times the slip speed,

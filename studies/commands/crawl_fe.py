@@ -24,7 +24,6 @@ REDUCED_ONLY = (
     ("mesher", "mesher", "revolved"),
     ("sectors", "sectors", None),
     ("layers", "layers", None),
-    ("wedge", "wedge", None),
     ("edge_length", "mesh-size", None),
     ("foot_angle", "foot-angle", 120.0),
     ("insertion_cache", "insertion-cache", False),
@@ -36,7 +35,6 @@ WHY = {
     "backward": "the FE body crawls forward only so far",
     "symmetric": "the FE body has the paper's feet only so far",
     "foot-angle": "the FE body has the paper's 120 deg feet only so far",
-    "wedge": "the FE body's three ePSAs are not the same in every wedge of the feet",
     "insertion-cache": "the cache holds the reduced model's insertions",
     "gif": "the FE body's states are in vtu/crawl.pvd (open them in ParaView)",
     "animation": "the FE body's states are in vtu/crawl.pvd (open them in ParaView)",
@@ -70,6 +68,16 @@ def check_options(args) -> None:
             )
     elif args.bend_radius is not None:
         raise CommandLineError("bend-radius", "applies to --pipe elbow only")
+    if args.wedge not in (None, 1):
+        from softcrawl.studies.crawl_fe.wedge import COPIES
+
+        if args.wedge != COPIES:
+            raise CommandLineError(
+                "wedge", f"the FE body's wedge is 360/{COPIES} deg (its three ePSAs), not 360/{args.wedge}"
+            )
+        if args.pipe == "elbow" or args.gait_plan is not None:
+            why = "an elbow" if args.pipe == "elbow" else "a gait plan's unequal pressures"
+            raise CommandLineError("wedge", f"needs a state with the three-fold symmetry: {why} breaks it")
     if args.pipe != "bellows":
         for option, value in (("bellows-depth", args.bellows_depth), ("bellows-pitch", args.bellows_pitch)):
             if value is not None:
@@ -111,6 +119,13 @@ def run_body(args, friction_settings) -> int:
         schedule = read_csv(args.schedule)
     else:
         schedule = preset(args.gait, args.pressure, args.cycle_time)
+    copies = args.wedge or 1
+    if copies > 1:
+        rows = schedule.pressures_kpa
+        if any(len(set(map(float, row))) > 1 for row in rows):
+            raise CommandLineError(
+                "wedge", f"needs equal chamber pressures in every row; {schedule.name} has others"
+            )
     out = Path(output_folder(args.out))
     setup = CrawlSetup(
         pipe_diameter=args.pipe_diameter,
@@ -121,6 +136,7 @@ def run_body(args, friction_settings) -> int:
         steps=args.steps or 4,
         cycles=args.cycles,
         slip_viscosity=args.slip_viscosity,
+        copies=copies,
     )
     mesh = "quick" if args.quick else "default"
     schedules = schedule if args.gait_plan else (schedule,)
@@ -136,6 +152,7 @@ def run_body(args, friction_settings) -> int:
         else f"{schedule.name}, {setup.cycles}"
     )
     dynamics = ", with inertia" if args.inertia else ""
+    dynamics += ", one wedge of 120 deg" if copies > 1 else ""
     progress(f"crawl --body fe: {what} cycle(s), {args.pipe} pipe, {mesh} mesh{dynamics}")
     converged, summary = run_and_write(
         setup,

@@ -39,6 +39,7 @@ from softcrawl.studies.crawl.model import MAX_CUTBACKS
 from softcrawl.studies.crawl.schedule import Schedule
 from softcrawl.studies.crawl_fe.model import BODY_NEWTON, FEET, BodyModel
 from softcrawl.studies.crawl_fe.pipe import record
+from softcrawl.studies.crawl_fe.wedge import face_nodes, whole_points
 from softcrawl.studies.foot.model import AUGMENT
 from softcrawl.units import kpa_to_mpa
 
@@ -100,19 +101,27 @@ class FootProbe:
     """Each foot's axial displacement and centreline position, the lateral drift, the bend and
     the heading at a state (module docstring), on the discretisation `space` of the body's model
     in the pipe `wall` (any surface with `arc_length`: `CylinderWall`, `ElbowPipe`,
-    `CorrugatedPipe`; None: a pipe on the z axis)."""
+    `CorrugatedPipe`; None: a pipe on the z axis). A wedge of 2 pi / `copies`
+    (`studies.crawl_fe.wedge`) reads one node of each orbit of a hub face, turned into all
+    copies: the whole body's face (`wedge.face_nodes`)."""
 
-    def __init__(self, space, wall=None):
-        self.nodes = {foot: space.boundary_nodes(tag) for foot, tag in FOOT_FACES.items()}
-        self.points = {foot: np.asarray(space.nodes)[:, n].T for foot, n in self.nodes.items()}
+    def __init__(self, space, wall=None, copies: int = 1):
+        self.copies = int(copies)
+        self.nodes = {foot: face_nodes(space, tag, self.copies) for foot, tag in FOOT_FACES.items()}
+        self.points = {foot: whole_points(np.asarray(space.nodes)[:, n].T, self.copies)
+                       for foot, n in self.nodes.items()}  # fmt: skip
         self.wall = CylinderWall(1.0) if wall is None else wall  # only its centreline is read
+
+    def displacement(self, x: np.ndarray, foot: str) -> np.ndarray:
+        """(n, 3) displacements of the whole hub face of `foot`."""
+        n = self.nodes[foot]
+        return whole_points(np.column_stack([x[3 * n], x[3 * n + 1], x[3 * n + 2]]), self.copies)
 
     def z(self, x: np.ndarray) -> dict:
         return {foot: float(x[3 * n + 2].mean()) for foot, n in self.nodes.items()}
 
     def deformed(self, x: np.ndarray, foot: str) -> np.ndarray:
-        n = self.nodes[foot]
-        return self.points[foot] + np.column_stack([x[3 * n], x[3 * n + 1], x[3 * n + 2]])
+        return self.points[foot] + self.displacement(x, foot)
 
     def arc(self, x: np.ndarray) -> dict:
         out = {}
@@ -133,8 +142,8 @@ class FootProbe:
         return float(bend), float(np.degrees(np.arccos(np.clip(front[2], -1.0, 1.0))))
 
     def drift(self, x: np.ndarray) -> tuple[float, float]:
-        nodes = np.concatenate(list(self.nodes.values()))
-        return float(x[3 * nodes].mean()), float(x[3 * nodes + 1].mean())
+        u = np.vstack([self.displacement(x, foot) for foot in self.nodes])
+        return float(u[:, 0].mean()), float(u[:, 1].mean())
 
 
 def crawl_cycles(
@@ -168,7 +177,7 @@ def crawl_cycles(
         raise SolverInputError("cycles", f"a whole number of cycles >= 1, not {cycles!r}")
     if isinstance(schedule, Schedule):
         per_cycle = [schedule] * int(cycles)
-    model, probe = bm.model, FootProbe(bm.model.space, wall)
+    model, probe = bm.model, FootProbe(bm.model.space, wall, bm.copies)
     pressures = [np.asarray(sch.pressures_kpa, dtype=float) for sch in per_cycle]
     # (cycle, row): the inserted state is at zero pressure, so a schedule that starts elsewhere
     # is first ramped to its first row (cycle 0), then each cycle moves through rows 1..last
@@ -186,7 +195,7 @@ def crawl_cycles(
     stages = [
         Stage(
             f"cycle{c}-row{k}",
-            pressure=[kpa_to_mpa(p) for p in of(c)[1][k]],
+            pressure=[kpa_to_mpa(p) for p in bm.pressures(of(c)[1][k])],
             steps=steps,
             duration=duration(c, k),
         )
@@ -212,7 +221,7 @@ def crawl_cycles(
                 cycle,
                 float(sch.times[row]),
                 tuple(float(p) for p in P[row]),
-                tuple(float(model.chamber_volume(x, i)) for i in range(3)),
+                bm.volumes(x),
                 probe.z(x),
                 arc,
                 probe.drift(x),

@@ -114,7 +114,7 @@ def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, preci
         )
     for k, st in enumerate(crawl.states if crawl is not None else ()):
         t = run_time(st.cycle, st.t, cycle_s)
-        P = [kpa_to_mpa(p) for p in st.pressures_kpa]
+        P = [kpa_to_mpa(p) for p in bm.pressures(st.pressures_kpa)]
         path = write_state(folder / f"state{k:04d}.vtu", bm.model, st.x, pressure_mpa=P, factor=factor,
                            time=t, precision=precision)  # fmt: skip
         entries.append((path, t))
@@ -263,7 +263,7 @@ def run_and_write(
     spent = before.plus(crawl) if crawl is not None else before
     earlier = run.wall_s + before.wall_s if resumed is not None else 0.0  # earlier processes' wall time
     contact_s = sum(c.seconds for c in bm.model.contacts)
-    probe = FootProbe(bm.model.space, wall)
+    probe = FootProbe(bm.model.space, wall, bm.copies)
     rest = probe.arc(np.zeros(bm.n_dofs))
     rows = state_rows(run, crawl, probe)
     out.mkdir(parents=True, exist_ok=True)
@@ -280,12 +280,12 @@ def run_and_write(
     ]
     empty = {"cycle": "", "stride_mm": "", "speed_mm_s": "", "turn_deg": "", "wall_s": ""}
     write_csv(cycle_rows or [empty], out / "cycles.csv")
-    mass = mass_summary(bm.design, bm.model.mesh, bm.materials)
+    mass = mass_summary(bm.design, bm.model.mesh, bm.materials, bm.copies)
     silicone_law = solid_material(bm.materials["epsa"])[1]
     dynamics = None
     if bm.inertia is not None:
         scheme = "backward Euler, HRZ-lumped mass (fem.inertia)"
-        dynamics = {"scheme": scheme, "mass_g": bm.inertia.total_mass * TONNE_TO_G}
+        dynamics = {"scheme": scheme, "mass_g": bm.copies * bm.inertia.total_mass * TONNE_TO_G}
     summary = {
         "model": "fe-body",
         "converged": converged,
@@ -300,6 +300,7 @@ def run_and_write(
             "corrugation_mm": [2 * wall.amplitude, wall.pitch] if pipe == "bellows" else None,  # depth, pitch
         },  # fmt: skip
         "mesh": summary_mesh(mesh),
+        "wedge": bm.copies,  # 3: one wedge of 120 deg, tied by the three-fold symmetry (`wedge`)
         "schedule": {"name": first.name, "source": first.source, "cycle_s": T, "gait_plan": plan},
         "cycles": cycles,
         "steps": setup.steps,

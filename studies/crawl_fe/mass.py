@@ -42,16 +42,17 @@ class PartMass:
         return self.density * self.volume * TONNE_TO_G
 
 
-def part_masses(mesh, materials: dict[str, str]) -> list[PartMass]:
+def part_masses(mesh, materials: dict[str, str], copies: int = 1) -> list[PartMass]:
     """The mass of each part kind of the body on `mesh` (the P2 skfem mesh of
     `geometry.body_mesh`, with its regions as subdomains; `materials`: part kind -> material name,
     `studies.crawl_fe.model.part_materials`), from the volumes of its curved P2 elements at the
-    solver's quadrature (`intorder` 2)."""
+    solver's quadrature (`intorder` 2). `copies`: the mesh is one wedge of 2 pi / copies of the
+    body (`studies.crawl_fe.wedge`), each of its volumes a 1 / copies of the whole body's."""
     dx = skfem.Basis(mesh, skfem.ElementTetP2(), intorder=2).dx
     volumes: dict[str, float] = {}
     for name, elements in mesh.subdomains.items():
         kind = part_kind(name)
-        volumes[kind] = volumes.get(kind, 0.0) + float(dx[np.asarray(elements)].sum())
+        volumes[kind] = volumes.get(kind, 0.0) + copies * float(dx[np.asarray(elements)].sum())
     out = []
     for kind, volume in volumes.items():
         material = get_material(materials[kind])
@@ -66,10 +67,10 @@ def winding_mass_g(design) -> float:
     return 3 * length * math.pi * e.fiber_diameter**2 / 4 * get_material("kevlar").density * TONNE_TO_G
 
 
-def mass_summary(design, mesh, materials: dict[str, str]) -> dict:
+def mass_summary(design, mesh, materials: dict[str, str], copies: int = 1) -> dict:
     """Per part and in total (g), the winding, and the difference to the prototype's ROBOT_MASS_G;
     `part_masses`'s arguments, and the `RobotDesign` (for the winding)."""
-    parts = part_masses(mesh, materials)
+    parts = part_masses(mesh, materials, copies)
     total = sum(p.mass_g for p in parts)
     return {
         "parts": {

@@ -38,11 +38,17 @@ reported, are ~0 (tests/studies/crawl_fe/test_holding.py shows it under the body
 that pushes the body along its axis while frictionless (a bellows' slopes) leaves forces in the
 stiff holds: those are kept as the soft holds' preloads when friction comes on, so that the state
 stays in equilibrium, and released to zero afterwards (`studies.crawl_fe.pipe`).
+
+One wedge (`CrawlSetup.copies` = 3; `studies.crawl_fe.wedge`, docs/decisions/096-body-wedge.md):
+the body's mesh cut to one wedge of 120 deg with ePSA 1 whole, its cuts tied exactly, chamber 1
+and its fiber sheets alone, the two holds the tie leaves (`wedge.HOLDS`), each link's share 1/3;
+the contact penalty's edge is still the whole mesh's median.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from functools import partial
 
 import numpy as np
 
@@ -55,6 +61,8 @@ from softcrawl.materials import get_material
 from softcrawl.materials.fem_law import solid_law
 from softcrawl.studies.crawl.contacts import feet_contacts
 from softcrawl.studies.crawl.model import CRAWL_NEWTON, GROUND_HOLD, GROUND_SOFT, CrawlSetup
+from softcrawl.studies.crawl_fe import wedge
+from softcrawl.studies.crawl_fe.wedge import wedge_mesh
 from softcrawl.studies.epsa.model import solid_material
 from softcrawl.studies.robot_fe.model import (
     DEFAULT_MATERIAL,
@@ -100,8 +108,22 @@ class BodyModel:
     def n_dofs(self) -> int:
         return int(self.model.n_dofs)
 
+    @property
+    def copies(self) -> int:
+        """1 for the whole body, 3 for one wedge of it (`studies.crawl_fe.wedge`)."""
+        return int(self.setup.copies)
+
     def contacts_of(self, foot: str) -> list:
         return [c for c in self.model.contacts if c.spec.name.startswith(foot)]
+
+    def volumes(self, x: np.ndarray) -> tuple[float, float, float]:
+        """The three chambers' volumes (mm^3); a wedge's one chamber stands for all three."""
+        n = len(self.model.chambers)
+        return tuple(float(self.model.chamber_volume(x, i % n)) for i in range(3))
+
+    def pressures(self, row) -> list[float]:
+        """The modelled chambers' pressures of a schedule row of three (a wedge: ePSA 1's)."""
+        return list(row)[: len(self.model.chambers)]
 
     def hold_forces(self, x: np.ndarray) -> dict[str, float]:
         """Each hold's force (N; the twist link's pair force) at state x."""
@@ -153,7 +175,9 @@ def build_body(
     setup = setup or CrawlSetup()
     design = (design or RobotDesign()).replace(foot=setup.foot)
     settings = settings_for(design.foot, mesh) if isinstance(mesh, str) else mesh
-    tagged = with_hold_tags(mesh_body(design, settings))
+    whole = mesh_body(design, settings)
+    copies = int(setup.copies)
+    tagged = with_hold_tags(whole) if copies == 1 else wedge_mesh(whole, copies)
     soft, body_law = solid_material(silicone)
     parts = {kind: get_material(name) for kind, name in part_materials(setup, silicone).items()}
     parts["epsa"] = soft
@@ -164,22 +188,34 @@ def build_body(
         densities[name] = parts[kind].density
         if gravity is not None:
             body[name] = parts[kind].density * G_MM_S2 * np.asarray(gravity, dtype=float)
-    feet = np.isin(tagged.region, [i for i, n in tagged.region_names.items() if n.startswith("foot")])
-    edges = np.linalg.norm(np.diff(tagged.points[tagged.tets[feet][:, :2]], axis=1)[:, 0], axis=1)
+    # the penalty's edge is the whole mesh's (a wedge's tets may list their vertices otherwise)
+    feet = np.isin(whole.region, [i for i, n in whole.region_names.items() if n.startswith("foot")])
+    edges = np.linalg.norm(np.diff(whole.points[whole.tets[feet][:, :2]], axis=1)[:, 0], axis=1)
     edge = float(np.median(edges))
     contacts = feet_contacts(parts["foot"].law, edge, design.foot.tip_radius, setup.slip_viscosity)
-    holds = [AxialLink(b, a, c, HOLD_STIFF, 0.0, name=name) for name, b, a, c in HOLDS]
-    chambers = [ChamberSpec((f"chamber_wall{i}", f"chamber_ends{i}"), name=f"epsa{i}") for i in (1, 2, 3)]
+    specs = HOLDS if copies == 1 else wedge.HOLDS
+    # a wedge's holds take their means over one node of each orbit: the whole body's means
+    pick = None if copies == 1 else partial(wedge.face_nodes, copies=copies)
+    holds = [
+        AxialLink(b, a, c, HOLD_STIFF, 0.0, name=name, share=1.0 / copies, nodes=pick)
+        for name, b, a, c in specs
+    ]
+    chambers = [
+        ChamberSpec((f"chamber_wall{i}", f"chamber_ends{i}"), name=f"epsa{i}")
+        for i in (1, 2, 3)
+        if f"chamber_wall{i}" in tagged.facets  # a wedge holds ePSA 1 only
+    ]
     model = SolidModel(
-        tagged.to_skfem(order=2),
+        tagged.to_skfem(order=2) if copies == 1 else wedge.wedge_p2(tagged, whole),
         laws,
         chambers=chambers,
-        fiber_sheets=fiber_sheets(design, get_material("kevlar")),
+        fiber_sheets=[s for s in fiber_sheets(design, get_material("kevlar")) if s.tag in tagged.facets],
         body_forces=body or None,
         contacts=contacts,
         extra_terms=holds + ([Inertia(densities)] if inertia else []),
+        ties=wedge.ties(copies),
     )
-    terms = {t.name: t for t in model.terms if getattr(t, "name", None) in {h[0] for h in HOLDS}}
+    terms = {t.name: t for t in model.terms if getattr(t, "name", None) in {h[0] for h in specs}}
     names = {k: m.name for k, m in parts.items()}
     mass = next((t for t in model.terms if isinstance(t, InertiaTerm)), None)
     return BodyModel(model, tagged, design, setup, settings, names, terms, mass)

@@ -47,6 +47,7 @@ from softcrawl.fem.rigid_surfaces import CylinderWall
 from softcrawl.geometry.design_base import ACTUATOR_ANGLES_DEG
 from softcrawl.studies.crawl.model import MAX_CUTBACKS
 from softcrawl.studies.crawl_fe.model import BODY_NEWTON, FEET, HOLD_SOFT, BodyModel
+from softcrawl.studies.crawl_fe.wedge import whole_force
 from softcrawl.studies.foot.model import AUGMENT
 
 #: The pipes of the FE-body crawl: name -> gravity in units of g (None: none; module docstring).
@@ -140,11 +141,13 @@ class PipeRun:
 
 
 def record(bm: BodyModel, phase: str, x: np.ndarray) -> PipeState:
+    """The state's outputs, the whole body's (a wedge's forces turned into all its copies,
+    `studies.crawl_fe.wedge`)."""
     normal, friction = {}, {}
     for foot in FEET:
         reports = [c.report(x) for c in bm.contacts_of(foot)]
-        normal[foot] = float(sum(r.normal_force for r in reports))
-        friction[foot] = np.sum([r.friction_force for r in reports], axis=0)
+        normal[foot] = bm.copies * float(sum(r.normal_force for r in reports))
+        friction[foot] = whole_force(np.sum([r.friction_force for r in reports], axis=0), bm.copies)
     return PipeState(phase, bm.hold_forces(x), normal, friction, x)
 
 

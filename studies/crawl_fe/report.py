@@ -40,7 +40,8 @@ def run_row(name: str, s: dict) -> dict:
     return {
         "run": name,
         "pipe": f"{where}, {pipe['diameter_mm']:g} mm",
-        "mesh": s["mesh"],
+        # one wedge of 120 deg by the three-fold symmetry (docs/decisions/096-body-wedge.md)
+        "mesh": s["mesh"] + (f", wedge 360/{s['wedge']} deg" if s.get("wedge", 1) > 1 else ""),
         "friction (smooth / grooved)": f"{s['friction']['mu_smooth']:g} / {s['friction']['mu_grooved']:g}",
         # runs before viscous slip existed were Coulomb's (docs/decisions/088-viscous-slip.md)
         "slip viscosity (MPa s/mm)": f"{s['friction'].get('slip_viscosity_mpa_s_mm', 0.0):g}",

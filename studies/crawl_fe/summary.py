@@ -35,7 +35,8 @@ def summary_text(s: dict) -> str:
         where += f", bend radius {pipe['bend_radius_mm']:g} mm"
     if pipe.get("corrugation_mm"):
         where += ", corrugations {:g} mm deep, {:g} mm pitch".format(*pipe["corrugation_mm"])
-    lines = [f"FE body in the {where} ({s['mesh']} mesh, silicone {s['materials']['epsa']}): {s['message']}"]
+    mesh = s["mesh"] + (f" mesh, one wedge of 360/{s['wedge']} deg" if s.get("wedge", 1) > 1 else " mesh")
+    lines = [f"FE body in the {where} ({mesh}, silicone {s['materials']['epsa']}): {s['message']}"]
     times = s.get("cycle_wall_s") or [None] * len(s["strides_mm"])  # runs before times were kept
     for k, (v, a, t) in enumerate(zip(s["strides_mm"], s["turns_deg"], times), start=1):
         took = "wall time not recorded" if t is None else f"{t:.0f} s of wall time"

@@ -82,6 +82,9 @@ CASES: list[tuple[str, str]] = [
     ("crawl --wedge 0 --out OUT", "wedge"),
     ("crawl --mesher tetwild --wedge 4 --out OUT", "wedge"),
     ("crawl --body fe --wedge 4 --out OUT", "wedge"),
+    ("crawl --body fe --wedge 3 --pipe elbow --bend-radius 80 --out OUT", "wedge"),  # no symmetry
+    ("crawl --body fe --wedge 3 --gait-plan FILE --out OUT", "wedge"),
+    ("crawl --body fe --wedge 3 --gait gait2 --out OUT", "wedge"),  # unequal pressures
     ("study crawl --wedge 5 --out OUT", "wedge"),
     ("study crawl --quick --wedge 24 --out OUT", "wedge"),
     ("study fiber-turns --wedge 4 --out OUT", "wedge"),

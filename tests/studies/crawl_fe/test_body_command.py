@@ -91,3 +91,11 @@ def test_a_gait_plan_replaces_the_preset(recorded, tmp_path):
     _, schedule, _, _ = recorded[-1]
     assert len(schedule) == 1 and schedule[0].cycle_s == 3.0
     assert schedule[0].pressures_kpa.tolist() == [[0, 0, 0], [100, 0, 0], [0, 0, 0]]
+
+
+def test_a_wedge_of_the_body_reaches_the_setup_and_the_checkpoints_key(recorded, tmp_path):
+    argv = ["crawl", "--body", "fe", "--quick", "--out", str(tmp_path / "w")]
+    assert main(argv) == 0 and recorded[-1][0].copies == 1  # the whole body unless asked
+    assert main(argv[:-1] + [str(tmp_path / "v"), "--pipe", "vertical-up", "--wedge", "3"]) == 0
+    setup, _, _, kw = recorded[-1]
+    assert setup.copies == 3 and kw["store"].checkpoints.options["copies"] == 3

@@ -124,7 +124,13 @@ def _scripted_body(space, monkeypatch):
             normal={}, friction={f: np.zeros(3) for f in cycle.FEET}, holds={"h": 0.0}
         ),
     )
-    return SimpleNamespace(model=SimpleNamespace(space=space, chamber_volume=lambda x, i: 0.0)), calls
+    body = SimpleNamespace(
+        model=SimpleNamespace(space=space),
+        copies=1,  # the whole body (a wedge: tests/studies/crawl_fe/test_body_wedge.py)
+        pressures=list,
+        volumes=lambda x: (0.0, 0.0, 0.0),
+    )
+    return body, calls
 
 
 def test_each_cycle_strides_the_sum_of_its_segments(space, monkeypatch):

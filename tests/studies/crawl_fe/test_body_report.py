@@ -63,3 +63,12 @@ def test_each_cycles_wall_time_is_shown_where_the_run_kept_it(tmp_path):
     assert "<td>408, not recorded</td>" in crawl_fe(tmp_path)  # None: a resumed pre-092 checkpoint
     (run / "summary.json").write_text(json.dumps(_summary()))  # a run before the times were kept
     assert "<td>not recorded</td>" in crawl_fe(tmp_path)
+
+
+def test_a_wedge_run_says_so_in_its_mesh(tmp_path):
+    run = tmp_path / FOLDER / "straight-70-default-wedge3"
+    run.mkdir(parents=True)
+    (run / "summary.json").write_text(json.dumps(_summary(mesh="default", wedge=3)))
+    assert "<td>default, wedge 360/3 deg</td>" in crawl_fe(tmp_path)
+    (run / "summary.json").write_text(json.dumps(_summary(mesh="default")))  # runs before the wedge
+    assert "<td>default</td>" in crawl_fe(tmp_path)
