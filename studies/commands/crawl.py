@@ -30,7 +30,8 @@ killed (`studies.crawl_fe.resume`; --cycles may grow). --gait-plan GAIT_CSV (--b
 `softcrawl model plan` writes, replayed cycle by cycle (`studies.crawl_fe.gait_plan`). --wedge 3
 (--body fe): one wedge of 120 deg of the body, ePSA 1 whole, its cuts tied exactly by the robot's
 three-fold symmetry (`studies.crawl_fe.wedge`, docs/decisions/096-body-wedge.md); only where the
-state keeps that symmetry: a straight, vertical or bellows pipe and equal chamber pressures.
+state keeps that symmetry: a straight or vertical pipe and equal chamber pressures (not a bellows,
+where the whole body leaves the symmetric path at its snaps).
 
 --slip-viscosity ETA (MPa s/mm, default 0): viscous slip of both feet's faces (`fem.contact_law`,
 docs/decisions/088-viscous-slip.md): friction above the Coulomb limit by ETA times the slip speed,

@@ -75,9 +75,12 @@ def check_options(args) -> None:
             raise CommandLineError(
                 "wedge", f"the FE body's wedge is 360/{COPIES} deg (its three ePSAs), not 360/{args.wedge}"
             )
-        if args.pipe == "elbow" or args.gait_plan is not None:
-            why = "an elbow" if args.pipe == "elbow" else "a gait plan's unequal pressures"
-            raise CommandLineError("wedge", f"needs a state with the three-fold symmetry: {why} breaks it")
+        if args.pipe in ("elbow", "bellows") or args.gait_plan is not None:
+            why = {
+                "elbow": "an elbow breaks it",
+                "bellows": "the whole body leaves it at a bellows' snaps (docs/decisions/096-body-wedge.md)",
+            }.get(args.pipe, "a gait plan's unequal pressures break it")
+            raise CommandLineError("wedge", f"needs a state with the three-fold symmetry: {why}")
     if args.pipe != "bellows":
         for option, value in (("bellows-depth", args.bellows_depth), ("bellows-pitch", args.bellows_pitch)):
             if value is not None:

@@ -2,10 +2,13 @@ r"""The FE body as one wedge of 2 pi / 3: the robot's three-fold symmetry, tied 
 
 Why (docs/decisions/096-body-wedge.md). The body's mesh (`geometry.body_mesh`, its section
 three-fold symmetric) is the same, tet for tet, under the rotation R by 120 deg about the axis z.
-In a pipe that is the same at every azimuth (straight, vertical, a bellows) with equal chamber
-pressures, the loads and supports are too, and the state keeps the symmetry, u(R X) = R u(X),
-until a bifurcation breaks it (the whole body's lateral drift stays at round-off in every
-committed straight run). One wedge then carries the body with a third of the unknowns.
+In a straight pipe, horizontal or vertical, with equal chamber pressures, the loads and supports
+are too, and the state keeps the symmetry, u(R X) = R u(X), until a bifurcation breaks it (the
+whole body's lateral drift stays at round-off in every committed straight and vertical run). One
+wedge then carries the body with a third of the unknowns. A bellows is the same at every azimuth
+too, but there the whole body leaves the symmetric path at its snaps over the ridges (2.2 mm from
+it by s = 0.93 of the first extension with inertia): the wedge, which cannot leave it, is not
+offered there.
 
 The wedge (`wedge_mesh`). The orbit {T, R T, R^2 T} of each tet (matched by centroid, a KD-tree;
 refused when a tet has no image: the mesh is not three-fold) gives its member whose centroid's
