@@ -47,6 +47,7 @@ import numpy as np
 from softcrawl.fem import sheets as sheet_mod
 from softcrawl.fem.fibers import fiber_state, segment_forces
 from softcrawl.fem.model import SolidModel
+from softcrawl.fem.periodic_tie import rotation_z
 from softcrawl.fem.post import element_fields
 from softcrawl.units import mpa_to_kpa
 
@@ -137,12 +138,15 @@ def write_state(
     time: float | None = None,
     precision: int = DEFAULT_PRECISION,
     extra_field_data: dict | None = None,
+    copies: int = 1,
 ) -> Path:
     """The solid at state `x` under chamber pressure `pressure_mpa` and load factor `factor`;
     `time`, the state's path parameter (`path_times`), goes into the field data too, and so do
     `extra_field_data` (name -> numbers; they replace a default of the same name). A model with
     contacts gets `contact_pressure_MPa` and `slip` (1 slipping, 0 sticking or free) at its points:
-    the largest over the contact facets that share the point."""
+    the largest over the contact facets that share the point. `copies` > 1: the model is one wedge
+    of 2 pi / copies of a cyclic-symmetric body (`fem.periodic_tie`), written as the whole body
+    (`turned_copies`)."""
     check_precision(precision)
     path = Path(path)
     mesh = model.mesh
@@ -173,9 +177,40 @@ def write_state(
         cell_data={k: [_float(v, precision)] for k, v in cell.items()},
     )
     components = {"displacement_mm": VECTOR, "cauchy_stress_MPa": SYMMETRIC_TENSOR}
+    out = turned_copies(out, copies, {"displacement_mm"}, {"cauchy_stress_MPa"})
     field_data = _field_data(model, pressure_mpa, factor, time)
     field_data |= {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in (extra_field_data or {}).items()}
     return _write(path, out, components, field_data)
+
+
+def turned_copies(mesh: meshio.Mesh, copies: int, vectors=(), tensors=()) -> meshio.Mesh:
+    """A wedge's mesh and fields turned into all `copies` wedges about z, k = 0..copies-1: points
+    R^k X, cells offset by k times the point count, the `vectors` (n, 3) turned, R^k v, the
+    `tensors` (n, 6 in `SYMMETRIC_TENSOR` order) turned, R^k s R^-k, other fields repeated. The
+    cuts' points appear once in each neighbouring wedge (ParaView's Clean merges them)."""
+    if copies == 1:
+        return mesh
+    turns = [rotation_z(2 * np.pi * k / copies) for k in range(copies)]
+    n = len(mesh.points)
+
+    def turned(name, v, R):
+        v = np.asarray(v)
+        if name in vectors:
+            return (v @ R.T).astype(v.dtype)
+        if name in tensors:
+            i, j = np.array([0, 1, 2, 0, 1, 0]), np.array([0, 1, 2, 1, 2, 2])
+            full = np.zeros((len(v), 3, 3))
+            full[:, i, j] = v
+            full[:, j, i] = v
+            full = R @ full @ R.T
+            return full[:, i, j].astype(v.dtype)
+        return v
+
+    points = np.vstack([(mesh.points @ R.T).astype(mesh.points.dtype) for R in turns])
+    cells = [(block.type, np.vstack([block.data + k * n for k in range(copies)])) for block in mesh.cells]
+    point = {k: np.concatenate([turned(k, v, R) for R in turns]) for k, v in mesh.point_data.items()}
+    cell = {k: [np.concatenate([turned(k, v[0], R) for R in turns])] for k, v in mesh.cell_data.items()}
+    return meshio.Mesh(points, cells, point_data=point, cell_data=cell)
 
 
 def contact_fields(model: SolidModel, x: np.ndarray) -> dict:

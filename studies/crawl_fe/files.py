@@ -19,7 +19,8 @@ OUT/summary.json   the setup (pipe, gravity, mesh, friction and its source, the 
                    time per cycle, `cycle_wall_s`);
 OUT/crawl.png      each foot's centreline position and the pressures against the state;
 OUT/vtu/crawl.pvd  one VTU of the body per state (`fem.vtu.write_state`, float32 unless
-                   precision 64), the states in order (the setup phases at negative times);
+                   precision 64), the states in order (the setup phases at negative times); a
+                   wedge (`--wedge 3`) turned into the whole body;
                    vtu/pipe.vtu the pipe's wall (open both in ParaView).
 
 A stage that does not converge ends the run: the files then hold the states up to the last
@@ -110,13 +111,24 @@ def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, preci
         t = (k - len(run.states)) * 1e-3  # the setup before the schedule's t = 0
         f = factor if st.phase == "load" else 0.0
         entries.append(
-            (write_state(folder / f"setup{k}.vtu", bm.model, st.x, factor=f, time=t, precision=precision), t)
+            (
+                write_state(
+                    folder / f"setup{k}.vtu",
+                    bm.model,
+                    st.x,
+                    factor=f,
+                    time=t,
+                    precision=precision,
+                    copies=bm.copies,
+                ),
+                t,
+            )  # fmt: skip
         )
     for k, st in enumerate(crawl.states if crawl is not None else ()):
         t = run_time(st.cycle, st.t, cycle_s)
         P = [kpa_to_mpa(p) for p in bm.pressures(st.pressures_kpa)]
         path = write_state(folder / f"state{k:04d}.vtu", bm.model, st.x, pressure_mpa=P, factor=factor,
-                           time=t, precision=precision)  # fmt: skip
+                           time=t, precision=precision, copies=bm.copies)  # fmt: skip
         entries.append((path, t))
     return write_pvd(folder / "crawl.pvd", [p.name for p, _ in entries], [t for _, t in entries])
 

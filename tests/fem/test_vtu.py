@@ -10,7 +10,14 @@ import meshio
 import numpy as np
 import pytest
 
-from softcrawl.fem.vtu import SKFEM_TET_EDGES, VTK_TET10_EDGES, path_times, write_path, write_state
+from softcrawl.fem.vtu import (
+    SKFEM_TET_EDGES,
+    VTK_TET10_EDGES,
+    path_times,
+    turned_copies,
+    write_path,
+    write_state,
+)
 from softcrawl.geometry.design import EPSADesign
 from softcrawl.studies.epsa.response import simulate_epsa
 
@@ -134,3 +141,27 @@ def test_path_times_increase_past_a_limit_point():
     times = path_times([0.0, 40.0, 80.0, 92.0, 85.0, 70.0], [0.0] * 6)
     assert times == [0.0, 40.0, 80.0, 92.0, 99.0, 114.0]
     assert path_times([[0, 0, 0], [100, 40, 60], [100, 40, 60]], [0, 1, 1])[1:] == [200.0, 200.000001]
+
+
+def test_a_wedge_is_written_as_the_whole_body_its_vectors_and_stresses_turned():
+    """`turned_copies`: a quarter wedge's point at (1, 0, 0) with the vector e_x and the stress
+    e_x (x) e_x lands at (0, 1, 0) with e_y and e_y (x) e_y in the next copy; cells are offset by
+    the point count and scalars repeated."""
+    points = np.array([[1.0, 0.0, 0.0], [2.0, 0.0, 0.5], [1.0, 1.0, 0.0], [1.0, 0.0, 1.0]])
+    stress = np.zeros((1, 6))
+    stress[0, 0] = 1.0  # XX
+    mesh = meshio.Mesh(
+        points,
+        [("tetra", np.array([[0, 1, 2, 3]]))],
+        point_data={"u": np.tile([1.0, 0.0, 0.0], (4, 1)), "p": np.arange(4.0)},
+        cell_data={"s": [stress], "q": [np.array([7.0])]},
+    )
+    whole = turned_copies(mesh, 4, {"u"}, {"s"})
+    assert whole.points.shape == (16, 3) and np.allclose(whole.points[4], [0.0, 1.0, 0.0], atol=1e-15)
+    assert np.array_equal(whole.cells[0].data[1], [4, 5, 6, 7])
+    assert np.allclose(whole.point_data["u"][4], [0.0, 1.0, 0.0], atol=1e-15)
+    assert np.allclose(whole.point_data["u"][8], [-1.0, 0.0, 0.0], atol=1e-15)
+    assert np.allclose(whole.cell_data["s"][0][1], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0], atol=1e-15)  # YY
+    assert np.array_equal(whole.point_data["p"], np.tile(np.arange(4.0), 4))
+    assert np.array_equal(whole.cell_data["q"][0], [7.0] * 4)
+    assert turned_copies(mesh, 1) is mesh

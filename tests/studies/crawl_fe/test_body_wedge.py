@@ -16,6 +16,7 @@ three lobes), gives:
 
 import math
 
+import meshio
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
@@ -23,6 +24,7 @@ from scipy.spatial import cKDTree
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.periodic_tie import rotation_z
 from softcrawl.fem.rigid_surfaces import CylinderWall
+from softcrawl.fem.vtu import write_state
 from softcrawl.geometry.body_mesh import mesh_body, settings_for
 from softcrawl.geometry.design import EPSADesign, RobotDesign
 from softcrawl.studies.crawl.model import CrawlSetup
@@ -161,3 +163,21 @@ def test_the_wedge_reports_the_whole_bodys_forces_volumes_feet_and_mass(bodies):
 def test_a_wedges_force_turned_into_the_whole_bodys():
     assert np.allclose(whole_force([1.0, 2.0, 3.0], 3), [0.0, 0.0, 9.0], atol=1e-14)
     assert np.array_equal(whole_force([1.0, 2.0, 3.0], 1), [1.0, 2.0, 3.0])
+
+
+def test_the_wedges_vtu_is_the_whole_bodys(bodies, tmp_path):
+    """Written with `copies`, the wedge's VTU holds the whole body's points, displacements and
+    stresses (at the cuts twice): each of its points carries the whole body's values there."""
+    whole, wedge = bodies
+    xw, xm = symmetric_state(whole.model), symmetric_state(wedge.model)
+    a = meshio.read(write_state(tmp_path / "whole.vtu", whole.model, xw, precision=64))
+    b = meshio.read(write_state(tmp_path / "wedge.vtu", wedge.model, xm, precision=64, copies=3))
+    dist, idx = cKDTree(a.points).query(b.points)
+    assert dist.max() < 1e-9 and np.unique(idx).size == len(a.points)  # every point of the body
+    u = a.point_data["displacement_mm"]
+    assert np.abs(b.point_data["displacement_mm"] - u[idx]).max() < 1e-12 * np.abs(u).max()
+    centres = lambda m: m.points[m.cells[0].data].mean(axis=1)  # noqa: E731
+    dist, cell = cKDTree(centres(a)).query(centres(b))
+    assert dist.max() < 1e-9 and len(b.cells[0].data) == len(a.cells[0].data)
+    s = a.cell_data["cauchy_stress_MPa"][0]
+    assert np.abs(b.cell_data["cauchy_stress_MPa"][0] - s[cell]).max() < 1e-9 * np.abs(s).max()
