@@ -13,7 +13,8 @@ forces after each phase; with `--cycles N` (implies `--insert`), N cycles of the
 (all three chambers 0 -> PRESSURE -> 0 kPa in 2 s, `studies.crawl_fe.cycle`) with each segment's
 foot positions, lateral drift, wall forces, holds and Newton iterations, the stride of each cycle
 and its wall time; the peak RSS at the end. `--wedge 3`: one wedge of 120 deg of the body, tied by
-its three-fold symmetry (`studies.crawl_fe.wedge`; the figures printed are the whole body's).
+its three-fold symmetry (`studies.crawl_fe.wedge`; the mesh, DOFs and nonzeros printed are the
+wedge's, the masses, forces and positions the whole body's).
 Nothing is asserted (bench/, CONTRIBUTING.md).
 Run it on an idle machine with SOFTCRAWL_THREADS=1 for the record's figures
 (docs/decisions/076-one-body.md).

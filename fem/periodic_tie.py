@@ -77,9 +77,11 @@ class CyclicTie:
 
 
 def _pressure_pairs(space, a, b):
-    """The P1 pressure dofs of the cut pairs (a, b) that are vertices, group by group: a vertex
+    """The P1 pressure dofs of the cut pairs (a, b) that are vertices, field by field: a vertex
     where materials with their own pressure fields meet has one pressure dof per field, and each
-    is tied to its partner's dof of the same field (a turn maps every material onto itself)."""
+    is tied to its partner's dof of the same field. A field that a wedge has at only one of the
+    two (a material interface meeting the cut: its elements on one side only) is one dof of the
+    whole body already, and stays free."""
     vertex = np.isin(a, space.pressure_vertex)  # the P1 pressure lives on the vertices
     a, b = a[vertex], b[vertex]
     groups = np.asarray(space.pressure_group, dtype=np.int64)
@@ -96,10 +98,9 @@ def _pressure_pairs(space, a, b):
     pa, pb = [], []
     for g in range(n_groups):
         da, db = dof(a, g), dof(b, g)
-        if np.any((da < 0) != (db < 0)):
-            raise SolverInputError("periodic_tie", "a cut vertex's pressure fields differ from its partner's")
-        pa.append(da[da >= 0])
-        pb.append(db[db >= 0])
+        both = (da >= 0) & (db >= 0)
+        pa.append(da[both])
+        pb.append(db[both])
     return np.concatenate(pa), np.concatenate(pb)
 
 

@@ -31,6 +31,10 @@ it, where the pressure falls under volume control, it keeps increasing, as ParaV
 time needs (decision 063; it was the step index). Each file's `pressure_kPa`,
 `load_factor` and `path_parameter` are field data.
 
+A wedge of a cyclic-symmetric body (`write_state(copies=N)`, the FE body's `--wedge 3`) is written
+as the whole body: its mesh and fields turned into all N copies (`turned_copies`), `pressure_kPa`
+repeated per copy; the regions keep the wedge's names (the copies of ePSA 1 are all `epsa1`).
+
 Precision: float32 by default (points, point and cell data; half the bytes, 7 digits for a view),
 ``precision=64`` keeps float64 (the commands' ``--vtu-precision 64``).
 """
@@ -179,6 +183,7 @@ def write_state(
     components = {"displacement_mm": VECTOR, "cauchy_stress_MPa": SYMMETRIC_TENSOR}
     out = turned_copies(out, copies, {"displacement_mm"}, {"cauchy_stress_MPa"})
     field_data = _field_data(model, pressure_mpa, factor, time)
+    field_data["pressure_kPa"] = np.tile(field_data["pressure_kPa"], copies)  # each copy's chambers
     field_data |= {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in (extra_field_data or {}).items()}
     return _write(path, out, components, field_data)
 
@@ -209,7 +214,10 @@ def turned_copies(mesh: meshio.Mesh, copies: int, vectors=(), tensors=()) -> mes
     points = np.vstack([(mesh.points @ R.T).astype(mesh.points.dtype) for R in turns])
     cells = [(block.type, np.vstack([block.data + k * n for k in range(copies)])) for block in mesh.cells]
     point = {k: np.concatenate([turned(k, v, R) for R in turns]) for k, v in mesh.point_data.items()}
-    cell = {k: [np.concatenate([turned(k, v[0], R) for R in turns])] for k, v in mesh.cell_data.items()}
+    cell = {
+        k: [np.concatenate([turned(k, block, R) for R in turns]) for block in v]
+        for k, v in mesh.cell_data.items()
+    }
     return meshio.Mesh(points, cells, point_data=point, cell_data=cell)
 
 

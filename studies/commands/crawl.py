@@ -168,8 +168,8 @@ def register(subparsers) -> None:
                minimum=24, maximum=256, integer=True)  # fmt: skip
     add_number(p, "--layers", help="revolved feet: cells through the skirt", default_text="3",
                minimum=1, maximum=12, integer=True)  # fmt: skip
-    add_number(p, "--wedge", help="revolved feet: model one wedge of 360/N deg, tied cyclically",
-               default_text="1, the whole feet", minimum=1, maximum=64, integer=True)  # fmt: skip
+    add_number(p, "--wedge", help="one wedge of 360/N deg, tied cyclically (the feet's; --body fe: 3)",
+               default_text="1, the whole", minimum=1, maximum=64, integer=True)  # fmt: skip
     edge = add_number(p, "--mesh-size", help="tetwild feet: the mesh edge", unit="mm", dest="edge_length",
                       default_text="pytetwild's, 0.05 x the diagonal", minimum=1.0, maximum=20.0)  # fmt: skip
     add_alias(p, edge, "--edge-length")

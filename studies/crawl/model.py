@@ -104,7 +104,7 @@ class CrawlSetup:
     sectors: int | None = None  # revolved: sectors around the axis (None: 48)
     thickness_layers: int | None = None  # revolved: cells through the skirt (None: 3)
     edge_length: float | None = None  # tetwild: foot mesh edge (mm; None: the pytetwild default)
-    copies: int = 1  # revolved: model one wedge of 2 pi / copies (`studies.foot.wedge`); 1: whole
+    copies: int = 1  # one wedge of 2 pi / copies: the feet's (`studies.foot.wedge`), or the FE body's (3)
 
     @property
     def pipe(self) -> Pipe:

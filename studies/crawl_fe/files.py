@@ -37,6 +37,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.linsolve import default_solver
 from softcrawl.fem.vtu import write_pvd, write_state
 from softcrawl.provenance import write_summary
@@ -229,6 +230,11 @@ def run_and_write(
     bellows' (depth, pitch) in mm (`pipe.pipe_wall`)."""
     t0 = time.perf_counter()
     plan = not isinstance(schedule, Schedule)
+    if setup.copies > 1 and (pipe in ("elbow", "bellows") or plan):
+        why = "a gait plan" if plan else f"a {pipe}"
+        raise SolverInputError(
+            "wedge", f"{why} breaks the body's three-fold symmetry (docs/decisions/096-body-wedge.md)"
+        )
     cycles = len(schedule) if plan else setup.cycles
     first = schedule[0] if plan else schedule
     gravity = PIPES[pipe]
@@ -244,7 +250,8 @@ def run_and_write(
 
     def step_line(step) -> None:
         # with inertia, the kinetic energy shows a snap (docs/decisions/089-inertia.md)
-        moving = "" if bm.inertia is None else f", kinetic energy {bm.inertia.kinetic_energy():.3g} mJ"
+        energy = None if bm.inertia is None else bm.copies * bm.inertia.kinetic_energy()  # the whole body's
+        moving = "" if energy is None else f", kinetic energy {energy:.3g} mJ"
         progress(f"  {step.stage} s={step.s:.4g}: {sum(step.iterations)} Newton iterations, "
                  f"{time.perf_counter() - t0:.0f} s{moving}")  # fmt: skip
 

@@ -53,6 +53,7 @@ from functools import partial
 import numpy as np
 
 from softcrawl.fem.axial_link import AxialLink
+from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.inertia import Inertia, InertiaTerm
 from softcrawl.fem.model import ChamberSpec, SolidModel
 from softcrawl.geometry.body_mesh import BodyMeshSettings, mesh_body, settings_for
@@ -80,7 +81,7 @@ FEET = ("rear", "front")
 BODY_NEWTON = replace(CRAWL_NEWTON, progress_iter=4)
 HOLD_STIFF = GROUND_HOLD  # N/mm, during the frictionless insertion
 HOLD_SOFT = GROUND_SOFT  # N/mm, once friction is on
-#: (name, tag_b, tag_a or None for the ground, component) of the six holds (module docstring).
+#: (name, tag_b, tag_a or None for the ground, component) of the whole body's six holds (module docstring).
 HOLDS = (
     ("hold_x", "rear_bottom", None, 0),
     ("hold_y", "rear_bottom", None, 1),
@@ -122,11 +123,16 @@ class BodyModel:
         return tuple(float(self.model.chamber_volume(x, i % n)) for i in range(3))
 
     def pressures(self, row) -> list[float]:
-        """The modelled chambers' pressures of a schedule row of three (a wedge: ePSA 1's)."""
-        return list(row)[: len(self.model.chambers)]
+        """The modelled chambers' pressures of a schedule row of three (a wedge: ePSA 1's, and the
+        row's pressures must be equal: unequal ones break the symmetry the wedge assumes)."""
+        row = list(row)
+        if self.copies > 1 and len(set(map(float, row))) > 1:
+            raise SolverInputError("wedge", f"needs equal chamber pressures, not {row} (kPa or MPa)")
+        return row[: len(self.model.chambers)]
 
     def hold_forces(self, x: np.ndarray) -> dict[str, float]:
-        """Each hold's force (N; the twist link's pair force) at state x."""
+        """Each hold's force (N; the whole body's twist link's pair force, a wedge's twist hold's
+        ground force) at state x."""
         return {name: float(t.tension(x)) for name, t in self.holds.items()}
 
     def set_holds(self, stiffness: float, x: np.ndarray | None = None, preloads: dict | None = None) -> None:

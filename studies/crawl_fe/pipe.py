@@ -14,8 +14,8 @@ Phases (each a `fem.contact_stages.run_stages` call, as the reduced crawl's `stu
     insert     the wall (any of the pipes, its radius moved by `with_radius`) shrinks from clear
                of the skirt tips (its narrowest radius at the tip radius + 0.5 mm: a bellows'
                ridges) to the pipe's radius in `insert_steps`
-               sub-steps, frictionless, the six holds stiff (`model.HOLD_STIFF`): in a
-               frictionless pipe they alone fix the axial translation and the twist;
+               sub-steps, frictionless, the holds stiff (`model.HOLD_STIFF`; six, a wedge's
+               two): in a frictionless pipe they alone fix the axial translation and the twist;
     friction   the holds re-based at the inserted state and softened to `model.HOLD_SOFT`, the
                friction coefficients of `setup` switched on (mu_smooth on the front faces and
                rims, mu_grooved on the grooved back faces): from here friction holds the body;

@@ -10,8 +10,8 @@ What a state holds (read from `studies.crawl_fe.pipe`, `.cycle` and `fem.contact
     meta    kind: "inserted" (after `into_pipe`, before the first cycle) or "cycles"; the cursor's
             position (stage index, pseudo-time t, next sub-step h, the predictor's t, the factors
             f0 and f); per contact term its friction coefficient and wall radius (the wall itself
-            is rebuilt from the options: straight, vertical or elbow); the six holds' stiffness,
-            preload and base; the setup phases' wall and hold forces; the cycle log
+            is rebuilt from the options: straight, vertical or elbow); the holds' (six; a
+            wedge's two) stiffness, preload and base; the setup phases' wall and hold forces; the cycle log
             (`cycle.CycleLog`: the states' outputs, strides, turns, where the cycle began);
             the solver's effort and the wall time so far
 

@@ -157,6 +157,15 @@ def test_a_wedge_is_written_as_the_whole_body_its_vectors_and_stresses_turned():
         cell_data={"s": [stress], "q": [np.array([7.0])]},
     )
     whole = turned_copies(mesh, 4, {"u"}, {"s"})
+    # a shear turned by 120 deg: R s R^T, not R^T s R (they differ for XY)
+    sheared = meshio.Mesh(points, [("tetra", np.array([[0, 1, 2, 3]]))], cell_data={"s": [np.eye(1, 6, 3)]})
+    c, s = np.cos(2 * np.pi / 3), np.sin(2 * np.pi / 3)
+    R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    shear = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    t = R @ shear @ R.T
+    expected = [t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[1, 2], t[0, 2]]
+    assert np.allclose(turned_copies(sheared, 3, (), {"s"}).cell_data["s"][0][1], expected, atol=1e-15)
+    assert not np.allclose(R.T @ shear @ R, t)  # the test tells the two apart
     assert whole.points.shape == (16, 3) and np.allclose(whole.points[4], [0.0, 1.0, 0.0], atol=1e-15)
     assert np.array_equal(whole.cells[0].data[1], [4, 5, 6, 7])
     assert np.allclose(whole.point_data["u"][4], [0.0, 1.0, 0.0], atol=1e-15)

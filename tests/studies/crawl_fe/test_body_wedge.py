@@ -10,8 +10,11 @@ three lobes), gives:
   wall (1e-12 of the largest force; a wrong turn of the tie, a cut through a chamber or a missing
   fiber sheet leaves 1e-3 or more);
 - the same for the tangent's product with a symmetric direction (Newton's steps agree);
-- the whole body's wall forces, chamber volumes, foot positions, bend and drift from the wedge
-  (`pipe.record`, `BodyModel.volumes`, `cycle.FootProbe`) and its mass.
+- the whole body's wall forces, chamber volumes and foot positions from the wedge (`pipe.record`,
+  `BodyModel.volumes`, `cycle.FootProbe`) and its mass (its drift, bend and heading are 0 by
+  construction);
+- its VTU file the whole body's; its two holds the axial translation and the twist, apart;
+- unequal pressures and the asymmetric pipes refused before any work.
 """
 
 import math
@@ -154,8 +157,7 @@ def test_the_wedge_reports_the_whole_bodys_forces_volumes_feet_and_mass(bodies):
     for read in ("z", "arc"):
         a, b = getattr(pw, read)(xw), getattr(pm, read)(xm)
         assert b == pytest.approx(a, rel=1e-12, abs=1e-12)
-    assert pm.angles(xm) == pytest.approx(pw.angles(xw), abs=1e-6)
-    assert np.allclose(pm.drift(xm), 0.0, atol=1e-14) and np.allclose(pw.drift(xw), 0.0, atol=1e-12)
+    # (a wedge's drift, bend and heading are 0 by construction: its faces are turned copies)
     mass = lambda bm, n: sum(p.mass_g for p in part_masses(bm.model.mesh, bm.materials, n))  # noqa: E731
     assert mass(wedge, 3) == pytest.approx(mass(whole, 1), rel=1e-12)
 
@@ -181,3 +183,40 @@ def test_the_wedges_vtu_is_the_whole_bodys(bodies, tmp_path):
     assert dist.max() < 1e-9 and len(b.cells[0].data) == len(a.cells[0].data)
     s = a.cell_data["cauchy_stress_MPa"][0]
     assert np.abs(b.cell_data["cauchy_stress_MPa"][0] - s[cell]).max() < 1e-9 * np.abs(s).max()
+
+
+def test_the_wedges_two_holds_see_the_axial_translation_and_the_twist_apart(bodies):
+    """The tie leaves the axial translation and the twist about the axis; `hold_z` reads the
+    first (its mean u_z over one node per orbit), `twist` the second (mean u_x: -theta ybar on the
+    wedge about +y), each blind to the other, and both load the wedge through `AxialLink.nodes`."""
+    _, wedge = bodies
+    X = np.asarray(wedge.model.nodes).T
+    shift, turn = np.zeros(wedge.model.n_dofs), np.zeros(wedge.model.n_dofs)
+    shift[2 : wedge.model.space.n_u : 3] = 0.7
+    theta = 1e-3
+    turn[: wedge.model.space.n_u] = (theta * np.column_stack([-X[:, 1], X[:, 0], 0 * X[:, 2]])).ravel()
+    hz, tw = wedge.holds["hold_z"], wedge.holds["twist"]
+    assert hz.extension(shift) == pytest.approx(0.7, rel=1e-12) and abs(tw.extension(shift)) < 1e-15
+    ybar = X[tw.dofs[:, 0] // 3, 1].mean()
+    assert ybar > 10.0  # the rear hub face's third about +y
+    assert tw.extension(turn) == pytest.approx(-theta * ybar, rel=1e-12) and abs(hz.extension(turn)) < 1e-15
+    tw.set_load(5.0, 0.0, 0.0)  # the twist hold pulls the turned wedge back (share 1/3)
+    r, _ = tw.arrays(turn)
+    assert r.sum() == pytest.approx(-(-5.0 * tw.extension(turn)) * tw.spec.share, rel=1e-12)
+    tw.set_load(0.0, 0.0, 0.0)
+
+
+def test_a_wedge_refuses_unequal_pressures_and_asymmetric_pipes(bodies, tmp_path):
+    from softcrawl.studies.crawl.schedule import preset
+    from softcrawl.studies.crawl_fe.files import run_and_write
+
+    _, wedge = bodies
+    assert wedge.pressures([0.1, 0.1, 0.1]) == [0.1]
+    with pytest.raises(SolverInputError, match="wedge"):
+        wedge.pressures([0.1, 0.0, 0.1])
+    for pipe in ("elbow", "bellows"):  # refused before any work: no folder written
+        with pytest.raises(SolverInputError, match="wedge"):
+            run_and_write(
+                CrawlSetup(copies=3), preset("inflate"), tmp_path / pipe, pipe=pipe, bend_radius=80.0
+            )
+        assert not (tmp_path / pipe).exists()
