@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from softcrawl.geometry.errors import DesignError
 from softcrawl.geometry.tagging import RevolvedSegment, embed_points, tet_volumes
 
 if TYPE_CHECKING:
@@ -39,8 +40,12 @@ _EDGES = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]])
 _FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
 
-def _facet_keys(tris: np.ndarray) -> np.ndarray:
+def facet_keys(tris: np.ndarray) -> np.ndarray:
+    """One int64 per triangle: its sorted vertex numbers in 21 bits each (a mesh of at most 2^21
+    vertices; more is refused, naming `mesh`, rather than keys that collide)."""
     s = np.sort(np.asarray(tris, dtype=np.int64), axis=1)
+    if s.size and int(s.max()) >= 1 << 21:
+        raise DesignError("mesh", f"at most {1 << 21} vertices for the facet keys, not {int(s.max()) + 1}")
     return (s[:, 0] << 42) | (s[:, 1] << 21) | s[:, 2]
 
 
@@ -174,9 +179,9 @@ class TaggedMesh:
     # ----------------------------------------------------------------- solver hand-off
     def facet_indices(self, mesh: skfem.Mesh, tag: str) -> np.ndarray:
         """Indices into ``mesh.facets`` (a skfem mesh built from these tets) of the facets of ``tag``."""
-        keys = _facet_keys(mesh.facets.T)
+        keys = facet_keys(mesh.facets.T)
         order = np.argsort(keys)
-        want = _facet_keys(self.facets[tag])
+        want = facet_keys(self.facets[tag])
         pos = np.searchsorted(keys, want, sorter=order)
         found = order[np.clip(pos, 0, len(order) - 1)]
         if not np.array_equal(keys[found], want):

@@ -111,20 +111,9 @@ def write_vtu(folder: Path, bm, run, crawl, factor: float, cycle_s: float, preci
     for k, st in enumerate(run.states):
         t = (k - len(run.states)) * 1e-3  # the setup before the schedule's t = 0
         f = factor if st.phase == "load" else 0.0
-        entries.append(
-            (
-                write_state(
-                    folder / f"setup{k}.vtu",
-                    bm.model,
-                    st.x,
-                    factor=f,
-                    time=t,
-                    precision=precision,
-                    copies=bm.copies,
-                ),
-                t,
-            )  # fmt: skip
-        )
+        path = write_state(folder / f"setup{k}.vtu", bm.model, st.x, factor=f, time=t, precision=precision,
+                           copies=bm.copies)  # fmt: skip
+        entries.append((path, t))
     for k, st in enumerate(crawl.states if crawl is not None else ()):
         t = run_time(st.cycle, st.t, cycle_s)
         P = [kpa_to_mpa(p) for p in bm.pressures(st.pressures_kpa)]

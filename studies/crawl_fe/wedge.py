@@ -47,6 +47,7 @@ from scipy.spatial import cKDTree
 from softcrawl.fem.errors import SolverInputError
 from softcrawl.fem.periodic_tie import CyclicTie, cut_pairs, rotation_z
 from softcrawl.geometry.design_base import ACTUATOR_ANGLES_DEG
+from softcrawl.geometry.tagged_mesh import facet_keys
 from softcrawl.geometry.tagging import TET_FACES
 
 #: The FE body's wedge count: its three ePSAs.
@@ -55,14 +56,6 @@ COPIES = 3
 HOLDS = (("hold_z", "rear_bottom", None, 2), ("twist", "rear_bottom", None, 0))
 #: The wedge's cut tags: `cut_end` = R `cut_start`.
 CUTS = ("cut_start", "cut_end")
-
-
-def _face_keys(faces: np.ndarray) -> np.ndarray:
-    """One int64 per triangle, its sorted vertex numbers in 21 bits each."""
-    if faces.size and int(faces.max()) >= 1 << 21:
-        raise SolverInputError("wedge", f"a mesh of at most {1 << 21} vertices, not {int(faces.max()) + 1}")
-    s = np.sort(faces, axis=1).astype(np.int64)
-    return (s[:, 0] << 42) | (s[:, 1] << 21) | s[:, 2]
 
 
 def wedge_mesh(tagged, copies: int = COPIES):
@@ -97,9 +90,9 @@ def wedge_mesh(tagged, copies: int = COPIES):
     for k in range(copies):
         sector[images[k, kept]] = k
     faces = tets[kept][:, TET_FACES].reshape(-1, 3)  # outward, the tets positively oriented
-    keys = _face_keys(faces)
+    keys = facet_keys(faces)
     # the tet across each face (-1 on the boundary): an interior face's two copies sort together
-    every = _face_keys(tets[:, TET_FACES].reshape(-1, 3))
+    every = facet_keys(tets[:, TET_FACES].reshape(-1, 3))
     order = np.argsort(every, kind="stable")
     same = every[order[1:]] == every[order[:-1]]
     across = np.full(every.size, -1)
@@ -109,7 +102,7 @@ def wedge_mesh(tagged, copies: int = COPIES):
     for cut, k in zip(CUTS, (copies - 1, 1)):  # shared with R^2 T (the wedge before), with R T
         facets[cut] = faces[(across >= 0) & (sector[np.maximum(across, 0)] == k)]
     for tag, tris in tagged.facets.items():
-        inside = tris[np.isin(_face_keys(tris), keys)]
+        inside = tris[np.isin(facet_keys(tris), keys)]
         if len(inside):
             facets[tag] = inside
     used, inverse = np.unique(tets[kept], return_inverse=True)
